@@ -1,0 +1,2 @@
+//! The `articulated` command.
+fn main() {}

@@ -1,0 +1,1 @@
+//! Reference dynamics (to be written).

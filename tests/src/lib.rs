@@ -1,0 +1,1 @@
+//! Cross-crate tests of `articulated` live in `tests/`.
