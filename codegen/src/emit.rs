@@ -1,0 +1,1 @@
+//! Emission of straight-line Rust (being written).
