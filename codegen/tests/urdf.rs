@@ -1,0 +1,483 @@
+//! URDF import: frames, rotated inertials, fixed-joint merging, order, joint kinds and errors,
+//! each checked against numbers worked out by hand.
+
+use std::f64::consts::FRAC_PI_2;
+use std::path::Path;
+
+use articulated_codegen::model::{EulerSeq, JointKind, Model, Output, Value};
+use articulated_codegen::urdf::{from_urdf_str, load_urdf_file, UrdfError};
+
+fn c(v: &Value) -> f64 {
+    v.as_const().expect("a constant")
+}
+fn c3(v: &[Value; 3]) -> [f64; 3] {
+    v.map(|x| c(&x))
+}
+fn c33(m: &[[Value; 3]; 3]) -> [[f64; 3]; 3] {
+    m.map(|r| c3(&r))
+}
+
+fn close3(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
+    a.iter().zip(&b).all(|(x, y)| (x - y).abs() <= tol)
+}
+fn assert_close33(a: [[f64; 3]; 3], b: [[f64; 3]; 3], tol: f64) {
+    for i in 0..3 {
+        assert!(close3(a[i], b[i], tol), "\n{a:?}\n!=\n{b:?}");
+    }
+}
+
+fn robot(body: &str) -> String {
+    format!("<?xml version=\"1.0\"?>\n<robot name=\"test_robot\">\n{body}\n</robot>\n")
+}
+
+fn inertial(m: f64, xyz: &str, rpy: &str, i: [f64; 6]) -> String {
+    format!(
+        "<inertial><origin xyz=\"{xyz}\" rpy=\"{rpy}\"/><mass value=\"{m}\"/>\
+         <inertia ixx=\"{}\" ixy=\"{}\" ixz=\"{}\" iyy=\"{}\" iyz=\"{}\" izz=\"{}\"/></inertial>",
+        i[0], i[1], i[2], i[3], i[4], i[5]
+    )
+}
+
+/// One link `l1` with the given inertial on a revolute joint about z under a massless base.
+fn one_link(inertial: &str) -> Model {
+    let xml = robot(&format!(
+        "<link name=\"base\"/>\n<link name=\"l1\">{inertial}</link>\n\
+         <joint name=\"j1\" type=\"revolute\"><parent link=\"base\"/><child link=\"l1\"/>\
+         <axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint>"
+    ));
+    from_urdf_str(&xml, false).expect("valid URDF")
+}
+
+fn err(xml: &str) -> UrdfError {
+    match from_urdf_str(xml, false) {
+        Ok(_) => panic!("expected an error for\n{xml}"),
+        Err(e) => e,
+    }
+}
+
+#[test]
+fn inertials_are_read_not_zeros() {
+    // One version of the urdf crate read every inertial as zeros: check ours reads them.
+    let m = one_link(&inertial(
+        2.5,
+        "0.1 -0.2 0.3",
+        "0 0 0",
+        [0.11, 0.012, -0.013, 0.22, 0.023, 0.33],
+    ));
+    let b = &m.bodies[0];
+    assert_eq!(b.name, "l1");
+    assert_eq!(c(&b.mass), 2.5);
+    assert_eq!(c3(&b.com), [0.1, -0.2, 0.3]);
+    assert_eq!(
+        c33(&b.inertia),
+        [
+            [0.11, 0.012, -0.013],
+            [0.012, 0.22, 0.023],
+            [-0.013, 0.023, 0.33]
+        ]
+    );
+}
+
+#[test]
+fn inertial_rotated_90_degrees_about_z_swaps_ixx_and_iyy() {
+    // R = Rz(90°) = [[0,-1,0],[1,0,0],[0,0,1]]. With I = [[a,d,e],[d,b,f],[e,f,c]], by hand:
+    // R·I = [[-d,-b,-f],[a,d,e],[e,f,c]], and (R·I)·Rᵀ = [[b,-d,-f],[-d,a,e],[-f,e,c]].
+    let (a, b, cc, d, e, f) = (0.1, 0.2, 0.3, 0.01, 0.02, 0.03);
+    let m = one_link(&inertial(
+        1.0,
+        "0 0 0",
+        &format!("0 0 {FRAC_PI_2}"),
+        [a, d, e, b, f, cc],
+    ));
+    let expected = [[b, -d, -f], [-d, a, e], [-f, e, cc]];
+    assert_close33(c33(&m.bodies[0].inertia), expected, 1e-16);
+    // The centre of mass is the inertial origin's xyz, not rotated by its own rpy.
+    let m = one_link(&inertial(
+        1.0,
+        "0.5 0 0",
+        &format!("0 0 {FRAC_PI_2}"),
+        [a, d, e, b, f, cc],
+    ));
+    assert_eq!(c3(&m.bodies[0].com), [0.5, 0.0, 0.0]);
+}
+
+type M3 = [[f64; 3]; 3];
+fn matmul(a: &M3, b: &M3) -> M3 {
+    let mut r = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            for k in 0..3 {
+                r[i][j] += a[i][k] * b[k][j];
+            }
+        }
+    }
+    r
+}
+fn tr(a: &M3) -> M3 {
+    let mut r = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            r[i][j] = a[j][i];
+        }
+    }
+    r
+}
+fn rx(t: f64) -> M3 {
+    [
+        [1.0, 0.0, 0.0],
+        [0.0, t.cos(), -t.sin()],
+        [0.0, t.sin(), t.cos()],
+    ]
+}
+fn ry(t: f64) -> M3 {
+    [
+        [t.cos(), 0.0, t.sin()],
+        [0.0, 1.0, 0.0],
+        [-t.sin(), 0.0, t.cos()],
+    ]
+}
+fn rz(t: f64) -> M3 {
+    [
+        [t.cos(), -t.sin(), 0.0],
+        [t.sin(), t.cos(), 0.0],
+        [0.0, 0.0, 1.0],
+    ]
+}
+
+#[test]
+fn inertial_in_a_general_rotated_frame_is_r_i_rt() {
+    let (r, p, y) = (0.3, -0.5, 1.1);
+    let i = [
+        [0.11, 0.012, -0.013],
+        [0.012, 0.22, 0.023],
+        [-0.013, 0.023, 0.33],
+    ];
+    let m = one_link(&inertial(
+        3.0,
+        "0.01 0.02 0.03",
+        &format!("{r} {p} {y}"),
+        [i[0][0], i[0][1], i[0][2], i[1][1], i[1][2], i[2][2]],
+    ));
+    // Independently: R = Rz(y)·Ry(p)·Rx(r) as products of elementary rotations.
+    let rot = matmul(&matmul(&rz(y), &ry(p)), &rx(r));
+    let expected = matmul(&matmul(&rot, &i), &tr(&rot));
+    assert_close33(c33(&m.bodies[0].inertia), expected, 1e-15);
+    // Not the transpose convention Rᵀ·I·R (the classic importer bug).
+    let wrong = matmul(&matmul(&tr(&rot), &i), &rot);
+    let diff: f64 = (0..9)
+        .map(|k| (wrong[k / 3][k % 3] - expected[k / 3][k % 3]).abs())
+        .sum();
+    assert!(diff > 1e-3);
+    assert_eq!(c3(&m.bodies[0].com), [0.01, 0.02, 0.03]);
+}
+
+#[test]
+fn fixed_joint_is_merged_into_its_parent_by_hand() {
+    // P: mass 2 at its origin, I = 0.1·E. C on a fixed joint at (1, 0, 0), rotated 90° about z,
+    // mass 2 with its centre of mass at (0.2, 0, 0) and I = diag(0.01, 0.02, 0.03) in C.
+    // In P: C's com = (1, 0, 0) + Rz(90°)·(0.2, 0, 0) = (1, 0.2, 0), its inertia diag(0.02, 0.01,
+    // 0.03). Total: m = 4, com = (0.5, 0.1, 0). Offsets ±(0.5, 0.1, 0), |d|² = 0.26, each
+    // m(|d|²E − ddᵀ) = 2·[[0.01, −0.05, 0], [−0.05, 0.25, 0], [0, 0, 0.26]], twice:
+    // [[0.04, −0.2, 0], [−0.2, 1.0, 0], [0, 0, 1.04]]. I = [[0.16, −0.2, 0], [−0.2, 1.11, 0],
+    // [0, 0, 1.17]].
+    let xml = robot(&format!(
+        r#"<link name="base"/>
+<link name="p">{}</link>
+<link name="c">{}</link>
+<link name="d">{}</link>
+<joint name="jp" type="revolute"><parent link="base"/><child link="p"/><axis xyz="0 1 0"/></joint>
+<joint name="weld" type="fixed"><parent link="p"/><child link="c"/><origin xyz="1 0 0" rpy="0 0 {FRAC_PI_2}"/></joint>
+<joint name="jd" type="revolute"><parent link="c"/><child link="d"/><origin xyz="0 0 0.5"/><axis xyz="1 0 0"/></joint>"#,
+        inertial(2.0, "0 0 0", "0 0 0", [0.1, 0.0, 0.0, 0.1, 0.0, 0.1]),
+        inertial(2.0, "0.2 0 0", "0 0 0", [0.01, 0.0, 0.0, 0.02, 0.0, 0.03]),
+        inertial(1.0, "0 0 0", "0 0 0", [0.1, 0.0, 0.0, 0.1, 0.0, 0.1]),
+    ));
+    let m = from_urdf_str(&xml, false).unwrap();
+    assert_eq!(m.nb(), 2);
+    assert_eq!(m.bodies[0].name, "p");
+    let p = &m.bodies[0];
+    assert!((c(&p.mass) - 4.0).abs() < 1e-15);
+    assert!(close3(c3(&p.com), [0.5, 0.1, 0.0], 1e-15));
+    assert_close33(
+        c33(&p.inertia),
+        [[0.16, -0.2, 0.0], [-0.2, 1.11, 0.0], [0.0, 0.0, 1.17]],
+        1e-14,
+    );
+    // The joint below the welded link hangs from `p`, its frame composed: (1, 0, 0) +
+    // Rz(90°)·(0, 0, 0.5) = (1, 0, 0.5), rotated 90° about z.
+    let jd = &m.joints[1];
+    assert_eq!(jd.name, "jd");
+    assert_eq!(jd.parent, Some(0));
+    assert!(close3(c3(&jd.placement.xyz), [1.0, 0.0, 0.5], 1e-15));
+    assert!(close3(c3(&jd.placement.rpy), [0.0, 0.0, FRAC_PI_2], 1e-15));
+    assert_eq!(
+        jd.kind,
+        JointKind::Revolute {
+            axis: [1.0, 0.0, 0.0]
+        }
+    );
+}
+
+#[test]
+fn joints_in_depth_first_order_children_in_document_order() {
+    // Document order of the joints is not depth-first: jb, ja1, ja, jb1.
+    let xml = robot(
+        r#"<link name="base"/><link name="a"/><link name="b"/><link name="a1"/><link name="b1"/>
+<joint name="jb" type="revolute"><parent link="base"/><child link="b"/></joint>
+<joint name="ja1" type="revolute"><parent link="a"/><child link="a1"/></joint>
+<joint name="ja" type="revolute"><parent link="base"/><child link="a"/></joint>
+<joint name="jb1" type="revolute"><parent link="b"/><child link="b1"/></joint>"#,
+    );
+    let m = from_urdf_str(&xml, false).unwrap();
+    let names: Vec<&str> = m.joints.iter().map(|j| j.name.as_str()).collect();
+    assert_eq!(names, ["jb", "jb1", "ja", "ja1"]);
+    let bodies: Vec<&str> = m.bodies.iter().map(|b| b.name.as_str()).collect();
+    assert_eq!(bodies, ["b", "b1", "a", "a1"]);
+    let parents: Vec<Option<usize>> = m.joints.iter().map(|j| j.parent).collect();
+    assert_eq!(parents, [None, Some(0), None, Some(2)]);
+    // Links without an inertial are massless.
+    assert_eq!(c(&m.bodies[0].mass), 0.0);
+    assert_eq!(c33(&m.bodies[0].inertia), [[0.0; 3]; 3]);
+    // URDF's default axis is x.
+    assert_eq!(
+        m.joints[0].kind,
+        JointKind::Revolute {
+            axis: [1.0, 0.0, 0.0]
+        }
+    );
+}
+
+#[test]
+fn continuous_and_prismatic_axes_normalized_and_model_defaults() {
+    let xml = r#"<robot name="my-little_robot2">
+<link name="base"/><link name="a"/><link name="b"/>
+<joint name="spin" type="continuous"><parent link="base"/><child link="a"/>
+  <origin xyz="0.1 0.2 0.3" rpy="0.4 0.5 0.6"/><axis xyz="0 0 2"/></joint>
+<joint name="slide" type="prismatic"><parent link="a"/><child link="b"/><axis xyz="3 4 0"/></joint>
+</robot>"#;
+    let m = from_urdf_str(xml, false).unwrap();
+    assert_eq!(m.name, "MyLittleRobot2");
+    assert_eq!(m.visibility, "pub");
+    assert_eq!(m.gravity.map(|g| c3(&g)), Some([0.0, 0.0, -9.81]));
+    assert_eq!(m.outputs, Output::DEFAULT.to_vec());
+    assert_eq!((m.nq(), m.nv()), (2, 2));
+    assert_eq!(
+        m.joints[0].kind,
+        JointKind::Revolute {
+            axis: [0.0, 0.0, 1.0]
+        }
+    );
+    assert_eq!(c3(&m.joints[0].placement.xyz), [0.1, 0.2, 0.3]);
+    assert_eq!(c3(&m.joints[0].placement.rpy), [0.4, 0.5, 0.6]);
+    assert_eq!(
+        m.joints[1].kind,
+        JointKind::Prismatic {
+            axis: [0.6, 0.8, 0.0]
+        }
+    );
+    assert_eq!(m.joints[1].parent, Some(0));
+}
+
+#[test]
+fn floating_base_keeps_the_root_and_comes_first() {
+    let xml = robot(&format!(
+        r#"<link name="torso">{}</link><link name="arm"/>
+<joint name="shoulder" type="revolute"><parent link="torso"/><child link="arm"/><axis xyz="0 1 0"/></joint>"#,
+        inertial(7.0, "0 0 0.1", "0 0 0", [1.0, 0.0, 0.0, 2.0, 0.0, 3.0])
+    ));
+    let fixed = from_urdf_str(&xml, false).unwrap();
+    assert_eq!(fixed.nb(), 1);
+    assert_eq!(fixed.joints[0].parent, None);
+    let m = from_urdf_str(&xml, true).unwrap();
+    assert_eq!(m.nb(), 2);
+    assert_eq!((m.nq(), m.nv()), (7, 7));
+    assert_eq!(
+        m.joints[0].kind,
+        JointKind::FreeEuler { seq: EulerSeq::ZYX }
+    );
+    assert_eq!(m.joints[0].parent, None);
+    assert_eq!(c3(&m.joints[0].placement.xyz), [0.0; 3]);
+    assert_eq!(c3(&m.joints[0].placement.rpy), [0.0; 3]);
+    assert_eq!(m.bodies[0].name, "torso");
+    assert_eq!(c(&m.bodies[0].mass), 7.0);
+    assert_eq!(c3(&m.bodies[0].com), [0.0, 0.0, 0.1]);
+    assert_eq!(m.joints[1].parent, Some(0));
+    assert_eq!(m.q_offset(1), 6);
+
+    // A URDF `floating` joint is a free Euler zyx joint too.
+    let xml = robot(
+        r#"<link name="world"/><link name="box"/>
+<joint name="free" type="floating"><parent link="world"/><child link="box"/><origin xyz="0 0 1"/></joint>"#,
+    );
+    let m = from_urdf_str(&xml, false).unwrap();
+    assert_eq!(
+        m.joints[0].kind,
+        JointKind::FreeEuler { seq: EulerSeq::ZYX }
+    );
+    assert_eq!(c3(&m.joints[0].placement.xyz), [0.0, 0.0, 1.0]);
+}
+
+/// A two-link chain with `extra` spliced in; the line numbers below count from `<robot>` = 2.
+fn chain_with(extra: &str) -> String {
+    robot(&format!(
+        "<link name=\"base\"/>\n<link name=\"a\"/>\n\
+         <joint name=\"ja\" type=\"revolute\"><parent link=\"base\"/><child link=\"a\"/></joint>\n{extra}"
+    ))
+}
+
+#[test]
+fn errors_name_the_problem_and_the_line() {
+    let cases: &[(&str, usize, &str)] = &[
+        (
+            r#"<joint name="jx" type="revolute"><parent link="a"/><child link="ghost"/></joint>"#,
+            6,
+            "child link `ghost` is not defined",
+        ),
+        (
+            r#"<joint name="jx" type="revolute"><parent link="nowhere"/><child link="a"/></joint>"#,
+            6,
+            "parent link `nowhere` is not defined",
+        ),
+        (
+            "<link name=\"b\"/>\n<joint name=\"jb\" type=\"revolute\"><parent link=\"base\"/><child link=\"a\"/></joint>",
+            7,
+            "link `a` has two parents",
+        ),
+        ("<link name=\"lonely\"/>", 6, "two root links"),
+        (
+            "<link name=\"b\"/>\n<link name=\"c\"/>\n\
+             <joint name=\"jb\" type=\"revolute\"><parent link=\"c\"/><child link=\"b\"/></joint>\n\
+             <joint name=\"jc\" type=\"revolute\"><parent link=\"b\"/><child link=\"c\"/></joint>",
+            0,
+            "cycle",
+        ),
+        (
+            "<link name=\"b\"><inertial><mass value=\"-1\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial></link>\n\
+             <joint name=\"jb\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/></joint>",
+            6,
+            "link `b`: negative mass -1",
+        ),
+        (
+            "<link name=\"b\"><inertial><mass value=\"NaN\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial></link>\n\
+             <joint name=\"jb\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/></joint>",
+            6,
+            "link `b`: its inertial has a non-finite number",
+        ),
+        (
+            "<link name=\"b\"/>\n<joint name=\"jb\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/><origin xyz=\"0 inf 0\"/></joint>",
+            7,
+            "joint `jb`: its origin or axis has a non-finite number",
+        ),
+        (
+            "<link name=\"b\"/>\n<joint name=\"jb\" type=\"prismatic\"><parent link=\"a\"/><child link=\"b\"/><axis xyz=\"0 0 0\"/></joint>",
+            7,
+            "joint `jb`: the axis [0.0, 0.0, 0.0] is zero",
+        ),
+        (
+            "<link name=\"b\"/>\n<joint name=\"jb\" type=\"planar\"><parent link=\"a\"/><child link=\"b\"/></joint>",
+            7,
+            "joint `jb`: planar joints are not supported",
+        ),
+        (
+            "<link name=\"a\"/>",
+            6,
+            "link `a` is defined twice",
+        ),
+    ];
+    for (extra, line, msg) in cases {
+        let e = err(&chain_with(extra));
+        assert!(
+            e.message().contains(msg),
+            "message `{}` lacks `{msg}`",
+            e.message()
+        );
+        if *line > 0 {
+            assert_eq!(e.line(), Some(*line), "{e}");
+            assert!(
+                e.to_string().starts_with(&format!("<urdf>:{line}: ")),
+                "{e}"
+            );
+        }
+    }
+    // A cycle: the line of one of its joints.
+    let e = err(&chain_with(
+        "<link name=\"b\"/>\n<link name=\"c\"/>\n\
+         <joint name=\"jb\" type=\"revolute\"><parent link=\"c\"/><child link=\"b\"/></joint>\n\
+         <joint name=\"jc\" type=\"revolute\"><parent link=\"b\"/><child link=\"c\"/></joint>",
+    ));
+    assert!(matches!(e.line(), Some(8 | 9)), "{e}");
+    // Everything a joint of the world: no root at all.
+    let e = err(&robot(
+        r#"<link name="a"/><link name="b"/>
+<joint name="x" type="revolute"><parent link="a"/><child link="b"/></joint>
+<joint name="y" type="revolute"><parent link="b"/><child link="a"/></joint>"#,
+    ));
+    assert!(e.message().contains("cycle"), "{e}");
+    // Malformed XML and missing elements.
+    let e = err("<robot name=\"x\"><link name=\"a\"></robot>");
+    assert!(e.message().starts_with("malformed URDF"), "{e}");
+    let e = err(&chain_with(
+        "<link name=\"b\"/><joint name=\"jb\" type=\"revolute\"><child link=\"b\"/></joint>",
+    ));
+    assert!(e.message().starts_with("malformed URDF"), "{e}");
+    let e = err("<robot name=\"x\"></robot>");
+    assert!(e.message().contains("no links"), "{e}");
+}
+
+#[test]
+fn file_errors_name_the_file() {
+    let e = load_urdf_file(Path::new("/no/such/dir/robot.urdf"), false).unwrap_err();
+    assert_eq!(e.file(), Some(Path::new("/no/such/dir/robot.urdf")));
+    assert!(
+        e.to_string()
+            .starts_with("/no/such/dir/robot.urdf: cannot read"),
+        "{e}"
+    );
+
+    let dir = std::env::temp_dir().join(format!("articulated-urdf-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bad.urdf");
+    std::fs::write(&path, chain_with("<link name=\"b\"/>\n<joint name=\"jb\" type=\"planar\"><parent link=\"a\"/><child link=\"b\"/></joint>")).unwrap();
+    let e = load_urdf_file(&path, false).unwrap_err();
+    std::fs::remove_dir_all(&dir).ok();
+    assert_eq!(e.to_string(), format!("{}:7: joint `jb`: planar joints are not supported (write two prismatic joints and a revolute joint through massless links)", path.display()));
+}
+
+#[test]
+fn fixture_and_shared_models_load() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let data = root.join("../tests/data/pinocchio");
+    for (name, nq) in [
+        ("double_pendulum", 2),
+        ("two_link_xyz", 6),
+        ("arm6_mixed", 6),
+        ("tree_two_arms", 7),
+    ] {
+        let m = load_urdf_file(&data.join(format!("{name}.urdf")), false).unwrap();
+        assert_eq!(m.nq(), nq, "{name}");
+        let f = load_urdf_file(&data.join(format!("{name}.urdf")), true).unwrap();
+        assert_eq!(f.nq(), nq + 6, "{name}");
+    }
+    let m = load_urdf_file(&root.join("tests/fixtures/rotated_tool.urdf"), false).unwrap();
+    assert_eq!(m.nb(), 2);
+}
+
+#[test]
+fn no_panic_on_any_prefix_or_mangling() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/rotated_tool.urdf"),
+    )
+    .unwrap();
+    let mut cuts: Vec<usize> = (0..=text.len())
+        .filter(|&k| text.is_char_boundary(k))
+        .collect();
+    cuts.retain(|k| k % 3 == 0 || *k == text.len());
+    for k in cuts {
+        let _ = from_urdf_str(&text[..k], false);
+        let _ = from_urdf_str(&text[..k], true);
+    }
+    for (from, to) in [("0.", "1e400 "), ("\"", "'"), ("link", "lnk"), ("1", "-")] {
+        let _ = from_urdf_str(&text.replacen(from, to, 1), false);
+        let _ = from_urdf_str(&text.replace(from, to), true);
+    }
+}
