@@ -12,7 +12,10 @@ extern crate alloc;
 #[cfg(feature = "alloc")]
 pub mod model;
 #[cfg(feature = "alloc")]
+pub mod random;
+#[cfg(feature = "alloc")]
 pub mod reference;
 pub mod scalar;
+pub mod spatial;
 
 pub use scalar::Scalar;

@@ -1,1 +1,372 @@
-//! Reference dynamics (to be written).
+//! Reference rigid-body dynamics, written from Featherstone's recursions on spatial vectors
+//! (Featherstone 2008, *Rigid Body Dynamics Algorithms*, ch. 2–7).
+//!
+//! # Conventions
+//! - Spatial vectors are **angular first** (Featherstone): a motion is `[ω; v]`, a force is
+//!   `[n; f]`; see [`crate::spatial`]. (Pinocchio is linear first.)
+//! - `q`, `v`, `τ` follow the model's joint order and each joint's coordinates as documented in
+//!   [`crate::model::JointKind`]. `τ` is the generalized force dual to `v`.
+//! - `bias(q, v) = N(q, q̇)·q̇` holds the velocity-product terms only, **without gravity**
+//!   (Wieber 2005, eq. 7); `gravity(q) = g(q)` is the generalized force needed to hold the chain
+//!   still against gravity, the negative of Wieber's `𝓕_g` (Wieber 2005, eq. 8 with
+//!   `f_k = m_k·g`, `τ_k = 0`). So `τ = M·a + bias + gravity`.
+//!
+//! # Layers
+//! - Generic recursions over any [`Scalar`](crate::Scalar) on a [`Tree`] (one algorithm per
+//!   file): [`rnea()`](rnea::rnea) and [`joint_forces`](rnea::joint_forces) (RBDA §5.3),
+//!   [`crba()`](crba::crba) (RBDA §6.2), [`aba()`](aba::aba) (RBDA §7.3). They never branch on or
+//!   compare a scalar, so the generator can trace them over a symbolic scalar. They do not check
+//!   their inputs.
+//! - The `f64` front door [`Reference`], which checks everything and returns [`Error`]s instead
+//!   of panicking or returning NaN.
+//! - An independent cross-check, [`jacobian`]: Wieber 2005, eqs. 6–8 from plain 3D kinematics.
+
+pub mod aba;
+pub mod crba;
+pub mod jacobian;
+pub mod rnea;
+pub mod tree;
+
+use alloc::format;
+use alloc::string::{String, ToString};
+use alloc::vec::Vec;
+use core::fmt;
+
+use nalgebra::{DMatrix, DVector};
+
+pub use aba::{aba, AbaOutput};
+pub use crba::crba;
+pub use rnea::{joint_forces, node_forces, rnea};
+pub use tree::{Node, NodeJoint, Tree};
+
+use crate::model::{JointKind, Model};
+
+/// What can go wrong in the reference dynamics. No function of [`Reference`] panics.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Error {
+    /// A state vector has the wrong length.
+    Length {
+        /// Which vector (`"q"`, `"v"`, `"a"`, `"tau"`).
+        vector: &'static str,
+        /// The length the model needs.
+        expected: usize,
+        /// The length given.
+        found: usize,
+    },
+    /// A state vector has a NaN or infinite entry.
+    NonFinite {
+        /// Which vector.
+        vector: &'static str,
+        /// The index of the first such entry.
+        index: usize,
+    },
+    /// A quaternion in `q` is zero (or its squared norm is not a positive finite number), so it
+    /// names no rotation.
+    Quaternion {
+        /// The joint it belongs to.
+        joint: String,
+        /// Index of its `w` entry in `q`.
+        index: usize,
+    },
+    /// The parameter vector has the wrong length.
+    ParamLength {
+        /// `model.params.len()`.
+        expected: usize,
+        /// The length given.
+        found: usize,
+    },
+    /// A parameter value is NaN or infinite.
+    ParamNonFinite {
+        /// Its index.
+        index: usize,
+        /// Its name in the model.
+        name: String,
+    },
+    /// The model fails [`Model::check`]; the message says why.
+    InvalidModel(String),
+    /// Forward dynamics found a singular or non-positive articulated inertia (the mass matrix is
+    /// not positive definite: a massless leaf, an Euler joint at gimbal lock, …) or a non-finite
+    /// result; the message names the joint.
+    Singular(String),
+    /// A result overflowed to infinity or NaN although the inputs were finite (huge inputs).
+    NonFiniteResult {
+        /// Which output (`"mass_matrix"`, `"bias"`, …).
+        output: &'static str,
+    },
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::Length {
+                vector,
+                expected,
+                found,
+            } => write!(
+                f,
+                "`{vector}` has {found} entries but the model needs {expected}"
+            ),
+            Error::NonFinite { vector, index } => {
+                write!(f, "`{vector}[{index}]` is not a finite number")
+            }
+            Error::Quaternion { joint, index } => write!(
+                f,
+                "joint `{joint}`: the quaternion at q[{index}..{}] is zero or not finite, so it names no rotation",
+                index + 4
+            ),
+            Error::ParamLength { expected, found } => write!(
+                f,
+                "{found} parameter values given but the model has {expected} parameters"
+            ),
+            Error::ParamNonFinite { index, name } => {
+                write!(f, "parameter #{index} `{name}` is not a finite number")
+            }
+            Error::InvalidModel(msg) => write!(f, "invalid model: {msg}"),
+            Error::Singular(msg) => write!(f, "singular dynamics: {msg}"),
+            Error::NonFiniteResult { output } => write!(
+                f,
+                "`{output}` overflowed to a non-finite value (inputs too large)"
+            ),
+        }
+    }
+}
+
+/// The wrench a joint transmits: what the parent exerts on the child across the joint, in the
+/// child body frame, about the child frame origin (Hemami's joint couple and reaction force),
+/// gravity included.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wrench {
+    /// The couple about the child frame origin (N·m).
+    pub couple: [f64; 3],
+    /// The force (N).
+    pub force: [f64; 3],
+}
+
+/// The reference dynamics of one model with fixed parameter values, in `f64`.
+///
+/// Built once ([`Reference::new`], [`Reference::with_params`]); every query checks its inputs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reference {
+    model: Model,
+    params: Vec<f64>,
+    tree: Tree<f64>,
+}
+
+/// Checks a model and a parameter vector for it.
+pub(crate) fn check_model(model: &Model, params: &[f64]) -> Result<(), Error> {
+    model.check().map_err(Error::InvalidModel)?;
+    if params.len() != model.params.len() {
+        return Err(Error::ParamLength {
+            expected: model.params.len(),
+            found: params.len(),
+        });
+    }
+    if let Some(index) = params.iter().position(|x| !x.is_finite()) {
+        return Err(Error::ParamNonFinite {
+            index,
+            name: model.params[index].name.clone(),
+        });
+    }
+    Ok(())
+}
+
+/// Checks the length and finiteness of a state vector.
+pub(crate) fn check_vector(vector: &'static str, x: &[f64], expected: usize) -> Result<(), Error> {
+    if x.len() != expected {
+        return Err(Error::Length {
+            vector,
+            expected,
+            found: x.len(),
+        });
+    }
+    match x.iter().position(|x| !x.is_finite()) {
+        Some(index) => Err(Error::NonFinite { vector, index }),
+        None => Ok(()),
+    }
+}
+
+/// Checks `q` (length, finite, every quaternion non-zero).
+pub(crate) fn check_q(model: &Model, q: &[f64]) -> Result<(), Error> {
+    check_vector("q", q, model.nq())?;
+    let mut at = 0;
+    for j in &model.joints {
+        let w = match j.kind {
+            JointKind::SphericalQuaternion => Some(at),
+            JointKind::FreeQuaternion => Some(at + 3),
+            _ => None,
+        };
+        if let Some(index) = w {
+            let n2: f64 = q[index..index + 4].iter().map(|x| x * x).sum();
+            if !(n2 > 0.0 && n2.is_finite()) {
+                return Err(Error::Quaternion {
+                    joint: j.name.clone(),
+                    index,
+                });
+            }
+        }
+        at += j.kind.nq();
+    }
+    Ok(())
+}
+
+fn finite(output: &'static str, x: Vec<f64>) -> Result<Vec<f64>, Error> {
+    if x.iter().all(|x| x.is_finite()) {
+        Ok(x)
+    } else {
+        Err(Error::NonFiniteResult { output })
+    }
+}
+
+/// A pivot of `D_i` is accepted when it is positive both relative to its own unreduced diagonal
+/// entry (catches gimbal lock: the pivot cancels to rounding error) and relative to the largest
+/// diagonal entry of the whole tree (catches an inertia that is zero up to rounding).
+const PIVOT_LOCAL_TOL: f64 = 1e-13;
+const PIVOT_GLOBAL_TOL: f64 = 1e-15;
+
+impl Reference {
+    /// The reference dynamics of `model` with its parameters at their default values.
+    pub fn new(model: &Model) -> Result<Self, Error> {
+        Self::with_params(model, &model.param_defaults())
+    }
+
+    /// The reference dynamics of `model` with the parameter values `params` (one per
+    /// `model.params`).
+    pub fn with_params(model: &Model, params: &[f64]) -> Result<Self, Error> {
+        check_model(model, params)?;
+        Ok(Reference {
+            model: model.clone(),
+            params: params.to_vec(),
+            tree: Tree::new(model, params),
+        })
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// The parameter values in use.
+    pub fn params(&self) -> &[f64] {
+        &self.params
+    }
+
+    /// The numeric tree the recursions run on (Euler joints expanded).
+    pub fn tree(&self) -> &Tree<f64> {
+        &self.tree
+    }
+
+    /// Number of position coordinates.
+    pub fn nq(&self) -> usize {
+        self.tree.nq
+    }
+
+    /// Number of velocity coordinates.
+    pub fn nv(&self) -> usize {
+        self.tree.nv
+    }
+
+    /// The joint-space inertia matrix `M(q)` by CRBA (Featherstone 2008, RBDA §6.2).
+    pub fn mass_matrix(&self, q: &[f64]) -> Result<DMatrix<f64>, Error> {
+        check_q(&self.model, q)?;
+        let m = finite("mass_matrix", crba(&self.tree, q))?;
+        Ok(DMatrix::from_row_slice(self.nv(), self.nv(), &m))
+    }
+
+    /// The velocity-product terms `N(q, q̇)·q̇` (Coriolis and centrifugal), **without gravity**:
+    /// RNEA with `a = 0` and no gravity (Featherstone 2008, RBDA §5.3).
+    pub fn bias(&self, q: &[f64], v: &[f64]) -> Result<DVector<f64>, Error> {
+        check_q(&self.model, q)?;
+        check_vector("v", v, self.nv())?;
+        let zero = alloc::vec![0.0; self.nv()];
+        let b = finite("bias", rnea(&self.tree, q, v, &zero, false))?;
+        Ok(DVector::from_vec(b))
+    }
+
+    /// `g(q)`: the generalized force that holds the chain still against gravity (RNEA with
+    /// `v = a = 0`; the negative of Wieber 2005, eq. 8 with `f_k = m_k·g`).
+    pub fn gravity(&self, q: &[f64]) -> Result<DVector<f64>, Error> {
+        check_q(&self.model, q)?;
+        let zero = alloc::vec![0.0; self.nv()];
+        let g = finite("gravity", rnea(&self.tree, q, &zero, &zero, true))?;
+        Ok(DVector::from_vec(g))
+    }
+
+    /// Inverse dynamics `τ = M(q)·a + N(q, q̇)·q̇ + g(q)` by RNEA (Featherstone 2008, RBDA §5.3).
+    pub fn inverse_dynamics(&self, q: &[f64], v: &[f64], a: &[f64]) -> Result<DVector<f64>, Error> {
+        check_q(&self.model, q)?;
+        check_vector("v", v, self.nv())?;
+        check_vector("a", a, self.nv())?;
+        let tau = finite("inverse_dynamics", rnea(&self.tree, q, v, a, true))?;
+        Ok(DVector::from_vec(tau))
+    }
+
+    /// Forward dynamics `q̈` (the time derivative of `v`) for the applied generalized force `tau`,
+    /// by ABA (Featherstone 2008, RBDA §7.3). [`Error::Singular`] when `M(q)` is not positive
+    /// definite or the result is not finite.
+    pub fn forward_dynamics(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        tau: &[f64],
+    ) -> Result<DVector<f64>, Error> {
+        check_q(&self.model, q)?;
+        check_vector("v", v, self.nv())?;
+        check_vector("tau", tau, self.nv())?;
+        let out = aba(&self.tree, q, v, tau, true);
+        let scale = out.diag.iter().fold(0.0f64, |s, d| s.max(d.abs()));
+        for (k, (&p, &d)) in out.pivots.iter().zip(&out.diag).enumerate() {
+            if !(p > PIVOT_LOCAL_TOL * d.abs() && p > PIVOT_GLOBAL_TOL * scale) {
+                return Err(Error::Singular(format!(
+                    "joint `{}` (velocity {k}): articulated inertia pivot {p:e} is not positive \
+                     (unreduced {d:e}); the mass matrix is singular here",
+                    self.joint_of_v(k)
+                )));
+            }
+        }
+        if let Some(k) = out.qdd.iter().position(|x| !x.is_finite()) {
+            return Err(Error::Singular(format!(
+                "joint `{}` (velocity {k}): the acceleration is not finite",
+                self.joint_of_v(k)
+            )));
+        }
+        Ok(DVector::from_vec(out.qdd))
+    }
+
+    /// The wrench each model joint transmits at `(q, v, a)`, gravity included, in joint order:
+    /// what the parent exerts on the child, in the child body frame, about the child origin
+    /// (RNEA's `f_i`, Featherstone 2008, RBDA Table 5.1).
+    pub fn joint_wrenches(&self, q: &[f64], v: &[f64], a: &[f64]) -> Result<Vec<Wrench>, Error> {
+        check_q(&self.model, q)?;
+        check_vector("v", v, self.nv())?;
+        check_vector("a", a, self.nv())?;
+        let f = joint_forces(&self.tree, q, v, a);
+        let out: Vec<Wrench> = f
+            .iter()
+            .map(|f| Wrench {
+                couple: f.ang.0,
+                force: f.lin.0,
+            })
+            .collect();
+        if out
+            .iter()
+            .all(|w| w.couple.iter().chain(&w.force).all(|x| x.is_finite()))
+        {
+            Ok(out)
+        } else {
+            Err(Error::NonFiniteResult {
+                output: "joint_wrenches",
+            })
+        }
+    }
+
+    fn joint_of_v(&self, k: usize) -> String {
+        let mut at = 0;
+        for j in &self.model.joints {
+            at += j.kind.nv();
+            if k < at {
+                return j.name.clone();
+            }
+        }
+        "?".to_string()
+    }
+}

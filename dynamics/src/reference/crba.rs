@@ -1,0 +1,46 @@
+//! The composite-rigid-body algorithm (Featherstone 2008, RBDA §6.2, Table 6.2): the joint-space
+//! inertia matrix `M(q)`.
+
+use alloc::vec::Vec;
+
+use super::tree::Tree;
+use crate::scalar::Scalar;
+
+/// `M(q)`, row-major `nv × nv`.
+///
+/// Composite inertias `I_c[λ] += X_upᵀ·I_c[i]·X_up` from the leaves in, then for each node
+/// `F = I_c[i]·S_i`, `M_ii = S_iᵀ·F`, and `F` is carried to each ancestor `j` (`F = X_upᵀ·F`)
+/// giving `M_ji = S_jᵀ·F` and its mirror `M_ij`.
+pub fn crba<T: Scalar>(tree: &Tree<T>, q: &[T]) -> Vec<T> {
+    let nv = tree.nv;
+    let x_up = tree.x_up(q);
+    let mut ic: Vec<_> = tree.nodes.iter().map(|n| n.inertia).collect();
+    for (i, node) in tree.nodes.iter().enumerate().rev() {
+        if let Some(p) = node.parent {
+            ic[p] = ic[p].add(&ic[i].to_parent(&x_up[i]));
+        }
+    }
+    let mut m = alloc::vec![T::zero(); nv * nv];
+    for (i, node) in tree.nodes.iter().enumerate() {
+        for k in 0..node.nv() {
+            let col = node.v_at + k;
+            let mut f = ic[i].mul_motion(node.s_col(k));
+            for l in 0..node.nv() {
+                m[(node.v_at + l) * nv + col] = node.s_col(l).dot(f);
+            }
+            let mut j = i;
+            while let Some(p) = tree.nodes[j].parent {
+                f = x_up[j].inv_apply_force(f);
+                j = p;
+                let nj = &tree.nodes[j];
+                for l in 0..nj.nv() {
+                    let row = nj.v_at + l;
+                    let x = nj.s_col(l).dot(f);
+                    m[row * nv + col] = x;
+                    m[col * nv + row] = x;
+                }
+            }
+        }
+    }
+    m
+}

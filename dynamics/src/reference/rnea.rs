@@ -1,0 +1,71 @@
+//! The recursive Newton–Euler algorithm (Featherstone 2008, RBDA §5.3, Table 5.1): inverse
+//! dynamics `τ = M(q)·a + N(q, q̇)·q̇ + g(q)`, and the spatial force each joint transmits.
+
+use alloc::vec::Vec;
+
+use super::tree::Tree;
+use crate::scalar::Scalar;
+use crate::spatial::Force;
+
+/// The spatial forces `f[i]` each tree node's joint transmits from the parent to the node, in the
+/// node's frame, about its origin (RBDA Table 5.1, lines 10 and 15), for the state `(q, v, a)`.
+/// With `with_gravity`, gravity enters as the fictitious base acceleration `−a_g` (RBDA §5.3), so
+/// the forces are the physical ones.
+///
+/// Forward pass: `v_i = X_up·v_λ + S·q̇_i`, `a_i = X_up·a_λ + S·q̈_i + v_i ×m (S·q̇_i)`,
+/// `f_i = I_i·a_i + v_i ×f (I_i·v_i)`; backward pass: `f_λ += X_upᵀ·f_i`.
+pub fn node_forces<T: Scalar>(
+    tree: &Tree<T>,
+    q: &[T],
+    v: &[T],
+    a: &[T],
+    with_gravity: bool,
+) -> Vec<Force<T>> {
+    let x_up = tree.x_up(q);
+    let a0 = tree.base_acceleration(with_gravity);
+    let mut vel = Vec::with_capacity(tree.nodes.len());
+    let mut acc = Vec::with_capacity(tree.nodes.len());
+    let mut f = Vec::with_capacity(tree.nodes.len());
+    for (i, node) in tree.nodes.iter().enumerate() {
+        let v_j = node.s_mul(v);
+        let (v_i, a_i) = match node.parent {
+            None => (v_j, x_up[i].apply_motion(a0) + node.s_mul(a)),
+            Some(p) => {
+                let v_i = x_up[i].apply_motion(vel[p]) + v_j;
+                let a_i = x_up[i].apply_motion(acc[p]) + node.s_mul(a) + v_i.cross_motion(v_j);
+                (v_i, a_i)
+            }
+        };
+        let inertia = &node.inertia;
+        f.push(inertia.mul_motion(a_i) + v_i.cross_force(inertia.mul_motion(v_i)));
+        vel.push(v_i);
+        acc.push(a_i);
+    }
+    for (i, node) in tree.nodes.iter().enumerate().rev() {
+        if let Some(p) = node.parent {
+            f[p] = f[p] + x_up[i].inv_apply_force(f[i]);
+        }
+    }
+    f
+}
+
+/// Inverse dynamics by RNEA: `τ_i = Sᵢᵀ·f_i` (RBDA Table 5.1, line 14). With `with_gravity` this
+/// is `M·a + N·q̇ + g`; without, `M·a + N·q̇`. So `bias = rnea(q, v, 0, false)` and
+/// `gravity = rnea(q, 0, 0, true)`.
+pub fn rnea<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T], a: &[T], with_gravity: bool) -> Vec<T> {
+    let f = node_forces(tree, q, v, a, with_gravity);
+    let mut tau = alloc::vec![T::zero(); tree.nv];
+    for (node, f_i) in tree.nodes.iter().zip(&f) {
+        node.s_tr_mul(*f_i, &mut tau);
+    }
+    tau
+}
+
+/// The spatial force each **model** joint transmits (the parent on the child), in the child body
+/// frame, about the child frame origin, angular first `[couple; force]`, with gravity: Hemami's
+/// joint couple and reaction force. For an Euler joint this is the force into its last
+/// (massive) node; the massless frames in between pass it on unchanged.
+pub fn joint_forces<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T], a: &[T]) -> Vec<Force<T>> {
+    let f = node_forces(tree, q, v, a, true);
+    tree.body_node.iter().map(|&n| f[n]).collect()
+}
