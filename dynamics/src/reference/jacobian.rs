@@ -41,6 +41,8 @@ pub struct BodyJacobians {
     pub jr_dot: DMatrix<f64>,
     /// The centre of mass, world frame.
     pub com: Vector3<f64>,
+    /// The body frame's origin, world frame.
+    pub origin: Vector3<f64>,
     /// The body's orientation `R` (body → world).
     pub rotation: Matrix3<f64>,
     /// Mass.
@@ -287,6 +289,7 @@ pub fn body_jacobians(
             jt_dot,
             jr_dot,
             com: x,
+            origin: o,
             rotation: r,
             mass: val(&body.mass),
             inertia: Matrix3::from_fn(|i, j| val(&body.inertia[i][j])),
