@@ -202,13 +202,7 @@ fn free_rigid_body() {
     for a in 0..6 {
         for c in 0..6 {
             let want = match (a < 3, c < 3) {
-                (true, true) => {
-                    if a == c {
-                        m
-                    } else {
-                        0.0
-                    }
-                }
+                (true, true) if a == c => m,
                 (false, false) => i[a - 3][c - 3],
                 _ => 0.0,
             };

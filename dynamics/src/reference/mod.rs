@@ -314,7 +314,9 @@ impl Reference {
         check_vector("tau", tau, self.nv())?;
         let out = aba(&self.tree, q, v, tau, true);
         let scale = out.diag.iter().fold(0.0f64, |s, d| s.max(d.abs()));
-        for (k, (&p, &d)) in out.pivots.iter().zip(&out.diag).enumerate() {
+        // Leaves first, as ABA eliminates them: a singular joint poisons its ancestors with NaN,
+        // so the first failure found this way is the culprit.
+        for (k, (&p, &d)) in out.pivots.iter().zip(&out.diag).enumerate().rev() {
             if !(p > PIVOT_LOCAL_TOL * d.abs() && p > PIVOT_GLOBAL_TOL * scale) {
                 return Err(Error::Singular(format!(
                     "joint `{}` (velocity {k}): articulated inertia pivot {p:e} is not positive \

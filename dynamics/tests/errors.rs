@@ -1,0 +1,268 @@
+//! Every [`Error`] variant is produced, with a message that names the culprit; nothing panics.
+
+mod common;
+
+use articulated_dynamics::model::{EulerSeq, JointKind, Param, Value};
+use articulated_dynamics::reference::{jacobian, Error, Reference};
+use common::*;
+
+const Y: [f64; 3] = [0.0, 1.0, 0.0];
+
+fn double_pendulum() -> articulated_dynamics::model::Model {
+    model(
+        vec![
+            body("upper", 1.0, [0.0, 0.0, -0.5], diag(0.1, 0.1, 0.01)),
+            body("lower", 1.0, [0.0, 0.0, -0.5], diag(0.1, 0.1, 0.01)),
+        ],
+        vec![
+            joint(
+                "shoulder",
+                JointKind::Revolute { axis: Y },
+                None,
+                [0.0; 3],
+                [0.0; 3],
+            ),
+            joint(
+                "elbow",
+                JointKind::Revolute { axis: Y },
+                Some(0),
+                [0.0, 0.0, -1.0],
+                [0.0; 3],
+            ),
+        ],
+    )
+}
+
+#[test]
+fn wrong_length() {
+    let r = Reference::new(&double_pendulum()).unwrap();
+    let e = r.mass_matrix(&[0.0]).unwrap_err();
+    assert_eq!(
+        e,
+        Error::Length {
+            vector: "q",
+            expected: 2,
+            found: 1
+        }
+    );
+    assert!(
+        e.to_string()
+            .contains("`q` has 1 entries but the model needs 2"),
+        "{e}"
+    );
+    let e = r
+        .forward_dynamics(&[0.0; 2], &[0.0; 2], &[0.0; 3])
+        .unwrap_err();
+    assert_eq!(
+        e,
+        Error::Length {
+            vector: "tau",
+            expected: 2,
+            found: 3
+        }
+    );
+    let e = r.inverse_dynamics(&[0.0; 2], &[0.0; 2], &[]).unwrap_err();
+    assert_eq!(
+        e,
+        Error::Length {
+            vector: "a",
+            expected: 2,
+            found: 0
+        }
+    );
+}
+
+#[test]
+fn non_finite_entry() {
+    let r = Reference::new(&double_pendulum()).unwrap();
+    let e = r.bias(&[0.0; 2], &[0.0, f64::NAN]).unwrap_err();
+    assert_eq!(
+        e,
+        Error::NonFinite {
+            vector: "v",
+            index: 1
+        }
+    );
+    assert!(e.to_string().contains("`v[1]`"), "{e}");
+    let e = r.gravity(&[f64::INFINITY, 0.0]).unwrap_err();
+    assert_eq!(
+        e,
+        Error::NonFinite {
+            vector: "q",
+            index: 0
+        }
+    );
+}
+
+#[test]
+fn zero_quaternion() {
+    let m = model(
+        vec![
+            body("a", 1.0, [0.0; 3], diag(0.1, 0.1, 0.1)),
+            body("b", 1.0, [0.1, 0.0, 0.0], diag(0.1, 0.1, 0.1)),
+        ],
+        vec![
+            joint("base", JointKind::FreeQuaternion, None, [0.0; 3], [0.0; 3]),
+            joint(
+                "ball",
+                JointKind::SphericalQuaternion,
+                Some(0),
+                [0.0; 3],
+                [0.0; 3],
+            ),
+        ],
+    );
+    let r = Reference::new(&m).unwrap();
+    let mut q = m.neutral();
+    q[7..11].fill(0.0);
+    let e = r.mass_matrix(&q).unwrap_err();
+    assert_eq!(
+        e,
+        Error::Quaternion {
+            joint: "ball".into(),
+            index: 7
+        }
+    );
+    assert!(e.to_string().contains("`ball`"), "{e}");
+    // A non-unit but non-zero quaternion is fine: it is normalized.
+    let mut q2 = m.neutral();
+    q2[3] = 5.0;
+    let m1 = r.mass_matrix(&m.neutral()).unwrap();
+    assert!((r.mass_matrix(&q2).unwrap() - m1).amax() < 1e-15);
+    // The cross-check refuses it too.
+    assert!(matches!(
+        jacobian::wieber(&m, &[], &q, &[0.0; 9]),
+        Err(Error::Quaternion { .. })
+    ));
+}
+
+#[test]
+fn parameters() {
+    let mut m = double_pendulum();
+    m.params = vec![Param {
+        name: "payload".into(),
+        default: 1.0,
+    }];
+    m.bodies[1].mass = Value::Param(0);
+    let e = Reference::with_params(&m, &[]).unwrap_err();
+    assert_eq!(
+        e,
+        Error::ParamLength {
+            expected: 1,
+            found: 0
+        }
+    );
+    assert!(e.to_string().contains("0 parameter values given"), "{e}");
+    let e = Reference::with_params(&m, &[f64::NAN]).unwrap_err();
+    assert_eq!(
+        e,
+        Error::ParamNonFinite {
+            index: 0,
+            name: "payload".into()
+        }
+    );
+    assert!(e.to_string().contains("`payload`"), "{e}");
+    m.params[0].default = f64::INFINITY;
+    assert!(matches!(
+        Reference::new(&m),
+        Err(Error::ParamNonFinite { .. })
+    ));
+}
+
+#[test]
+fn invalid_model() {
+    let mut m = double_pendulum();
+    m.joints[1].kind = JointKind::Revolute {
+        axis: [0.0, 2.0, 0.0],
+    };
+    let e = Reference::new(&m).unwrap_err();
+    assert!(
+        matches!(&e, Error::InvalidModel(msg) if msg.contains("not a unit vector")),
+        "{e}"
+    );
+    let mut m = double_pendulum();
+    m.bodies.pop();
+    assert!(matches!(Reference::new(&m), Err(Error::InvalidModel(_))));
+}
+
+/// A massless leaf on a revolute joint: nothing resists its acceleration.
+#[test]
+fn singular_massless_leaf() {
+    let mut m = double_pendulum();
+    m.bodies[1] = body("frame", 0.0, [0.0; 3], diag(0.0, 0.0, 0.0));
+    let r = Reference::new(&m).unwrap();
+    // M is fine to compute, only singular.
+    assert_eq!(r.mass_matrix(&[0.1, 0.2]).unwrap()[(1, 1)], 0.0);
+    let e = r
+        .forward_dynamics(&[0.1, 0.2], &[0.0; 2], &[0.0; 2])
+        .unwrap_err();
+    assert!(
+        matches!(&e, Error::Singular(msg) if msg.contains("`elbow`")),
+        "{e}"
+    );
+}
+
+/// A massless intermediate frame is fine as long as something massive hangs below it.
+#[test]
+fn massless_intermediate_frame_is_not_singular() {
+    let mut m = double_pendulum();
+    m.bodies[0] = body("frame", 0.0, [0.0; 3], diag(0.0, 0.0, 0.0));
+    let r = Reference::new(&m).unwrap();
+    assert!(r
+        .forward_dynamics(&[0.1, 0.2], &[0.3; 2], &[0.0; 2])
+        .is_ok());
+}
+
+/// A free Euler base (z-y-x) at pitch π/2 is at gimbal lock: yaw and roll turn about the same
+/// axis, M is singular.
+#[test]
+fn singular_gimbal_lock() {
+    let m = model(
+        vec![body(
+            "b",
+            1.0,
+            [0.1, 0.0, 0.0],
+            [[0.2, 0.01, 0.0], [0.01, 0.3, 0.0], [0.0, 0.0, 0.4]],
+        )],
+        vec![joint(
+            "base",
+            JointKind::FreeEuler { seq: EulerSeq::ZYX },
+            None,
+            [0.0; 3],
+            [0.0; 3],
+        )],
+    );
+    let r = Reference::new(&m).unwrap();
+    let q = [0.0, 0.0, 0.0, 0.3, std::f64::consts::FRAC_PI_2, -0.2];
+    let e = r.forward_dynamics(&q, &[0.0; 6], &[0.0; 6]).unwrap_err();
+    assert!(
+        matches!(&e, Error::Singular(msg) if msg.contains("`base`")),
+        "{e}"
+    );
+    assert!(e.to_string().starts_with("singular dynamics"), "{e}");
+    // Away from it, fine.
+    let q = [0.0, 0.0, 0.0, 0.3, 1.0, -0.2];
+    assert!(r.forward_dynamics(&q, &[0.0; 6], &[0.0; 6]).is_ok());
+}
+
+/// Finite but huge inputs overflow: reported, not returned as infinities.
+#[test]
+fn non_finite_result() {
+    let r = Reference::new(&double_pendulum()).unwrap();
+    let e = r.bias(&[0.1, 0.2], &[1e200, 1e200]).unwrap_err();
+    assert_eq!(e, Error::NonFiniteResult { output: "bias" });
+    assert!(e.to_string().contains("overflowed"), "{e}");
+    let e = r
+        .joint_wrenches(&[0.1, 0.2], &[1e200, 1e200], &[0.0; 2])
+        .unwrap_err();
+    assert_eq!(
+        e,
+        Error::NonFiniteResult {
+            output: "joint_wrenches"
+        }
+    );
+    let e = r
+        .forward_dynamics(&[0.1, 0.2], &[1e200, 1e200], &[0.0; 2])
+        .unwrap_err();
+    assert!(matches!(e, Error::Singular(_)), "{e}");
+}
