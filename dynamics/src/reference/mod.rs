@@ -13,7 +13,7 @@
 //!
 //! # Layers
 //! - Generic recursions over any [`Scalar`](crate::Scalar) on a [`Tree`] (one algorithm per
-//!   file): [`rnea()`](rnea::rnea) and [`joint_forces`](rnea::joint_forces) (RBDA §5.3),
+//!   file): [`rnea()`](rnea::rnea) and [`joint_forces`] (RBDA §5.3),
 //!   [`crba()`](crba::crba) (RBDA §6.2), [`aba()`](aba::aba) (RBDA §7.3). They never branch on or
 //!   compare a scalar, so the generator can trace them over a symbolic scalar. They do not check
 //!   their inputs.
