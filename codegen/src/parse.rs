@@ -1,1 +1,662 @@
+//! The chain description language: one grammar for the `chain!{}` macro and `.chain` files.
+//!
+//! This module turns tokens into a [`ChainDef`], a syntax tree that keeps the span of every
+//! name and number so that [`crate::lower`] can point each error at the user's token. Nothing is
+//! checked here beyond the shape of the syntax; [`crate::lower::lower`] checks the meaning (names,
+//! the tree, masses, inertias) and reports every error at once.
+//!
+//! # By example: Hemami's two-link system
+//!
+//! ```text
+//! /// Hemami's two-link system: legs on a spherical ankle, trunk on a spherical hip.
+//! pub chain TwoLink {
+//!     gravity: [0.0, 0.0, -9.81];
+//!     scalar: f64;
+//!     outputs: [mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics];
+//!     param trunk_mass = 40.0;
+//!
+//!     body legs {
+//!         mass: 30.0,
+//!         com: [0.0, 0.0, 0.45],
+//!         inertia: diag(2.6, 2.5, 0.25),
+//!     }
+//!     body trunk { mass: trunk_mass, com: [0.0, 0.0, 0.35], inertia: diag(1.6, 1.2, 0.45) }
+//!
+//!     joint ankle: spherical(xyz) { parent: world, child: legs }
+//!     joint hip: spherical(xyz) { parent: legs, child: trunk, xyz: [0.0, 0.0, 0.9], rpy: [0.0, 0.0, 0.0] }
+//! }
+//! ```
+//!
+//! The same text is a `.chain` file (read it with [`crate::lower::load_chain_file`]) and, inside
+//! `chain! { … }`, a macro invocation. Comments are Rust's: `//`, `/* … */`, and `///` doc
+//! comments.
+//!
+//! # The header
+//! `[doc comments] [visibility] chain Name { items }`
+//!
+//! - Doc comments (`/// …`, or `#[doc = "…"]`) before `chain` become the generated type's docs
+//!   ([`Model::doc`](crate::model::Model::doc), one entry per line, exactly as written).
+//! - Visibility: none, `pub`, `pub(crate)`, `pub(super)`, `pub(in path)`: copied to
+//!   [`Model::visibility`](crate::model::Model::visibility).
+//! - `chain` is a contextual keyword; `Name` names the generated type.
+//! - An optional `;` may follow the closing brace.
+//!
+//! # Items
+//! Items come in any order. Each may be preceded by doc comments, which are accepted and
+//! ignored (use them to document your bodies and joints).
+//!
+//! ## Settings: `key: value;`
+//! | setting | values | when absent |
+//! |---|---|---|
+//! | `gravity` | `[gx, gy, gz]` (m/s², world frame) or `none` | `[0.0, 0.0, -9.81]` |
+//! | `scalar` | `f64`, `f32` or `generic` | `f64` |
+//! | `outputs` | a list of names from [`Output::ALL`](crate::model::Output::ALL): `mass_matrix`, `bias`, `gravity`, `inverse_dynamics`, `forward_dynamics`, `coriolis`, `center_of_mass`, `momentum`, `energy`, `joint_wrenches`, `linearization` | [`Output::DEFAULT`](crate::model::Output::DEFAULT) |
+//!
+//! Outputs are sorted and duplicates dropped.
+//!
+//! ## Parameters: `param name = default;`
+//! A runtime parameter: a number the generated code takes as an argument instead of baking it
+//! in (a payload, a mass being identified). The default must be a constant. A parameter name
+//! may stand wherever a number does (`mass: trunk_mass`), except in a joint axis, but only
+//! alone: `2.0 * trunk_mass` is an error. Checks (positive mass, inertia) use the default.
+//!
+//! ## Bodies: `body name { field: value, … }`
+//! | field | value | required |
+//! |---|---|---|
+//! | `mass` | kg | yes |
+//! | `com` | `[x, y, z]`: centre of mass in the body frame (m) | no, `[0.0, 0.0, 0.0]` |
+//! | `inertia` | about the centre of mass, body axes (kg·m²): principal moments `diag(ixx, iyy, izz)`, or a full symmetric matrix `[[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]` | yes |
+//!
+//! A trailing comma and a `;` after the block are allowed. A body that moves (one not attached
+//! to the world through `fixed` joints only) needs a positive mass and a positive definite
+//! inertia; every inertia must be symmetric and satisfy the triangle inequality (each principal
+//! moment at most the sum of the other two).
+//!
+//! ## Joints: `joint name: kind { field: value, … }`
+//! | kind | motion | `q` | `v` |
+//! |---|---|---|---|
+//! | `revolute(x)`, `revolute(y)`, `revolute(z)`, `revolute([ax, ay, az])` | rotation about the axis (normalized) | 1 | 1 |
+//! | `prismatic(x)`, …, `prismatic([ax, ay, az])` | translation along the axis | 1 | 1 |
+//! | `spherical(xyz)`, or any of the 12 Euler sequences | three Euler angles, intrinsic (`xyz`: `R = Rx·Ry·Rz`) | 3 | 3 |
+//! | `spherical(quaternion)` | quaternion `[w, x, y, z]` | 4 | 3 |
+//! | `free` (= `free(zyx)`, Wieber's form), `free(SEQ)` | translation, then Euler angles | 6 | 6 |
+//! | `free(quaternion)` | translation, then a quaternion | 7 | 6 |
+//! | `fixed` | none | 0 | 0 |
+//!
+//! The 12 Euler sequences are `xyz`, `xzy`, `yxz`, `yzx`, `zxy`, `zyx` (Tait–Bryan) and `xyx`,
+//! `xzx`, `yxy`, `yzy`, `zxz`, `zyz` (proper Euler). Axis components must be constants.
+//!
+//! | field | value | required |
+//! |---|---|---|
+//! | `parent` | `world` or a body | yes |
+//! | `child` | a body | yes |
+//! | `xyz` | `[x, y, z]`: the joint frame's origin in the parent frame (m) | no, zero |
+//! | `rpy` | `[roll, pitch, yaw]` (rad): the joint frame's rotation, `R = Rz(yaw)·Ry(pitch)·Rx(roll)` | no, zero |
+//!
+//! Every body is the child of exactly one joint, and every body must be reachable from
+//! `world`. In the [`Model`](crate::model::Model), bodies and joints are stored depth-first from
+//! the world, children in joint declaration order, whatever order the items come in.
+//!
+//! ## Numbers
+//! A number is a constant expression, folded when the description is read: integer and float
+//! literals, `pi`, unary `-`, binary `+ - * /` (usual precedence) and parentheses, e.g.
+//! `rpy: [0.0, pi / 2.0, 0.0]` or `mass: 2 * (1.5 + 0.25)`. Or a parameter name standing alone.
+//! Results must be finite: `1e999` and `1.0 / 0.0` are errors.
+//!
+//! # Errors
+//! A syntax error stops parsing at the first bad token. Everything else is checked by
+//! [`crate::lower::lower`], which reports all errors at once, each at the offending token.
+//!
+//! # Example
+//! ```
+//! use articulated_codegen::lower::parse_chain_str;
+//! let src = r#"
+//!     /// A pendulum.
+//!     pub chain Pendulum {
+//!         param m = 1.0;
+//!         body bob { mass: m, com: [0.0, 0.0, -1.0], inertia: diag(0.01, 0.01, 0.01) }
+//!         joint pivot: revolute(y) { parent: world, child: bob }
+//!     }
+//! "#;
+//! let model = parse_chain_str(src, "pendulum.chain".as_ref()).unwrap();
+//! assert_eq!(model.name, "Pendulum");
+//! assert_eq!((model.nq(), model.nv()), (1, 1));
+//! ```
 
+use std::fmt;
+
+use proc_macro2::{Ident, TokenStream};
+use quote::{ToTokens, TokenStreamExt};
+use syn::ext::IdentExt;
+use syn::parse::{Parse, ParseStream};
+use syn::punctuated::Punctuated;
+use syn::{braced, bracketed, parenthesized, token, Attribute, Lit, Token, Visibility};
+
+/// A whole chain description: `[docs] [vis] chain Name { items }`. Parse it with
+/// `syn::parse2::<ChainDef>(tokens)` (or `syn::parse_macro_input!`); lower it with
+/// [`crate::lower::lower`].
+#[derive(Clone, Debug)]
+pub struct ChainDef {
+    /// Attributes before `chain`: doc comments (anything else is reported by `lower`).
+    pub attrs: Vec<Attribute>,
+    /// The visibility of the generated type.
+    pub vis: Visibility,
+    /// The contextual keyword `chain`.
+    pub chain_token: Ident,
+    /// The chain's name.
+    pub name: Ident,
+    /// The braces around the items.
+    pub brace: token::Brace,
+    /// The items, in source order.
+    pub items: Vec<Item>,
+    /// An optional `;` after the closing brace.
+    pub semi: Option<Token![;]>,
+}
+
+/// One item of a chain.
+#[derive(Clone, Debug)]
+pub enum Item {
+    /// `key: value;`
+    Setting(Setting),
+    /// `param name = default;`
+    Param(ParamDef),
+    /// `body name { … }`
+    Body(BodyDef),
+    /// `joint name: kind { … }`
+    Joint(JointDef),
+}
+
+/// A setting: `gravity: …;`, `scalar: …;`, `outputs: […];`.
+#[derive(Clone, Debug)]
+pub struct Setting {
+    /// Doc comments before it (ignored).
+    pub attrs: Vec<Attribute>,
+    /// Which setting.
+    pub key: Ident,
+    /// The `:`.
+    pub colon: Token![:],
+    /// Its value.
+    pub value: Expr,
+    /// The closing `;`.
+    pub semi: Token![;],
+}
+
+/// A runtime parameter: `param name = default;`.
+#[derive(Clone, Debug)]
+pub struct ParamDef {
+    /// Doc comments before it (ignored).
+    pub attrs: Vec<Attribute>,
+    /// The contextual keyword `param`.
+    pub param_token: Ident,
+    /// The parameter's name.
+    pub name: Ident,
+    /// The `=`.
+    pub eq: Token![=],
+    /// Its default value.
+    pub default: Expr,
+    /// The closing `;`.
+    pub semi: Token![;],
+}
+
+/// A body: `body name { mass: …, com: […], inertia: … }`.
+#[derive(Clone, Debug)]
+pub struct BodyDef {
+    /// Doc comments before it (ignored).
+    pub attrs: Vec<Attribute>,
+    /// The contextual keyword `body`.
+    pub body_token: Ident,
+    /// The body's name.
+    pub name: Ident,
+    /// The braces.
+    pub brace: token::Brace,
+    /// The fields, in source order.
+    pub fields: Punctuated<Field, Token![,]>,
+    /// An optional `;` after the block.
+    pub semi: Option<Token![;]>,
+}
+
+/// A joint: `joint name: kind { parent: …, child: …, xyz: […], rpy: […] }`.
+#[derive(Clone, Debug)]
+pub struct JointDef {
+    /// Doc comments before it (ignored).
+    pub attrs: Vec<Attribute>,
+    /// The contextual keyword `joint`.
+    pub joint_token: Ident,
+    /// The joint's name.
+    pub name: Ident,
+    /// The `:` before the kind.
+    pub colon: Token![:],
+    /// The joint kind and its arguments.
+    pub kind: KindDef,
+    /// The braces.
+    pub brace: token::Brace,
+    /// The fields, in source order.
+    pub fields: Punctuated<Field, Token![,]>,
+    /// An optional `;` after the block.
+    pub semi: Option<Token![;]>,
+}
+
+/// A joint kind as written: `fixed`, `free`, `revolute(z)`, `spherical(xyz)`, ….
+#[derive(Clone, Debug)]
+pub struct KindDef {
+    /// `revolute`, `prismatic`, `spherical`, `free` or `fixed` (checked by `lower`).
+    pub name: Ident,
+    /// The parenthesized arguments, if any.
+    pub args: Option<(token::Paren, Punctuated<Expr, Token![,]>)>,
+}
+
+/// A field of a body or joint block: `key: value`.
+#[derive(Clone, Debug)]
+pub struct Field {
+    /// The field's name.
+    pub key: Ident,
+    /// The `:`.
+    pub colon: Token![:],
+    /// Its value.
+    pub value: Expr,
+}
+
+/// A value: a number expression, a name, a list or a call such as `diag(…)`. What a value may
+/// be depends on where it stands; `lower` checks it.
+#[derive(Clone, Debug)]
+pub enum Expr {
+    /// An integer or float literal.
+    Number(Lit),
+    /// A name: `pi`, a parameter, a body, `world`, `none`, an output, `x`, `xyz`, ….
+    Name(Ident),
+    /// `-e`.
+    Neg(Token![-], Box<Expr>),
+    /// `a + b`, `a - b`, `a * b`, `a / b`.
+    Binary(Box<Expr>, BinOp, Box<Expr>),
+    /// `(e)`.
+    Paren(token::Paren, Box<Expr>),
+    /// `[a, b, …]`.
+    List(token::Bracket, Punctuated<Expr, Token![,]>),
+    /// `name(a, b, …)`.
+    Call(Ident, token::Paren, Punctuated<Expr, Token![,]>),
+}
+
+/// A binary operator in a number expression.
+#[derive(Clone, Copy, Debug)]
+pub enum BinOp {
+    /// `+`
+    Add(Token![+]),
+    /// `-`
+    Sub(Token![-]),
+    /// `*`
+    Mul(Token![*]),
+    /// `/`
+    Div(Token![/]),
+}
+
+impl BinOp {
+    fn precedence(self) -> u8 {
+        match self {
+            BinOp::Add(_) | BinOp::Sub(_) => 1,
+            BinOp::Mul(_) | BinOp::Div(_) => 2,
+        }
+    }
+    fn symbol(self) -> &'static str {
+        match self {
+            BinOp::Add(_) => "+",
+            BinOp::Sub(_) => "-",
+            BinOp::Mul(_) => "*",
+            BinOp::Div(_) => "/",
+        }
+    }
+    fn peek(input: ParseStream) -> syn::Result<Option<BinOp>> {
+        Ok(if input.peek(Token![+]) && !input.peek(Token![+=]) {
+            Some(BinOp::Add(input.parse()?))
+        } else if input.peek(Token![-]) && !input.peek(Token![-=]) && !input.peek(Token![->]) {
+            Some(BinOp::Sub(input.parse()?))
+        } else if input.peek(Token![*]) && !input.peek(Token![*=]) {
+            Some(BinOp::Mul(input.parse()?))
+        } else if input.peek(Token![/]) && !input.peek(Token![/=]) {
+            Some(BinOp::Div(input.parse()?))
+        } else {
+            None
+        })
+    }
+    fn peek_precedence(input: ParseStream) -> Option<u8> {
+        let fork = input.fork();
+        BinOp::peek(&fork).ok().flatten().map(BinOp::precedence)
+    }
+}
+
+fn is_word(input: ParseStream, word: &str) -> bool {
+    input.peek(Ident::peek_any) && input.fork().call(Ident::parse_any).is_ok_and(|i| i == word)
+}
+
+impl Parse for ChainDef {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let attrs = input.call(Attribute::parse_outer)?;
+        let vis: Visibility = input.parse()?;
+        let chain_token: Ident = if is_word(input, "chain") {
+            input.call(Ident::parse_any)?
+        } else {
+            return Err(input.error("expected `chain Name { … }`"));
+        };
+        let name: Ident = input.parse()?;
+        let content;
+        let brace = braced!(content in input);
+        let mut items = Vec::new();
+        while !content.is_empty() {
+            items.push(content.parse()?);
+        }
+        let semi = input.parse()?;
+        Ok(ChainDef {
+            attrs,
+            vis,
+            chain_token,
+            name,
+            brace,
+            items,
+            semi,
+        })
+    }
+}
+
+impl Parse for Item {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let attrs = input.call(Attribute::parse_outer)?;
+        let is_setting =
+            input.peek(Ident::peek_any) && input.peek2(Token![:]) && !input.peek2(Token![::]);
+        if is_setting {
+            Ok(Item::Setting(Setting {
+                attrs,
+                key: input.call(Ident::parse_any)?,
+                colon: input.parse()?,
+                value: input.parse()?,
+                semi: input.parse()?,
+            }))
+        } else if is_word(input, "param") {
+            Ok(Item::Param(ParamDef {
+                attrs,
+                param_token: input.call(Ident::parse_any)?,
+                name: input.parse()?,
+                eq: input.parse()?,
+                default: input.parse()?,
+                semi: input.parse()?,
+            }))
+        } else if is_word(input, "body") {
+            let body_token = input.call(Ident::parse_any)?;
+            let name = input.parse()?;
+            let content;
+            let brace = braced!(content in input);
+            let fields = content.parse_terminated(Field::parse, Token![,])?;
+            Ok(Item::Body(BodyDef {
+                attrs,
+                body_token,
+                name,
+                brace,
+                fields,
+                semi: input.parse()?,
+            }))
+        } else if is_word(input, "joint") {
+            let joint_token = input.call(Ident::parse_any)?;
+            let name = input.parse()?;
+            let colon = input.parse()?;
+            let kind = input.parse()?;
+            let content;
+            let brace = braced!(content in input);
+            let fields = content.parse_terminated(Field::parse, Token![,])?;
+            Ok(Item::Joint(JointDef {
+                attrs,
+                joint_token,
+                name,
+                colon,
+                kind,
+                brace,
+                fields,
+                semi: input.parse()?,
+            }))
+        } else {
+            Err(input.error(
+                "expected `body name { … }`, `joint name: kind { … }`, `param name = value;` \
+                 or a setting `key: value;`",
+            ))
+        }
+    }
+}
+
+impl Parse for KindDef {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let name = input.call(Ident::parse_any)?;
+        let args = if input.peek(token::Paren) {
+            let content;
+            let paren = parenthesized!(content in input);
+            Some((paren, content.parse_terminated(Expr::parse, Token![,])?))
+        } else {
+            None
+        };
+        Ok(KindDef { name, args })
+    }
+}
+
+impl Parse for Field {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        Ok(Field {
+            key: input.call(Ident::parse_any)?,
+            colon: input.parse()?,
+            value: input.parse()?,
+        })
+    }
+}
+
+impl Parse for Expr {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        parse_binary(input, 0)
+    }
+}
+
+/// Precedence climbing: parses operands joined by operators binding tighter than `min`.
+fn parse_binary(input: ParseStream, min: u8) -> syn::Result<Expr> {
+    let mut lhs = parse_unary(input)?;
+    while let Some(prec) = BinOp::peek_precedence(input) {
+        if prec <= min {
+            break;
+        }
+        let Some(op) = BinOp::peek(input)? else {
+            break;
+        };
+        let rhs = parse_binary(input, prec)?;
+        lhs = Expr::Binary(Box::new(lhs), op, Box::new(rhs));
+    }
+    Ok(lhs)
+}
+
+fn parse_unary(input: ParseStream) -> syn::Result<Expr> {
+    if input.peek(Token![-]) {
+        let minus = input.parse()?;
+        Ok(Expr::Neg(minus, Box::new(parse_unary(input)?)))
+    } else {
+        parse_primary(input)
+    }
+}
+
+fn parse_primary(input: ParseStream) -> syn::Result<Expr> {
+    let lookahead = input.lookahead1();
+    if lookahead.peek(syn::LitFloat) || lookahead.peek(syn::LitInt) {
+        Ok(Expr::Number(input.parse()?))
+    } else if lookahead.peek(Ident::peek_any) {
+        let name = input.call(Ident::parse_any)?;
+        if input.peek(token::Paren) {
+            let content;
+            let paren = parenthesized!(content in input);
+            let args = content.parse_terminated(Expr::parse, Token![,])?;
+            Ok(Expr::Call(name, paren, args))
+        } else {
+            Ok(Expr::Name(name))
+        }
+    } else if lookahead.peek(token::Paren) {
+        let content;
+        let paren = parenthesized!(content in input);
+        let inner: Expr = content.parse()?;
+        if !content.is_empty() {
+            return Err(content.error("expected `)`"));
+        }
+        Ok(Expr::Paren(paren, Box::new(inner)))
+    } else if lookahead.peek(token::Bracket) {
+        let content;
+        let bracket = bracketed!(content in input);
+        let elems = content.parse_terminated(Expr::parse, Token![,])?;
+        Ok(Expr::List(bracket, elems))
+    } else {
+        Err(lookahead.error())
+    }
+}
+
+impl ToTokens for Expr {
+    fn to_tokens(&self, tokens: &mut TokenStream) {
+        match self {
+            Expr::Number(lit) => lit.to_tokens(tokens),
+            Expr::Name(name) => name.to_tokens(tokens),
+            Expr::Neg(minus, e) => {
+                minus.to_tokens(tokens);
+                e.to_tokens(tokens);
+            }
+            Expr::Binary(l, op, r) => {
+                l.to_tokens(tokens);
+                op.to_tokens(tokens);
+                r.to_tokens(tokens);
+            }
+            Expr::Paren(paren, e) => paren.surround(tokens, |t| e.to_tokens(t)),
+            Expr::List(bracket, elems) => bracket.surround(tokens, |t| elems.to_tokens(t)),
+            Expr::Call(name, paren, args) => {
+                name.to_tokens(tokens);
+                paren.surround(tokens, |t| args.to_tokens(t));
+            }
+        }
+    }
+}
+
+impl ToTokens for BinOp {
+    fn to_tokens(&self, tokens: &mut TokenStream) {
+        match self {
+            BinOp::Add(t) => t.to_tokens(tokens),
+            BinOp::Sub(t) => t.to_tokens(tokens),
+            BinOp::Mul(t) => t.to_tokens(tokens),
+            BinOp::Div(t) => t.to_tokens(tokens),
+        }
+    }
+}
+
+impl ToTokens for KindDef {
+    fn to_tokens(&self, tokens: &mut TokenStream) {
+        self.name.to_tokens(tokens);
+        if let Some((paren, args)) = &self.args {
+            paren.surround(tokens, |t| args.to_tokens(t));
+        }
+    }
+}
+
+impl ToTokens for Field {
+    fn to_tokens(&self, tokens: &mut TokenStream) {
+        self.key.to_tokens(tokens);
+        self.colon.to_tokens(tokens);
+        self.value.to_tokens(tokens);
+    }
+}
+
+impl ToTokens for ChainDef {
+    fn to_tokens(&self, tokens: &mut TokenStream) {
+        tokens.append_all(&self.attrs);
+        self.vis.to_tokens(tokens);
+        self.chain_token.to_tokens(tokens);
+        self.name.to_tokens(tokens);
+        self.brace.surround(tokens, |t| {
+            for item in &self.items {
+                item.to_tokens(t);
+            }
+        });
+        self.semi.to_tokens(tokens);
+    }
+}
+
+impl ToTokens for Item {
+    fn to_tokens(&self, tokens: &mut TokenStream) {
+        match self {
+            Item::Setting(s) => {
+                tokens.append_all(&s.attrs);
+                s.key.to_tokens(tokens);
+                s.colon.to_tokens(tokens);
+                s.value.to_tokens(tokens);
+                s.semi.to_tokens(tokens);
+            }
+            Item::Param(p) => {
+                tokens.append_all(&p.attrs);
+                p.param_token.to_tokens(tokens);
+                p.name.to_tokens(tokens);
+                p.eq.to_tokens(tokens);
+                p.default.to_tokens(tokens);
+                p.semi.to_tokens(tokens);
+            }
+            Item::Body(b) => {
+                tokens.append_all(&b.attrs);
+                b.body_token.to_tokens(tokens);
+                b.name.to_tokens(tokens);
+                b.brace.surround(tokens, |t| b.fields.to_tokens(t));
+                b.semi.to_tokens(tokens);
+            }
+            Item::Joint(j) => {
+                tokens.append_all(&j.attrs);
+                j.joint_token.to_tokens(tokens);
+                j.name.to_tokens(tokens);
+                j.colon.to_tokens(tokens);
+                j.kind.to_tokens(tokens);
+                j.brace.surround(tokens, |t| j.fields.to_tokens(t));
+                j.semi.to_tokens(tokens);
+            }
+        }
+    }
+}
+
+/// Writes the expression back as the user would: `[0.0, pi / 2.0, 0.0]`, `diag(1, 2, 3)`.
+/// Messages quote values this way.
+impl fmt::Display for Expr {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fn list(f: &mut fmt::Formatter<'_>, elems: &Punctuated<Expr, Token![,]>) -> fmt::Result {
+            for (i, e) in elems.iter().enumerate() {
+                if i > 0 {
+                    f.write_str(", ")?;
+                }
+                write!(f, "{e}")?;
+            }
+            Ok(())
+        }
+        match self {
+            Expr::Number(lit) => write!(f, "{}", lit.to_token_stream()),
+            Expr::Name(name) => write!(f, "{name}"),
+            Expr::Neg(_, e) => write!(f, "-{e}"),
+            Expr::Binary(l, op, r) => write!(f, "{l} {} {r}", op.symbol()),
+            Expr::Paren(_, e) => write!(f, "({e})"),
+            Expr::List(_, elems) => {
+                f.write_str("[")?;
+                list(f, elems)?;
+                f.write_str("]")
+            }
+            Expr::Call(name, _, args) => {
+                write!(f, "{name}(")?;
+                list(f, args)?;
+                f.write_str(")")
+            }
+        }
+    }
+}
+
+impl fmt::Display for KindDef {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.name)?;
+        if let Some((_, args)) = &self.args {
+            f.write_str("(")?;
+            for (i, e) in args.iter().enumerate() {
+                if i > 0 {
+                    f.write_str(", ")?;
+                }
+                write!(f, "{e}")?;
+            }
+            f.write_str(")")?;
+        }
+        Ok(())
+    }
+}
