@@ -1,1 +1,551 @@
-//! Emission of straight-line Rust (being written).
+//! Straight-line Rust from an expression [`Graph`].
+//!
+//! [`straight_line`] turns the nodes some outputs need into one `let` per operation, in
+//! dependency order, plus one expression per output; the caller wraps them in a function body
+//! (the trait impls of DESIGN §4). [`format`] pretty-prints a whole item list.
+//!
+//! The emitted code allocates nothing, has no `unsafe`, cannot panic, and compiles under
+//! `#![no_std]` without `alloc`:
+//! - [`ScalarKind::F64`]: `1.5_f64` literals, `::articulated::libm::{sin, cos, sincos, sqrt}`;
+//! - [`ScalarKind::F32`]: `1.5_f32` literals, `sinf`, `cosf`, `sincosf`, `sqrtf` (constants are
+//!   rounded to `f32` when printed; the arithmetic on them happened in `f64` while tracing);
+//! - [`ScalarKind::Generic`]: a type parameter `T: nalgebra::RealField + Copy` in scope; methods
+//!   `x.sin()`, `x.cos()`, `x.sin_cos()`, `x.sqrt()` of `nalgebra::ComplexField` (callable
+//!   through the bound) and constants `::articulated::nalgebra::convert::<f64, T>(1.5)`.
+//!
+//! It is also meant to be clean under `clippy -D warnings` in the user's crate: the graph never
+//! contains `x·1`, `x+0`, `x−x` and the like (see [`crate::sym`]); every `let` is used; operands
+//! are names, literals or inputs, so no parentheses are needed; literals are printed with the
+//! shortest digits that round-trip (`{:?}`), a constant equal to one of `core::f64::consts` is
+//! written by its name, and a literal that clippy's `approx_constant` would mistake for one (say
+//! `3.14`) is written in exponent form (`314e-2`), which is the same number.
+//!
+//! Names: `s_q3`/`c_q3` for the sine/cosine of input `q3` (`s_x`/`c_x` for a node named `x`),
+//! the names given with [`Sym::named`](crate::sym::Sym::named) (sanitized, made unique), and
+//! otherwise `t0, t1, …`. No name collides with an identifier of the input expressions, a
+//! keyword, `T`, or another name.
+
+use std::collections::{HashMap, HashSet};
+use std::fmt;
+use std::str::FromStr;
+
+use articulated_dynamics::model::ScalarKind;
+use proc_macro2::{Ident, Literal, Span, TokenStream, TokenTree};
+use quote::{format_ident, quote};
+
+use crate::sym::{Graph, Node, OpCounts, Sym, Var};
+
+/// Straight-line code for some outputs of a graph (see [`straight_line`]).
+#[derive(Clone, Debug)]
+pub struct Emitted {
+    /// One `let` per live operation (constants and inputs are used in place), in dependency
+    /// order; a sine and a cosine of the same argument share one `let (s, c) = …;`.
+    pub statements: TokenStream,
+    /// One expression per output, in order: a name bound in `statements`, a literal (a constant
+    /// call for `Generic`) or an input expression.
+    pub outputs: Vec<TokenStream>,
+    /// The operations `statements` perform.
+    pub ops: OpCounts,
+}
+
+/// Why [`straight_line`] could not emit a graph.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EmitError {
+    /// A constant is not finite in the requested scalar (the graph never folds to one, so it came
+    /// from `Scalar::from_f64`, or an `f64` constant overflows `f32`).
+    NonFiniteConstant {
+        /// The constant in the graph.
+        value: f64,
+        /// The scalar it was to be printed in.
+        scalar: ScalarKind,
+    },
+}
+
+impl fmt::Display for EmitError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EmitError::NonFiniteConstant { value, scalar } => write!(
+                f,
+                "the constant {value:?} is not a finite {} and cannot be emitted",
+                match scalar {
+                    ScalarKind::F64 => "f64",
+                    ScalarKind::F32 => "f32",
+                    ScalarKind::Generic => "f64 (converted to T)",
+                }
+            ),
+        }
+    }
+}
+
+impl std::error::Error for EmitError {}
+
+impl From<EmitError> for syn::Error {
+    /// At the call site: the macro reports it with `to_compile_error`.
+    fn from(e: EmitError) -> syn::Error {
+        syn::Error::new(Span::call_site(), e)
+    }
+}
+
+/// Emits straight-line code computing `outputs` of `graph` in `scalar`; `input` gives the
+/// expression that reads an input, such as `q[3]` (it must be a path, field access, index or
+/// call, so that it can be used as an operand and a method receiver without parentheses).
+///
+/// # Errors
+/// [`EmitError::NonFiniteConstant`] if a live constant is NaN or infinite in `scalar`.
+///
+/// # Panics
+/// If an output belongs to another graph.
+pub fn straight_line(
+    graph: &Graph,
+    outputs: &[Sym],
+    scalar: ScalarKind,
+    input: &dyn Fn(Var) -> TokenStream,
+) -> Result<Emitted, EmitError> {
+    let live = graph.live(outputs);
+
+    let mut inputs = HashMap::new();
+    let mut names = Names::default();
+    for &s in &live {
+        if let Node::Input(var) = graph.node(s) {
+            let tokens = input(var);
+            names.reserve_idents(tokens.clone());
+            inputs.insert(s, tokens);
+        }
+    }
+
+    // Sines and cosines by argument, to compute both with one call when both are live.
+    let mut sin_of = HashMap::new();
+    let mut cos_of = HashMap::new();
+    for &s in &live {
+        match graph.node(s) {
+            Node::Sin(a) => {
+                sin_of.insert(a, s);
+            }
+            Node::Cos(a) => {
+                cos_of.insert(a, s);
+            }
+            _ => {}
+        }
+    }
+
+    // Names, in dependency order.
+    let mut name: HashMap<Sym, Ident> = HashMap::new();
+    let mut from_hint: HashSet<Sym> = HashSet::new();
+    for &s in &live {
+        let node = graph.node(s);
+        if matches!(node, Node::Const(_) | Node::Input(_)) {
+            continue;
+        }
+        let stem = if let Some(hint) = graph.hint_of(s).and_then(sanitize) {
+            from_hint.insert(s);
+            Some(hint)
+        } else {
+            match node {
+                Node::Sin(a) | Node::Cos(a) => {
+                    let prefix = if matches!(node, Node::Sin(_)) {
+                        "s"
+                    } else {
+                        "c"
+                    };
+                    match graph.node(a) {
+                        Node::Input(var) => Some(format!("{prefix}_{var}")),
+                        _ if from_hint.contains(&a) => Some(format!("{prefix}_{}", name[&a])),
+                        _ => None,
+                    }
+                }
+                _ => None,
+            }
+        };
+        let ident = match stem {
+            Some(stem) => names.unique(&stem),
+            None => names.temporary(),
+        };
+        name.insert(s, ident);
+    }
+
+    let fns = Math::new(scalar);
+    let operand = |s: Sym| -> Result<TokenStream, EmitError> {
+        match graph.node(s) {
+            Node::Const(x) => constant(x, scalar),
+            Node::Input(_) => Ok(inputs[&s].clone()),
+            _ => {
+                let n = &name[&s];
+                Ok(quote!(#n))
+            }
+        }
+    };
+
+    let mut statements = TokenStream::new();
+    let mut done = HashSet::new();
+    for &s in &live {
+        let node = graph.node(s);
+        if matches!(node, Node::Const(_) | Node::Input(_)) || done.contains(&s) {
+            continue;
+        }
+        let n = &name[&s];
+        let value = match node {
+            Node::Const(_) | Node::Input(_) => continue,
+            Node::Add(a, b) => {
+                let (a, b) = (operand(a)?, operand(b)?);
+                quote!(#a + #b)
+            }
+            Node::Sub(a, b) => {
+                let (a, b) = (operand(a)?, operand(b)?);
+                quote!(#a - #b)
+            }
+            Node::Mul(a, b) => {
+                // A constant factor first: `2.0_f64 * x` reads as the math does.
+                let (a, b) = if matches!(graph.node(b), Node::Const(_)) {
+                    (b, a)
+                } else {
+                    (a, b)
+                };
+                let (a, b) = (operand(a)?, operand(b)?);
+                quote!(#a * #b)
+            }
+            Node::Div(a, b) => {
+                let (a, b) = (operand(a)?, operand(b)?);
+                quote!(#a / #b)
+            }
+            Node::Neg(a) => {
+                let a = operand(a)?;
+                quote!(-#a)
+            }
+            Node::Sin(a) | Node::Cos(a) => {
+                if let (Some(&sin), Some(&cos)) = (sin_of.get(&a), cos_of.get(&a)) {
+                    done.insert(sin);
+                    done.insert(cos);
+                    let (ns, nc) = (&name[&sin], &name[&cos]);
+                    let call = fns.call(MathFn::SinCos, operand(a)?);
+                    statements.extend(quote!(let (#ns, #nc) = #call;));
+                    continue;
+                }
+                let f = if matches!(node, Node::Sin(_)) {
+                    MathFn::Sin
+                } else {
+                    MathFn::Cos
+                };
+                fns.call(f, operand(a)?)
+            }
+            Node::Sqrt(a) => fns.call(MathFn::Sqrt, operand(a)?),
+        };
+        statements.extend(quote!(let #n = #value;));
+    }
+
+    Ok(Emitted {
+        statements,
+        outputs: outputs
+            .iter()
+            .map(|&s| operand(s))
+            .collect::<Result<_, _>>()?,
+        ops: graph.op_counts(outputs),
+    })
+}
+
+/// Pretty-prints a list of items (a whole file's worth) with `prettyplease`.
+///
+/// # Errors
+/// If `tokens` do not parse as a list of items.
+pub fn format(tokens: TokenStream) -> Result<String, syn::Error> {
+    let file: syn::File = syn::parse2(tokens)?;
+    Ok(prettyplease::unparse(&file))
+}
+
+/// The names in use, and the counter for `t0, t1, …`.
+#[derive(Default)]
+struct Names {
+    used: HashSet<String>,
+    next_temporary: usize,
+}
+
+/// Names the emitted code must not bind: keywords (strict, reserved, weak), and the names the
+/// emitted code itself refers to.
+const RESERVED: &[&str] = &[
+    "as",
+    "break",
+    "const",
+    "continue",
+    "crate",
+    "else",
+    "enum",
+    "extern",
+    "false",
+    "fn",
+    "for",
+    "if",
+    "impl",
+    "in",
+    "let",
+    "loop",
+    "match",
+    "mod",
+    "move",
+    "mut",
+    "pub",
+    "ref",
+    "return",
+    "self",
+    "Self",
+    "static",
+    "struct",
+    "super",
+    "trait",
+    "true",
+    "type",
+    "unsafe",
+    "use",
+    "where",
+    "while",
+    "async",
+    "await",
+    "dyn",
+    "abstract",
+    "become",
+    "box",
+    "do",
+    "final",
+    "macro",
+    "override",
+    "priv",
+    "typeof",
+    "unsized",
+    "virtual",
+    "yield",
+    "try",
+    "gen",
+    "union",
+    "raw",
+    "safe",
+    "T",
+    "articulated",
+    "core",
+    "std",
+    "libm",
+    "nalgebra",
+];
+
+impl Names {
+    /// Reserves every identifier in `tokens` (an input expression reads them).
+    fn reserve_idents(&mut self, tokens: TokenStream) {
+        for t in tokens {
+            match t {
+                TokenTree::Ident(i) => {
+                    self.used.insert(i.to_string());
+                }
+                TokenTree::Group(g) => self.reserve_idents(g.stream()),
+                _ => {}
+            }
+        }
+    }
+
+    fn free(&self, name: &str) -> bool {
+        !self.used.contains(name) && !RESERVED.contains(&name)
+    }
+
+    /// `stem`, or `stem_2`, `stem_3`, … if taken.
+    fn unique(&mut self, stem: &str) -> Ident {
+        let mut name = stem.to_owned();
+        let mut k = 2;
+        while !self.free(&name) {
+            name = format!("{stem}_{k}");
+            k += 1;
+        }
+        self.used.insert(name.clone());
+        Ident::new(&name, Span::call_site())
+    }
+
+    /// The next free `tN`.
+    fn temporary(&mut self) -> Ident {
+        loop {
+            let name = format!("t{}", self.next_temporary);
+            self.next_temporary += 1;
+            if self.free(&name) {
+                self.used.insert(name.clone());
+                return format_ident!("{}", name);
+            }
+        }
+    }
+}
+
+/// A snake_case identifier from a free-form name: ASCII letters and digits kept (lower-cased, an
+/// underscore at each lower→upper step of camelCase), everything else becomes one underscore;
+/// `n_` in front of a leading digit. `None` if nothing is left.
+fn sanitize(hint: &str) -> Option<String> {
+    let mut out = String::new();
+    let mut prev_lower = false;
+    for ch in hint.chars() {
+        if ch.is_ascii_alphanumeric() {
+            if ch.is_ascii_uppercase() && prev_lower {
+                out.push('_');
+            }
+            out.push(ch.to_ascii_lowercase());
+            prev_lower = ch.is_ascii_lowercase() || ch.is_ascii_digit();
+        } else {
+            if !out.ends_with('_') {
+                out.push('_');
+            }
+            prev_lower = false;
+        }
+    }
+    let out = out.trim_matches('_');
+    if out.is_empty() {
+        return None;
+    }
+    Some(if out.starts_with(|c: char| c.is_ascii_digit()) {
+        format!("n_{out}")
+    } else {
+        out.to_owned()
+    })
+}
+
+/// The math functions the emitted code calls.
+#[derive(Clone, Copy)]
+enum MathFn {
+    Sin,
+    Cos,
+    SinCos,
+    Sqrt,
+}
+
+struct Math {
+    scalar: ScalarKind,
+}
+
+impl Math {
+    fn new(scalar: ScalarKind) -> Math {
+        Math { scalar }
+    }
+
+    fn call(&self, f: MathFn, x: TokenStream) -> TokenStream {
+        let (free, method) = match f {
+            MathFn::Sin => ("sin", "sin"),
+            MathFn::Cos => ("cos", "cos"),
+            MathFn::SinCos => ("sincos", "sin_cos"),
+            MathFn::Sqrt => ("sqrt", "sqrt"),
+        };
+        match self.scalar {
+            ScalarKind::F64 => {
+                let f = format_ident!("{}", free);
+                quote!(::articulated::libm::#f(#x))
+            }
+            ScalarKind::F32 => {
+                let f = format_ident!("{}f", free);
+                quote!(::articulated::libm::#f(#x))
+            }
+            ScalarKind::Generic => {
+                let m = format_ident!("{}", method);
+                quote!(#x.#m())
+            }
+        }
+    }
+}
+
+/// `core::f64::consts` (and `f32`) written by name when a constant equals one exactly, and
+/// clippy's `approx_constant` table: (value, name, fewest significant characters it checks).
+const KNOWN: &[(f64, f32, &str, usize)] = {
+    use std::f32::consts as s;
+    use std::f64::consts as d;
+    &[
+        (d::E, s::E, "E", 4),
+        (d::FRAC_1_PI, s::FRAC_1_PI, "FRAC_1_PI", 4),
+        (d::FRAC_1_SQRT_2, s::FRAC_1_SQRT_2, "FRAC_1_SQRT_2", 5),
+        (d::FRAC_2_PI, s::FRAC_2_PI, "FRAC_2_PI", 5),
+        (d::FRAC_2_SQRT_PI, s::FRAC_2_SQRT_PI, "FRAC_2_SQRT_PI", 5),
+        (d::FRAC_PI_2, s::FRAC_PI_2, "FRAC_PI_2", 5),
+        (d::FRAC_PI_3, s::FRAC_PI_3, "FRAC_PI_3", 5),
+        (d::FRAC_PI_4, s::FRAC_PI_4, "FRAC_PI_4", 5),
+        (d::FRAC_PI_6, s::FRAC_PI_6, "FRAC_PI_6", 5),
+        (d::FRAC_PI_8, s::FRAC_PI_8, "FRAC_PI_8", 5),
+        (d::LN_2, s::LN_2, "LN_2", 5),
+        (d::LN_10, s::LN_10, "LN_10", 5),
+        (d::LOG2_10, s::LOG2_10, "LOG2_10", 5),
+        (d::LOG2_E, s::LOG2_E, "LOG2_E", 5),
+        (d::LOG10_2, s::LOG10_2, "LOG10_2", 5),
+        (d::LOG10_E, s::LOG10_E, "LOG10_E", 5),
+        (d::PI, s::PI, "PI", 3),
+        (d::SQRT_2, s::SQRT_2, "SQRT_2", 5),
+        (d::TAU, s::TAU, "TAU", 3),
+    ]
+};
+
+/// Whether clippy's `approx_constant` would flag the literal digits `digits` (its
+/// `is_approx_const`, applied to the table above).
+fn looks_like_known_constant(digits: &str) -> bool {
+    KNOWN.iter().any(|&(value, _, _, min_digits)| {
+        digits.len() > min_digits
+            && (value.to_string().starts_with(digits)
+                || format!("{value:.*}", digits.len() - 2) == digits)
+    })
+}
+
+/// Digits of a positive finite number that read back as the same number and that
+/// `approx_constant` does not take for a known constant: `{:?}` (shortest round trip), moved to
+/// exponent form (`3.14` → `314e-2`) if needed.
+fn digits(repr: String) -> String {
+    if !looks_like_known_constant(&repr) {
+        return repr;
+    }
+    match repr.split_once('.') {
+        Some((int, frac)) if !repr.contains('e') => {
+            let mantissa = format!("{int}{frac}");
+            let mantissa = mantissa.trim_start_matches('0');
+            format!("{mantissa}e-{}", frac.len())
+        }
+        _ => repr,
+    }
+}
+
+/// A constant as an operand in `scalar`.
+fn constant(x: f64, scalar: ScalarKind) -> Result<TokenStream, EmitError> {
+    let error = EmitError::NonFiniteConstant { value: x, scalar };
+    let in_scalar_finite = match scalar {
+        ScalarKind::F32 => (x as f32).is_finite(),
+        _ => x.is_finite(),
+    };
+    if !in_scalar_finite {
+        return Err(error);
+    }
+    let minus = if x < 0.0 { quote!(-) } else { quote!() };
+    let a = x.abs();
+    let known = KNOWN.iter().find(|k| match scalar {
+        ScalarKind::F32 => a as f32 == k.1,
+        _ => a == k.0,
+    });
+    let tokens = match (scalar, known) {
+        (ScalarKind::F64, Some(k)) => {
+            let name = format_ident!("{}", k.2);
+            quote!(#minus ::core::f64::consts::#name)
+        }
+        (ScalarKind::F32, Some(k)) => {
+            let name = format_ident!("{}", k.2);
+            quote!(#minus ::core::f32::consts::#name)
+        }
+        (ScalarKind::Generic, Some(k)) => {
+            let name = format_ident!("{}", k.2);
+            quote!(::articulated::nalgebra::convert::<f64, T>(#minus ::core::f64::consts::#name))
+        }
+        (ScalarKind::F64, None) => {
+            let lit = literal(&format!("{}_f64", digits(format!("{a:?}"))));
+            quote!(#minus #lit)
+        }
+        (ScalarKind::F32, None) => {
+            let lit = literal(&format!("{}_f32", digits(format!("{:?}", a as f32))));
+            quote!(#minus #lit)
+        }
+        (ScalarKind::Generic, None) => {
+            let lit = literal(&digits(format!("{a:?}")));
+            quote!(::articulated::nalgebra::convert::<f64, T>(#minus #lit))
+        }
+    };
+    Ok(tokens)
+}
+
+/// A float literal token from its text.
+fn literal(text: &str) -> Literal {
+    match Literal::from_str(text) {
+        Ok(lit) => lit,
+        // `digits` only produces `{:?}` output of a finite float or its exponent form, plus a
+        // suffix: always a valid literal.
+        Err(_) => unreachable!("not a float literal: {text}"),
+    }
+}
