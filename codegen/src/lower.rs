@@ -493,15 +493,22 @@ impl Lower {
         bodies: &[BodyDecl],
     ) -> JointDecl<'a> {
         let owner = format!("joint `{}`", j.name);
-        let kind = self.kind(&j.kind);
+        let kind = self.kind(&j.kind, &owner);
         let f = self.fields(&j.fields, &["parent", "child", "xyz", "rpy"], &owner);
         let body_list = || {
             let names: Vec<String> = bodies.iter().map(|b| b.def.name.to_string()).collect();
             let names: Vec<&str> = names.iter().map(String::as_str).collect();
             if names.is_empty() {
-                "(no bodies are declared)".to_string()
+                "a body (none is declared)".to_string()
             } else {
-                one_of(&names)
+                format!(
+                    "a body ({})",
+                    names
+                        .iter()
+                        .map(|n| format!("`{n}`"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
             }
         };
         let (parent, parent_expr) = match f[0] {
@@ -595,7 +602,7 @@ impl Lower {
         }
     }
 
-    fn kind(&mut self, k: &KindDef) -> Option<JointKind> {
+    fn kind(&mut self, k: &KindDef, owner: &str) -> Option<JointKind> {
         let name = k.name.to_string();
         let args: Vec<&Expr> = k.args.iter().flat_map(|(_, a)| a.iter()).collect();
         match name.as_str() {
@@ -610,7 +617,7 @@ impl Lower {
                     );
                     return None;
                 };
-                let axis = self.axis(arg)?;
+                let axis = self.axis(arg, owner)?;
                 Some(if name == "revolute" {
                     JointKind::Revolute { axis }
                 } else {
@@ -696,7 +703,7 @@ impl Lower {
         None
     }
 
-    fn axis(&mut self, arg: &Expr) -> Option<[f64; 3]> {
+    fn axis(&mut self, arg: &Expr, owner: &str) -> Option<[f64; 3]> {
         match arg {
             Expr::Name(n) if n == "x" => Some([1.0, 0.0, 0.0]),
             Expr::Name(n) if n == "y" => Some([0.0, 1.0, 0.0]),
@@ -713,7 +720,10 @@ impl Lower {
                 if n == 0.0 || !n.is_finite() {
                     self.cx.error(
                         arg,
-                        format!("the axis `{arg}` is zero: expected a nonzero vector"),
+                        format!(
+                            "the axis of {owner} is zero: expected a nonzero vector, found \
+                             `{arg}`"
+                        ),
                     );
                     return None;
                 }
@@ -868,7 +878,6 @@ impl Lower {
         let nb = bodies.len();
         // The joint naming each body as child (the first; a second is an error).
         let mut parent_joint: Vec<Option<usize>> = vec![None; nb];
-        // Bodies named as child by a joint whose parent is already reported as wrong.
         for (j, decl) in joints.iter().enumerate() {
             let Some(c) = decl.child else { continue };
             match parent_joint[c] {
@@ -890,8 +899,10 @@ impl Lower {
                 }
             }
         }
+        let child_unresolved = joints.iter().any(|j| j.child.is_none());
         for (b, pj) in parent_joint.iter().enumerate() {
-            if pj.is_none() {
+            // A joint whose child is wrong was probably meant for this body: say it once.
+            if pj.is_none() && !child_unresolved {
                 let name = &bodies[b].def.name;
                 self.cx.error(
                     name,
@@ -903,9 +914,8 @@ impl Lower {
         // Depth-first pre-order from the world, children in declaration order.
         let mut roots = Vec::new();
         let mut children: Vec<Vec<usize>> = vec![Vec::new(); nb];
-        for (c, pj) in parent_joint.iter().enumerate() {
+        for pj in &parent_joint {
             let Some(j) = *pj else { continue };
-            let _ = c;
             match joints[j].parent {
                 Parent::World => roots.push(j),
                 Parent::Body(p) => children[p].push(j),
@@ -1012,8 +1022,13 @@ impl Lower {
         if let Some((v, e)) = b.mass {
             if let Some(m) = self.at_default(v) {
                 if m < 0.0 {
+                    let expected = if moving {
+                        "a positive number"
+                    } else {
+                        "zero or a positive number"
+                    };
                     let msg = format!(
-                        "mass of body `{name}` is {}: expected a positive number",
+                        "mass of body `{name}` is {}: expected {expected}",
                         self.describe(v, e)
                     );
                     self.cx.error(e, msg);
@@ -1057,9 +1072,8 @@ impl Lower {
                     d[i],
                     format!(
                         "inertia of body `{name}` is not positive definite: principal moment \
-                         `{}` = {} must be positive",
-                        d[i],
-                        num(m[i][i])
+                         {} must be positive",
+                        self.describe(inertia.value[i][i], d[i])
                     ),
                 );
                 return;

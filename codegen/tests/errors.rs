@@ -1,0 +1,889 @@
+//! One test per error of the chain description language: the exact message and where it points
+//! (line and column, through `parse_chain_str`), plus all errors of one file reported at once.
+//!
+//! Sources are built by [`chain`]: line 1 is `chain C {`, then one item per line, so the item at
+//! index `k` is on line `k + 2` and columns count from the item's first character.
+
+use std::path::Path;
+
+use articulated_codegen::lower::{load_chain_file, lower, parse_chain_str, Diagnostic};
+use articulated_codegen::parse::ChainDef;
+
+/// A valid body `a` and the joint that hangs it from the world.
+const B: &str = "body a { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }";
+const J: &str = "joint j: revolute(z) { parent: world, child: a }";
+
+fn chain(items: &[&str]) -> String {
+    format!("chain C {{\n{}\n}}\n", items.join("\n"))
+}
+
+fn diagnostics(src: &str) -> Vec<Diagnostic> {
+    match parse_chain_str(src, Path::new("t.chain")) {
+        Ok(m) => panic!("expected errors, got a model: {m:?}"),
+        Err(e) => {
+            assert_eq!(e.path, Path::new("t.chain"));
+            e.diagnostics
+        }
+    }
+}
+
+/// Asserts that `items` give exactly one error, at `line:column`, with `message`.
+#[track_caller]
+fn check(items: &[&str], line: usize, column: usize, message: &str) {
+    check_src(&chain(items), line, column, message);
+}
+
+#[track_caller]
+fn check_src(src: &str, line: usize, column: usize, message: &str) {
+    let d = diagnostics(src);
+    assert_eq!(
+        d,
+        vec![Diagnostic {
+            line,
+            column,
+            message: message.to_string()
+        }],
+        "source:\n{src}"
+    );
+}
+
+const EULER: &str =
+    "`xyz`, `xzy`, `yxz`, `yzx`, `zxy`, `zyx`, `xyx`, `xzx`, `yxy`, `yzy`, `zxz`, `zyz`";
+
+// ---- settings ----
+
+#[test]
+fn unknown_setting() {
+    check(
+        &["gravty: none;", B, J],
+        2,
+        1,
+        "unknown setting `gravty`: expected `gravity`, `scalar` or `outputs` (or `param`, \
+         `body`, `joint` items)",
+    );
+}
+
+#[test]
+fn duplicate_setting() {
+    check(
+        &["scalar: f64;", "scalar: f32;", B, J],
+        3,
+        1,
+        "setting `scalar` is given twice",
+    );
+}
+
+#[test]
+fn unknown_scalar() {
+    check(
+        &["scalar: f16;", B, J],
+        2,
+        9,
+        "unknown scalar `f16`: expected `f64`, `f32` or `generic`",
+    );
+}
+
+#[test]
+fn unknown_output() {
+    check(
+        &["outputs: [mass_matrix, mas_matrix];", B, J],
+        2,
+        24,
+        "unknown output `mas_matrix`: expected one of `mass_matrix`, `bias`, `gravity`, \
+         `inverse_dynamics`, `forward_dynamics`, `coriolis`, `center_of_mass`, `momentum`, \
+         `energy`, `joint_wrenches` or `linearization`",
+    );
+}
+
+#[test]
+fn outputs_not_a_list() {
+    check(
+        &["outputs: mass_matrix;", B, J],
+        2,
+        10,
+        "expected a list of outputs such as `[mass_matrix, bias]`, found `mass_matrix`",
+    );
+}
+
+#[test]
+fn gravity_wrong_shape() {
+    check(
+        &["gravity: [0.0, -9.81];", B, J],
+        2,
+        10,
+        "expected `none` or a list of 3 numbers `[x, y, z]` for `gravity`, found `[0.0, -9.81]`",
+    );
+}
+
+// ---- parameters and numbers ----
+
+#[test]
+fn duplicate_parameter() {
+    check(
+        &["param m = 1.0;", "param m = 2.0;", B, J],
+        3,
+        7,
+        "parameter `m` is declared twice",
+    );
+}
+
+#[test]
+fn parameter_named_pi() {
+    check(
+        &["param pi = 3.0;", B, J],
+        2,
+        7,
+        "`pi` is the constant π and cannot name a parameter: expected another name",
+    );
+}
+
+#[test]
+fn parameter_in_a_default() {
+    check(
+        &["param a = 1.0;", "param b = a;", B, J],
+        3,
+        11,
+        "parameter `a` cannot be used in the default of parameter `b`: expected a constant",
+    );
+}
+
+#[test]
+fn unknown_parameter() {
+    check(
+        &[
+            "param m = 1.0;",
+            "body a { mass: n, inertia: diag(1.0, 1.0, 1.0) }",
+            J,
+        ],
+        3,
+        16,
+        "unknown parameter `n`: expected a number, `pi` or a parameter: `m`",
+    );
+}
+
+#[test]
+fn unknown_parameter_none_declared() {
+    check(
+        &[
+            "body a { mass: 1.0, com: [0.0, 0.0, l], inertia: diag(1.0, 1.0, 1.0) }",
+            J,
+        ],
+        2,
+        37,
+        "unknown parameter `l`: expected a number or `pi` (no parameters are declared)",
+    );
+}
+
+#[test]
+fn parameter_inside_an_expression() {
+    check(
+        &[
+            "param m = 1.0;",
+            "body a { mass: 2.0 * m, inertia: diag(1.0, 1.0, 1.0) }",
+            J,
+        ],
+        3,
+        22,
+        "parameter `m` cannot be used inside an expression: expected a parameter standing \
+         alone (such as `mass: m`) or a constant expression",
+    );
+}
+
+#[test]
+fn parameter_in_an_axis() {
+    check(
+        &[
+            "param s = 1.0;",
+            B,
+            "joint j: revolute([0.0, 0.0, s]) { parent: world, child: a }",
+        ],
+        4,
+        30,
+        "parameter `s` cannot be used in a joint axis: expected a constant",
+    );
+}
+
+#[test]
+fn non_finite_literal() {
+    check(
+        &["body a { mass: 1e999, inertia: diag(1.0, 1.0, 1.0) }", J],
+        2,
+        16,
+        "`1e999` is not a finite number: it overflows f64; expected a finite value",
+    );
+}
+
+#[test]
+fn non_finite_expression() {
+    check(
+        &[
+            B,
+            "joint j: revolute(z) { parent: world, child: a, xyz: [1.0 / 0.0, 0.0, 0.0] }",
+        ],
+        3,
+        55,
+        "`1.0 / 0.0` is not a finite number: it evaluates to inf; expected a finite value",
+    );
+}
+
+#[test]
+fn number_with_suffix() {
+    check(
+        &["body a { mass: 1.0f32, inertia: diag(1.0, 1.0, 1.0) }", J],
+        2,
+        16,
+        "unexpected suffix `f32` on `1.0f32`: expected a plain number (the scalar is chosen by \
+         the `scalar` setting)",
+    );
+}
+
+#[test]
+fn list_where_a_number_stands() {
+    check(
+        &["body a { mass: [1.0], inertia: diag(1.0, 1.0, 1.0) }", J],
+        2,
+        16,
+        "expected a number, found `[1.0]`",
+    );
+}
+
+// ---- bodies ----
+
+#[test]
+fn duplicate_body() {
+    check(&[B, B, J], 3, 6, "body `a` is declared twice");
+}
+
+#[test]
+fn body_named_world() {
+    check(
+        &[
+            B,
+            "body world { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }",
+            J,
+        ],
+        3,
+        6,
+        "`world` is the fixed frame every chain hangs from, not a body: expected another body \
+         name",
+    );
+}
+
+#[test]
+fn unknown_body_field() {
+    check(
+        &[
+            "body a { mass: 1.0, inertia: diag(1.0, 1.0, 1.0), colour: 1.0 }",
+            J,
+        ],
+        2,
+        51,
+        "unknown field `colour` in body `a`: expected `mass`, `com` or `inertia`",
+    );
+}
+
+#[test]
+fn duplicate_body_field() {
+    check(
+        &[
+            "body a { mass: 1.0, mass: 2.0, inertia: diag(1.0, 1.0, 1.0) }",
+            J,
+        ],
+        2,
+        21,
+        "field `mass` is given twice in body `a`",
+    );
+}
+
+#[test]
+fn missing_mass() {
+    check(
+        &["body a { inertia: diag(1.0, 1.0, 1.0) }", J],
+        2,
+        6,
+        "body `a` is missing the required field `mass`",
+    );
+}
+
+#[test]
+fn missing_inertia() {
+    check(
+        &["body a { mass: 1.0 }", J],
+        2,
+        6,
+        "body `a` is missing the required field `inertia`",
+    );
+}
+
+#[test]
+fn com_wrong_shape() {
+    check(
+        &[
+            "body a { mass: 1.0, com: [0.0, 0.0], inertia: diag(1.0, 1.0, 1.0) }",
+            J,
+        ],
+        2,
+        26,
+        "expected a list of 3 numbers `[x, y, z]` for `com`, found `[0.0, 0.0]`",
+    );
+}
+
+#[test]
+fn inertia_wrong_form() {
+    check(
+        &["body a { mass: 1.0, inertia: diag(1.0, 1.0) }", J],
+        2,
+        30,
+        "expected `diag(ixx, iyy, izz)` or `[[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, \
+         izz]]` for `inertia`, found `diag(1.0, 1.0)`",
+    );
+}
+
+#[test]
+fn inertia_row_wrong() {
+    check(
+        &[
+            "body a { mass: 1.0, inertia: [[1.0, 0.0, 0.0], [0.0, 1.0], [0.0, 0.0, 1.0]] }",
+            J,
+        ],
+        2,
+        48,
+        "expected row 2 of `inertia` to be a list of 3 numbers, found `[0.0, 1.0]`",
+    );
+}
+
+#[test]
+fn zero_mass_on_a_moving_body() {
+    check(
+        &["body a { mass: 0.0, inertia: diag(1.0, 1.0, 1.0) }", J],
+        2,
+        16,
+        "mass of body `a` is 0: expected a positive number, since `a` moves (only bodies fixed \
+         to the world may be massless)",
+    );
+}
+
+#[test]
+fn zero_mass_parameter_on_a_moving_body() {
+    check(
+        &[
+            "param m = 0.0;",
+            "body a { mass: m, inertia: diag(1.0, 1.0, 1.0) }",
+            J,
+        ],
+        3,
+        16,
+        "mass of body `a` is `m` = 0 (its default): expected a positive number, since `a` \
+         moves (only bodies fixed to the world may be massless)",
+    );
+}
+
+#[test]
+fn negative_mass_even_when_fixed() {
+    check(
+        &[
+            "body a { mass: -1.0, inertia: diag(1.0, 1.0, 1.0) }",
+            "joint j: fixed { parent: world, child: a }",
+        ],
+        2,
+        16,
+        "mass of body `a` is -1: expected zero or a positive number",
+    );
+}
+
+#[test]
+fn inertia_not_symmetric() {
+    check(
+        &[
+            "body a { mass: 1.0, inertia: [[1.0, 0.1, 0.0], [0.2, 1.0, 0.0], [0.0, 0.0, 1.0]] }",
+            J,
+        ],
+        2,
+        49,
+        "inertia of body `a` is not symmetric: `iyx` is `0.2` but `ixy` is `0.1`; expected \
+         equal elements across the diagonal",
+    );
+}
+
+#[test]
+fn inertia_not_positive_definite_diag() {
+    check(
+        &["body a { mass: 1.0, inertia: diag(1.0, 0.0, 1.0) }", J],
+        2,
+        40,
+        "inertia of body `a` is not positive definite: principal moment 0 must be positive",
+    );
+}
+
+#[test]
+fn inertia_not_positive_definite_matrix() {
+    // Eigenvalues −1, 1, 3.
+    check(
+        &[
+            "body a { mass: 1.0, inertia: [[1.0, 2.0, 0.0], [2.0, 1.0, 0.0], [0.0, 0.0, 1.0]] }",
+            J,
+        ],
+        2,
+        30,
+        "inertia of body `a` is not positive definite: its principal moments are -1, 1, 3; \
+         expected all positive",
+    );
+}
+
+#[test]
+fn inertia_triangle_inequality_diag() {
+    check(
+        &["body a { mass: 1.0, inertia: diag(1.0, 1.0, 3.0) }", J],
+        2,
+        30,
+        "inertia of body `a` breaks the triangle inequality: principal moments 1 + 1 < 3; \
+         expected each moment to be at most the sum of the other two",
+    );
+}
+
+#[test]
+fn inertia_triangle_inequality_matrix() {
+    // Eigenvalues 1, 3, 5: positive definite, but 1 + 3 < 5.
+    check(
+        &[
+            "body a { mass: 1.0, inertia: [[2.0, 1.0, 0.0], [1.0, 2.0, 0.0], [0.0, 0.0, 5.0]] }",
+            J,
+        ],
+        2,
+        30,
+        "inertia of body `a` breaks the triangle inequality: principal moments 1 + 3 < 5; \
+         expected each moment to be at most the sum of the other two",
+    );
+}
+
+// ---- joints ----
+
+#[test]
+fn duplicate_joint() {
+    check(
+        &[
+            B,
+            "body b { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }",
+            J,
+            "joint j: revolute(z) { parent: a, child: b }",
+        ],
+        5,
+        7,
+        "joint `j` is declared twice",
+    );
+}
+
+#[test]
+fn unknown_joint_kind() {
+    check(
+        &[B, "joint j: revolut(z) { parent: world, child: a }"],
+        3,
+        10,
+        "unknown joint kind `revolut`: expected `revolute`, `prismatic`, `spherical`, `free` or \
+         `fixed`",
+    );
+}
+
+#[test]
+fn revolute_without_axis() {
+    check(
+        &[B, "joint j: revolute { parent: world, child: a }"],
+        3,
+        10,
+        "`revolute` takes one axis: expected `revolute(x)`, `revolute(y)`, `revolute(z)` or \
+         `revolute([ax, ay, az])`, found `revolute`",
+    );
+}
+
+#[test]
+fn unknown_axis() {
+    check(
+        &[B, "joint j: prismatic(w) { parent: world, child: a }"],
+        3,
+        20,
+        "unknown axis `w`: expected `x`, `y`, `z` or a vector `[ax, ay, az]`",
+    );
+}
+
+#[test]
+fn zero_axis() {
+    check(
+        &[
+            B,
+            "joint j: revolute([0.0, 0.0, 0.0]) { parent: world, child: a }",
+        ],
+        3,
+        19,
+        "the axis of joint `j` is zero: expected a nonzero vector, found `[0.0, 0.0, 0.0]`",
+    );
+}
+
+#[test]
+fn spherical_without_rotation() {
+    check(
+        &[B, "joint j: spherical { parent: world, child: a }"],
+        3,
+        10,
+        &format!(
+            "`spherical` takes one rotation: expected `spherical(quaternion)` or \
+             `spherical(SEQ)` with an Euler sequence SEQ ({EULER}), found `spherical`"
+        ),
+    );
+}
+
+#[test]
+fn invalid_euler_sequence() {
+    check(
+        &[B, "joint j: spherical(xxy) { parent: world, child: a }"],
+        3,
+        20,
+        &format!(
+            "invalid Euler sequence `xxy`: expected `quaternion` or one of the 12 valid \
+             sequences {EULER}"
+        ),
+    );
+}
+
+#[test]
+fn free_with_two_rotations() {
+    check(
+        &[
+            B,
+            "joint j: free(zyx, quaternion) { parent: world, child: a }",
+        ],
+        3,
+        10,
+        &format!(
+            "`free` takes at most one rotation: expected `free`, `free(quaternion)` or \
+             `free(SEQ)` with an Euler sequence SEQ ({EULER}), found `free(zyx, quaternion)`"
+        ),
+    );
+}
+
+#[test]
+fn fixed_with_arguments() {
+    check(
+        &[B, "joint j: fixed(z) { parent: world, child: a }"],
+        3,
+        10,
+        "`fixed` takes no arguments: expected `fixed`, found `fixed(z)`",
+    );
+}
+
+#[test]
+fn unknown_joint_field() {
+    check(
+        &[
+            B,
+            "joint j: revolute(z) { parent: world, child: a, axis: z }",
+        ],
+        3,
+        49,
+        "unknown field `axis` in joint `j`: expected `parent`, `child`, `xyz` or `rpy`",
+    );
+}
+
+#[test]
+fn duplicate_joint_field() {
+    check(
+        &[
+            B,
+            "joint j: revolute(z) { parent: world, parent: world, child: a }",
+        ],
+        3,
+        39,
+        "field `parent` is given twice in joint `j`",
+    );
+}
+
+#[test]
+fn missing_parent() {
+    check(
+        &[B, "joint j: revolute(z) { child: a }"],
+        3,
+        7,
+        "joint `j` is missing the required field `parent`",
+    );
+}
+
+#[test]
+fn missing_child() {
+    check(
+        &[B, "joint j: revolute(z) { parent: world }"],
+        3,
+        7,
+        "joint `j` is missing the required field `child`",
+    );
+}
+
+#[test]
+fn unknown_parent() {
+    check(
+        &[B, "joint j: revolute(z) { parent: wrld, child: a }"],
+        3,
+        32,
+        "unknown body `wrld` as parent of joint `j`: expected `world` or a body (`a`)",
+    );
+}
+
+#[test]
+fn unknown_child() {
+    check(
+        &[B, "joint j: revolute(z) { parent: world, child: b }"],
+        3,
+        46,
+        "unknown body `b` as child of joint `j`: expected a body (`a`)",
+    );
+}
+
+#[test]
+fn parent_not_a_name() {
+    check(
+        &[B, "joint j: revolute(z) { parent: [0], child: a }"],
+        3,
+        32,
+        "expected `world` or a body name as parent of joint `j`, found `[0]`",
+    );
+}
+
+#[test]
+fn world_as_child() {
+    check(
+        &[B, "joint j: revolute(z) { parent: world, child: world }"],
+        3,
+        46,
+        "`world` cannot be the child of joint `j`: the world does not move; expected a body",
+    );
+}
+
+#[test]
+fn body_with_two_parents() {
+    check(
+        &[
+            B,
+            "body b { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }",
+            J,
+            "joint k: revolute(z) { parent: a, child: b }",
+            "joint l: revolute(z) { parent: world, child: b }",
+        ],
+        6,
+        46,
+        "body `b` has two parents: it is already the child of joint `k`; expected each body to \
+         be the child of exactly one joint",
+    );
+}
+
+#[test]
+fn body_without_parent() {
+    check(
+        &[B, "body b { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }", J],
+        3,
+        6,
+        "body `b` has no parent: expected a joint with `child: b`",
+    );
+}
+
+#[test]
+fn cycle() {
+    check(
+        &[
+            B,
+            "body b { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }",
+            "body c { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }",
+            J,
+            "joint k: revolute(z) { parent: c, child: b }",
+            "joint l: revolute(z) { parent: b, child: c }",
+        ],
+        6,
+        32,
+        "joints form a cycle `c` → `b` → `c`: none of these bodies is reachable from `world`; \
+         expected a tree hanging from `world`",
+    );
+}
+
+// ---- the chain as a whole ----
+
+#[test]
+fn unsupported_attribute() {
+    check_src(
+        &format!("#[inline]\n{}", chain(&[B, J])),
+        1,
+        1,
+        "unsupported attribute `#[inline]` before `chain`: expected only doc comments (`/// …`)",
+    );
+}
+
+#[test]
+fn no_bodies() {
+    check(
+        &["scalar: f64;"],
+        1,
+        7,
+        "chain `C` has no bodies: expected at least one `body` and a `joint` attaching it to \
+         `world`",
+    );
+}
+
+// ---- syntax and tokens: the first error stops parsing ----
+
+#[test]
+fn syntax_error_at_the_token() {
+    check(
+        &["body a { mass 1.0, inertia: diag(1.0, 1.0, 1.0) }", J],
+        2,
+        15,
+        "expected `:`",
+    );
+}
+
+#[test]
+fn unknown_item() {
+    check(
+        &["bodies a { mass: 1.0 }", J],
+        2,
+        1,
+        "expected `body name { … }`, `joint name: kind { … }`, `param name = value;` or a \
+         setting `key: value;`",
+    );
+}
+
+#[test]
+fn not_a_chain() {
+    check_src("struct C { }", 1, 1, "expected `chain Name { … }`");
+}
+
+#[test]
+fn end_of_input() {
+    check_src(
+        "pub chain\n",
+        1,
+        10,
+        "unexpected end of input, expected identifier",
+    );
+}
+
+#[test]
+fn unclosed_delimiter() {
+    check_src(
+        "chain C {\n    body a { mass: 1.0,\n",
+        2,
+        12,
+        "unclosed delimiter `{`: expected a matching `}` before the end of the file",
+    );
+}
+
+#[test]
+fn unmatched_closing_delimiter() {
+    check_src(
+        "chain C {\n    body a { mass: 1.0 ]\n}\n",
+        2,
+        24,
+        "unexpected closing delimiter `]`: it does not match the innermost open delimiter",
+    );
+}
+
+#[test]
+fn unreadable_file() {
+    let path = Path::new("/nonexistent/dir/robot.chain");
+    let err = load_chain_file(path).unwrap_err();
+    assert_eq!(err.diagnostics.len(), 1);
+    assert_eq!((err.diagnostics[0].line, err.diagnostics[0].column), (0, 0));
+    let shown = err.to_string();
+    assert!(
+        shown.starts_with("/nonexistent/dir/robot.chain: error: cannot read: "),
+        "{shown}"
+    );
+}
+
+// ---- all errors at once ----
+
+#[test]
+fn every_error_of_a_file_is_reported() {
+    let path = Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/many_errors.chain"
+    ));
+    let err = load_chain_file(path).unwrap_err();
+    let got: Vec<(usize, usize, &str)> = err
+        .diagnostics
+        .iter()
+        .map(|d| (d.line, d.column, d.message.as_str()))
+        .collect();
+    assert_eq!(
+        got,
+        vec![
+            (
+                3,
+                13,
+                "unknown scalar `f16`: expected `f64`, `f32` or `generic`"
+            ),
+            (
+                6,
+                15,
+                "mass of body `legs` is -30: expected a positive number"
+            ),
+            (
+                7,
+                18,
+                "inertia of body `legs` breaks the triangle inequality: principal moments \
+                 0.25 + 0.5 < 2.6; expected each moment to be at most the sum of the other two"
+            ),
+            (
+                9,
+                10,
+                "body `trunk` is missing the required field `inertia`"
+            ),
+            (
+                9,
+                24,
+                "unknown parameter `trunk_mas`: expected a number, `pi` or a parameter: \
+                 `trunk_mass`"
+            ),
+            (
+                11,
+                28,
+                "invalid Euler sequence `xyx2`: expected `quaternion` or one of the 12 valid \
+                 sequences `xyz`, `xzy`, `yxz`, `yzx`, `zxy`, `zyx`, `xyx`, `xzx`, `yxy`, \
+                 `yzy`, `zxz`, `zyz`"
+            ),
+            (
+                12,
+                41,
+                "unknown body `leg` as parent of joint `hip`: expected `world` or a body \
+                 (`legs`, `trunk`)"
+            ),
+        ]
+    );
+    // Displayed one per line as `path:line:column: error: message`.
+    let shown = err.to_string();
+    let lines: Vec<&str> = shown.lines().collect();
+    assert_eq!(lines.len(), 7);
+    assert_eq!(
+        lines[0],
+        format!(
+            "{}:3:13: error: unknown scalar `f16`: expected `f64`, `f32` or `generic`",
+            path.display()
+        )
+    );
+}
+
+#[test]
+fn lower_combines_all_errors_for_the_macro() {
+    let def: ChainDef = syn::parse_str(&chain(&[
+        "scalar: f16;",
+        "body a { mass: 0.0, inertia: diag(1.0, 1.0, 1.0) }",
+        "joint j: revolute(w) { parent: world, child: a }",
+    ]))
+    .expect("syntax is fine");
+    let err = lower(&def).unwrap_err();
+    let messages: Vec<String> = err.into_iter().map(|e| e.to_string()).collect();
+    assert_eq!(
+        messages,
+        vec![
+            "unknown scalar `f16`: expected `f64`, `f32` or `generic`",
+            "unknown axis `w`: expected `x`, `y`, `z` or a vector `[ax, ay, az]`",
+            "mass of body `a` is 0: expected a positive number, since `a` moves (only bodies \
+             fixed to the world may be massless)",
+        ]
+    );
+}
