@@ -14,6 +14,7 @@
 mod eigen;
 mod file;
 
+use std::collections::hash_map::Entry;
 use std::collections::{HashMap, HashSet};
 use std::fmt;
 
@@ -167,12 +168,12 @@ impl Lower {
                         "`world` is the fixed frame every chain hangs from, not a body: \
                          expected another body name",
                     );
-                } else if body_index.contains_key(&name) {
-                    self.cx
-                        .error(&b.name, format!("body `{name}` is declared twice"));
-                } else {
-                    body_index.insert(name, bodies.len());
+                } else if let Entry::Vacant(slot) = body_index.entry(name) {
+                    slot.insert(bodies.len());
                     bodies.push(decl);
+                } else {
+                    self.cx
+                        .error(&b.name, format!("body `{}` is declared twice", b.name));
                 }
             }
         }
@@ -1013,7 +1014,7 @@ impl Lower {
     fn describe(&self, v: Value, e: &Expr) -> String {
         match v {
             Value::Param(i) => format!("`{e}` = {} (its default)", num(self.params[i].default)),
-            Value::Const(x) => format!("{}", num(x)),
+            Value::Const(x) => num(x),
         }
     }
 
@@ -1044,10 +1045,10 @@ impl Lower {
         }
         let Some(inertia) = &b.inertia else { return };
         let mut m = [[0.0; 3]; 3];
-        for i in 0..3 {
-            for j in 0..3 {
-                match self.at_default(inertia.value[i][j]) {
-                    Some(x) => m[i][j] = x,
+        for (row, values) in m.iter_mut().zip(&inertia.value) {
+            for (x, &v) in row.iter_mut().zip(values) {
+                match self.at_default(v) {
+                    Some(value) => *x = value,
                     None => return,
                 }
             }

@@ -5,11 +5,9 @@
 /// read. Non-finite input gives non-finite output (the caller checks finiteness first).
 pub(crate) fn symmetric_eigenvalues(a: [[f64; 3]; 3]) -> [f64; 3] {
     let mut m = a;
-    for i in 0..3 {
-        for j in 0..i {
-            m[i][j] = m[j][i];
-        }
-    }
+    m[1][0] = m[0][1];
+    m[2][0] = m[0][2];
+    m[2][1] = m[1][2];
     for _sweep in 0..50 {
         let off = m[0][1] * m[0][1] + m[0][2] * m[0][2] + m[1][2] * m[1][2];
         let diag = m[0][0] * m[0][0] + m[1][1] * m[1][1] + m[2][2] * m[2][2];
@@ -27,16 +25,14 @@ pub(crate) fn symmetric_eigenvalues(a: [[f64; 3]; 3]) -> [f64; 3] {
             let c = 1.0 / (t * t + 1.0).sqrt();
             let s = t * c;
             // m ← Jᵀ m J with J the rotation in the (p, q) plane.
-            for k in 0..3 {
-                let (mkp, mkq) = (m[k][p], m[k][q]);
-                m[k][p] = c * mkp - s * mkq;
-                m[k][q] = s * mkp + c * mkq;
+            for row in &mut m {
+                let (rp, rq) = (row[p], row[q]);
+                row[p] = c * rp - s * rq;
+                row[q] = s * rp + c * rq;
             }
-            for k in 0..3 {
-                let (mpk, mqk) = (m[p][k], m[q][k]);
-                m[p][k] = c * mpk - s * mqk;
-                m[q][k] = s * mpk + c * mqk;
-            }
+            let (rp, rq) = (m[p], m[q]);
+            m[p] = std::array::from_fn(|k| c * rp[k] - s * rq[k]);
+            m[q] = std::array::from_fn(|k| s * rp[k] + c * rq[k]);
         }
     }
     let mut eig = [m[0][0], m[1][1], m[2][2]];
