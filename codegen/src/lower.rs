@@ -709,6 +709,9 @@ impl Lower {
             Expr::Name(n) if n == "x" => Some([1.0, 0.0, 0.0]),
             Expr::Name(n) if n == "y" => Some([0.0, 1.0, 0.0]),
             Expr::Name(n) if n == "z" => Some([0.0, 0.0, 1.0]),
+            Expr::Neg(_, inner) if matches!(&**inner, Expr::Name(n) if n == "x" || n == "y" || n == "z") => {
+                self.axis(inner, owner).map(|a| a.map(|x| -x))
+            }
             Expr::List(_, elems) if elems.len() == 3 => {
                 let v: Vec<Option<f64>> = elems
                     .iter()
@@ -734,7 +737,8 @@ impl Lower {
                 self.cx.error(
                     arg,
                     format!(
-                        "unknown axis `{arg}`: expected `x`, `y`, `z` or a vector `[ax, ay, az]`"
+                        "unknown axis `{arg}`: expected `x`, `y`, `z` (or `-x`, `-y`, `-z`) or a vector \
+                         `[ax, ay, az]`"
                     ),
                 );
                 None

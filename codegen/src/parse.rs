@@ -75,7 +75,7 @@
 //! ## Joints: `joint name: kind { field: value, … }`
 //! | kind | motion | `q` | `v` |
 //! |---|---|---|---|
-//! | `revolute(x)`, `revolute(y)`, `revolute(z)`, `revolute([ax, ay, az])` | rotation about the axis (normalized) | 1 | 1 |
+//! | `revolute(x)`, `revolute(y)`, `revolute(z)` (or `-x`, `-y`, `-z`), `revolute([ax, ay, az])` | rotation about the axis (normalized) | 1 | 1 |
 //! | `prismatic(x)`, …, `prismatic([ax, ay, az])` | translation along the axis | 1 | 1 |
 //! | `spherical(xyz)`, or any of the 12 Euler sequences | three Euler angles, intrinsic (`xyz`: `R = Rx·Ry·Rz`) | 3 | 3 |
 //! | `spherical(quaternion)` | quaternion `[w, x, y, z]` | 4 | 3 |

@@ -501,7 +501,7 @@ fn unknown_axis() {
         &[B, "joint j: prismatic(w) { parent: world, child: a }"],
         3,
         20,
-        "unknown axis `w`: expected `x`, `y`, `z` or a vector `[ax, ay, az]`",
+        "unknown axis `w`: expected `x`, `y`, `z` (or `-x`, `-y`, `-z`) or a vector `[ax, ay, az]`",
     );
 }
 
@@ -795,6 +795,24 @@ fn unreadable_file() {
     );
 }
 
+#[test]
+fn no_panic_on_prefixes_and_deletions_of_a_valid_file() {
+    let src = include_str!("fixtures/two_link.chain");
+    let mut variants = Vec::new();
+    for (at, ch) in src.char_indices() {
+        variants.push(src[..at].to_string());
+        variants.push(format!("{}{}", &src[..at], &src[at + ch.len_utf8()..]));
+    }
+    for v in &variants {
+        if let Err(e) = parse_chain_str(v, Path::new("t.chain")) {
+            assert!(!e.diagnostics.is_empty(), "{v}");
+            for d in &e.diagnostics {
+                assert!(d.line >= 1 && d.column >= 1, "{v}\n{d:?}");
+            }
+        }
+    }
+}
+
 // ---- all errors at once ----
 
 #[test]
@@ -881,7 +899,7 @@ fn lower_combines_all_errors_for_the_macro() {
         messages,
         vec![
             "unknown scalar `f16`: expected `f64`, `f32` or `generic`",
-            "unknown axis `w`: expected `x`, `y`, `z` or a vector `[ax, ay, az]`",
+            "unknown axis `w`: expected `x`, `y`, `z` (or `-x`, `-y`, `-z`) or a vector `[ax, ay, az]`",
             "mass of body `a` is 0: expected a positive number, since `a` moves (only bodies \
              fixed to the world may be massless)",
         ]
