@@ -106,11 +106,122 @@ pub fn load_urdf_file(path: &Path, floating: bool) -> Result<Model, UrdfError> {
 /// Builds the [`Model`] of a URDF description given as text (see the [module docs](self)). With
 /// `floating`, a free `zyx` Euler base is put under the root link.
 pub fn from_urdf_str(xml: &str, floating: bool) -> Result<Model, UrdfError> {
-    // urdf-rs is not ours: guard against a panic deep in an XML library turning into ours.
-    let parsed = std::panic::catch_unwind(|| urdf_rs::read_from_string(xml))
-        .map_err(|_| UrdfError::new("the URDF reader failed on this text (malformed XML?)"))?;
-    let robot = parsed.map_err(|e| UrdfError::new(format!("malformed URDF: {e}")))?;
+    let robot = read_robot(xml)
+        .map_err(|e| UrdfError::new(format!("malformed URDF: {e}")).at(locate_parse_error(xml)))?;
     Importer { text: xml, robot }.build(floating)
+}
+
+/// urdf-rs's reader, with a panic deep in an XML library turned into an error.
+fn read_robot(xml: &str) -> Result<urdf_rs::Robot, String> {
+    match std::panic::catch_unwind(|| urdf_rs::read_from_string(xml)) {
+        Ok(Ok(robot)) => Ok(robot),
+        Ok(Err(e)) => Err(e.to_string()),
+        Err(_) => Err("the XML reader failed on this text".into()),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Finding the line of a parse error (urdf-rs gives none).
+
+/// The line urdf-rs's error most likely comes from: the first badly nested tag, else the first
+/// `<link>` or `<joint>` element that fails to read on its own.
+fn locate_parse_error(text: &str) -> Option<usize> {
+    if let Err(pos) = check_nesting(text) {
+        return Some(line_at(text, pos));
+    }
+    for element in ["link", "joint"] {
+        for (start, end) in element_blocks(text, element) {
+            let alone = format!("<robot name=\"x\">{}</robot>", &text[start..end]);
+            if read_robot(&alone).is_err() {
+                return Some(line_at(text, start));
+            }
+        }
+    }
+    None
+}
+
+fn line_at(text: &str, pos: usize) -> usize {
+    text[..pos.min(text.len())].matches('\n').count() + 1
+}
+
+/// Checks that tags nest; on failure the byte offset of the offending tag (a closing tag that
+/// does not match, or an opening tag never closed).
+fn check_nesting(text: &str) -> Result<(), usize> {
+    let mut open: Vec<(&str, usize)> = Vec::new();
+    let mut i = 0;
+    while let Some(k) = text[i..].find('<') {
+        let start = i + k;
+        let rest = &text[start..];
+        let (skip_to, tag) = if rest.starts_with("<!--") {
+            (rest.find("-->").map(|e| e + 3), None)
+        } else if rest.starts_with("<![CDATA[") {
+            (rest.find("]]>").map(|e| e + 3), None)
+        } else if rest.starts_with("<?") || rest.starts_with("<!") {
+            (rest.find('>').map(|e| e + 1), None)
+        } else {
+            (
+                rest.find('>').map(|e| e + 1),
+                rest.find('>').map(|e| &rest[1..e]),
+            )
+        };
+        let Some(len) = skip_to else {
+            return Err(start);
+        };
+        i = start + len;
+        let Some(tag) = tag else { continue };
+        let name_of = |t: &str| -> String {
+            t.chars()
+                .take_while(|c| !c.is_whitespace() && *c != '/')
+                .collect()
+        };
+        if let Some(closing) = tag.strip_prefix('/') {
+            let name = name_of(closing.trim_start());
+            match open.pop() {
+                Some((o, _)) if name_of(o) == name => {}
+                // `<a><b></a>`: `<b>` is the one left open.
+                Some((_, o_start)) if open.iter().any(|(t, _)| name_of(t) == name) => {
+                    return Err(o_start)
+                }
+                _ => return Err(start),
+            }
+        } else if !tag.ends_with('/') {
+            open.push((tag, start));
+        }
+    }
+    match open.first() {
+        Some((_, start)) => Err(*start),
+        None => Ok(()),
+    }
+}
+
+/// Byte ranges of the `<element …/>` and `<element …>…</element>` elements in `text`.
+fn element_blocks(text: &str, element: &str) -> Vec<(usize, usize)> {
+    let open = format!("<{element}");
+    let close = format!("</{element}>");
+    let mut out = Vec::new();
+    let mut from = 0;
+    while let Some(k) = text[from..].find(&open) {
+        let start = from + k;
+        from = start + open.len();
+        if !text[from..].starts_with(|c: char| c.is_whitespace() || c == '>' || c == '/') {
+            continue;
+        }
+        let Some(gt) = text[from..].find('>') else {
+            break;
+        };
+        let tag_end = from + gt + 1;
+        let end = if text[..tag_end].ends_with("/>") {
+            tag_end
+        } else {
+            match text[tag_end..].find(&close) {
+                Some(c) => tag_end + c + close.len(),
+                None => break,
+            }
+        };
+        out.push((start, end));
+        from = end;
+    }
+    out
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -290,7 +401,7 @@ fn find_line(text: &str, element: &str, name: &str, n: usize) -> Option<usize> {
         let end = rest.find('>').unwrap_or(rest.len());
         if tag_attribute(&rest[..end], "name") == Some(name) {
             if seen == n {
-                return Some(text[..start].matches('\n').count() + 1);
+                return Some(line_at(text, start));
             }
             seen += 1;
         }

@@ -413,13 +413,27 @@ fn errors_name_the_problem_and_the_line() {
 <joint name="y" type="revolute"><parent link="b"/><child link="a"/></joint>"#,
     ));
     assert!(e.message().contains("cycle"), "{e}");
-    // Malformed XML and missing elements.
-    let e = err("<robot name=\"x\"><link name=\"a\"></robot>");
+    // Malformed XML and missing or unreadable elements: urdf-rs gives no line, we find it.
+    let e = err("<robot name=\"x\">\n<link name=\"a\">\n</robot>");
     assert!(e.message().starts_with("malformed URDF"), "{e}");
+    assert_eq!(e.line(), Some(2), "the unclosed <link>: {e}");
+    let e = err("<robot name=\"x\">\n<link name=\"a\"/>\n</joint>\n</robot>");
+    assert_eq!(e.line(), Some(3), "the stray </joint>: {e}");
     let e = err(&chain_with(
-        "<link name=\"b\"/><joint name=\"jb\" type=\"revolute\"><child link=\"b\"/></joint>",
+        "<link name=\"b\"/>\n<joint name=\"jb\" type=\"revolute\"><child link=\"b\"/></joint>",
+    ));
+    assert!(e.message().contains("missing field `parent`"), "{e}");
+    assert_eq!(e.line(), Some(7), "{e}");
+    let e = err(&chain_with(
+        "<link name=\"b\">\n<inertial><mass value=\"heavy\"/>\n</inertial></link>",
     ));
     assert!(e.message().starts_with("malformed URDF"), "{e}");
+    assert_eq!(e.line(), Some(6), "{e}");
+    let e = err(&chain_with(
+        "<link name=\"b\"/>\n<joint name=\"jb\" type=\"hinge\"><parent link=\"a\"/><child link=\"b\"/></joint>",
+    ));
+    assert!(e.message().contains("unknown variant `hinge`"), "{e}");
+    assert_eq!(e.line(), Some(7), "{e}");
     let e = err("<robot name=\"x\"></robot>");
     assert!(e.message().contains("no links"), "{e}");
 }
@@ -479,5 +493,28 @@ fn no_panic_on_any_prefix_or_mangling() {
     for (from, to) in [("0.", "1e400 "), ("\"", "'"), ("link", "lnk"), ("1", "-")] {
         let _ = from_urdf_str(&text.replacen(from, to, 1), false);
         let _ = from_urdf_str(&text.replace(from, to), true);
+    }
+    // Random single-character edits (a fixed xorshift sequence).
+    let chars: Vec<char> = text.chars().collect();
+    let alphabet = [
+        '<', '>', '/', '"', ' ', 'x', '0', '-', '\n', 'é', '=', '!', '?',
+    ];
+    let mut state = 0x2545_F491_4F6C_DD1Du64;
+    for _ in 0..3000 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let at = (state % chars.len() as u64) as usize;
+        let with = alphabet[(state >> 32) as usize % alphabet.len()];
+        let mut edited = chars.clone();
+        match (state >> 40) % 3 {
+            0 => edited[at] = with,
+            1 => edited.insert(at, with),
+            _ => {
+                edited.remove(at);
+            }
+        }
+        let edited: String = edited.into_iter().collect();
+        let _ = from_urdf_str(&edited, (state >> 50) % 2 == 0);
     }
 }
