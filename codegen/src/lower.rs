@@ -56,7 +56,12 @@ impl Ctxt {
     fn has_errors(&self) -> bool {
         !self.errors.is_empty()
     }
-    fn check(self) -> syn::Result<()> {
+    /// All errors combined in one, in source order where spans know their position.
+    fn check(mut self) -> syn::Result<()> {
+        self.errors.sort_by_key(|e| {
+            let start = e.span().start();
+            (start.line, start.column)
+        });
         let mut errors = self.errors.into_iter();
         let Some(mut first) = errors.next() else {
             return Ok(());
@@ -121,6 +126,8 @@ struct JointDecl<'a> {
     parent_expr: Option<&'a Expr>,
     child: Option<usize>,
     placement: Placement,
+    /// Another joint of the same name came first (reported once, not again as two parents).
+    duplicate: bool,
 }
 
 impl Lower {
@@ -184,11 +191,13 @@ impl Lower {
             if let Item::Joint(j) = item {
                 self.docs(&j.attrs, "on a joint");
                 let name = j.name.to_string();
-                if !joint_names.insert(name.clone()) {
+                let duplicate = !joint_names.insert(name.clone());
+                if duplicate {
                     self.cx
                         .error(&j.name, format!("joint `{name}` is declared twice"));
                 }
-                let decl = self.joint(j, &body_index, &bodies);
+                let mut decl = self.joint(j, &body_index, &bodies);
+                decl.duplicate = duplicate;
                 joints.push(decl);
             }
         }
@@ -600,6 +609,7 @@ impl Lower {
             parent_expr,
             child,
             placement: Placement { xyz, rpy },
+            duplicate: false,
         }
     }
 
@@ -887,6 +897,7 @@ impl Lower {
             let Some(c) = decl.child else { continue };
             match parent_joint[c] {
                 None => parent_joint[c] = Some(j),
+                Some(_) if decl.duplicate => {}
                 Some(first) => {
                     let child_field = decl.def.fields.iter().find(|f| f.key == "child");
                     let at: &dyn ToTokens = match child_field {

@@ -474,6 +474,11 @@ fn duplicate_joint() {
 }
 
 #[test]
+fn duplicate_joint_copied_whole_is_reported_once() {
+    check(&[B, J, J], 4, 7, "joint `j` is declared twice");
+}
+
+#[test]
 fn unknown_joint_kind() {
     check(
         &[B, "joint j: revolut(z) { parent: world, child: a }"],
@@ -894,14 +899,15 @@ fn lower_combines_all_errors_for_the_macro() {
     ]))
     .expect("syntax is fine");
     let err = lower(&def).unwrap_err();
+    // In source order, whatever order the checks run in.
     let messages: Vec<String> = err.into_iter().map(|e| e.to_string()).collect();
     assert_eq!(
         messages,
         vec![
             "unknown scalar `f16`: expected `f64`, `f32` or `generic`",
-            "unknown axis `w`: expected `x`, `y`, `z` (or `-x`, `-y`, `-z`) or a vector `[ax, ay, az]`",
             "mass of body `a` is 0: expected a positive number, since `a` moves (only bodies \
              fixed to the world may be massless)",
+            "unknown axis `w`: expected `x`, `y`, `z` (or `-x`, `-y`, `-z`) or a vector `[ax, ay, az]`",
         ]
     );
 }
