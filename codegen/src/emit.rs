@@ -18,7 +18,7 @@
 //! are names, literals or inputs, so no parentheses are needed; literals are printed with the
 //! shortest digits that round-trip (`{:?}`), a constant equal to one of `core::f64::consts` is
 //! written by its name, and a literal that clippy's `approx_constant` would mistake for one (say
-//! `3.14`) is written in exponent form (`314e-2`), which is the same number.
+//! `3.14`) is written as an exact quotient (`314.0_f64 / 100.0_f64`), which is the same number.
 //!
 //! Names: `s_q3`/`c_q3` for the sine/cosine of input `q3` (`s_x`/`c_x` for a node named `x`),
 //! the names given with [`Sym::named`](crate::sym::Sym::named) (sanitized, made unique), and
@@ -31,7 +31,7 @@ use std::str::FromStr;
 
 use articulated_dynamics::model::ScalarKind;
 use proc_macro2::{Ident, Literal, Span, TokenStream, TokenTree};
-use quote::{format_ident, quote};
+use quote::{format_ident, quote, ToTokens};
 
 use crate::sym::{Graph, Node, OpCounts, Sym, Var};
 
@@ -164,14 +164,26 @@ pub fn straight_line(
     }
 
     let fns = Math::new(scalar);
+    // An operand as a function argument or an output: a name, an input, or a constant.
     let operand = |s: Sym| -> Result<TokenStream, EmitError> {
         match graph.node(s) {
-            Node::Const(x) => constant(x, scalar),
+            Node::Const(x) => Ok(constant(x, scalar)?.0),
             Node::Input(_) => Ok(inputs[&s].clone()),
             _ => {
                 let n = &name[&s];
                 Ok(quote!(#n))
             }
+        }
+    };
+    // An operand of `+ − · /`: the same, with the rare constant that is itself a quotient (see
+    // `constant`) in parentheses.
+    let term = |s: Sym| -> Result<TokenStream, EmitError> {
+        match graph.node(s) {
+            Node::Const(x) => match constant(x, scalar)? {
+                (c, true) => Ok(quote!((#c))),
+                (c, false) => Ok(c),
+            },
+            _ => operand(s),
         }
     };
 
@@ -186,11 +198,11 @@ pub fn straight_line(
         let value = match node {
             Node::Const(_) | Node::Input(_) => continue,
             Node::Add(a, b) => {
-                let (a, b) = (operand(a)?, operand(b)?);
+                let (a, b) = (term(a)?, term(b)?);
                 quote!(#a + #b)
             }
             Node::Sub(a, b) => {
-                let (a, b) = (operand(a)?, operand(b)?);
+                let (a, b) = (term(a)?, term(b)?);
                 quote!(#a - #b)
             }
             Node::Mul(a, b) => {
@@ -200,11 +212,11 @@ pub fn straight_line(
                 } else {
                     (a, b)
                 };
-                let (a, b) = (operand(a)?, operand(b)?);
+                let (a, b) = (term(a)?, term(b)?);
                 quote!(#a * #b)
             }
             Node::Div(a, b) => {
-                let (a, b) = (operand(a)?, operand(b)?);
+                let (a, b) = (term(a)?, term(b)?);
                 quote!(#a / #b)
             }
             Node::Neg(a) => {
@@ -468,35 +480,81 @@ const KNOWN: &[(f64, f32, &str, usize)] = {
     ]
 };
 
-/// Whether clippy's `approx_constant` would flag the literal digits `digits` (its
-/// `is_approx_const`, applied to the table above).
-fn looks_like_known_constant(digits: &str) -> bool {
-    KNOWN.iter().any(|&(value, _, _, min_digits)| {
-        digits.len() > min_digits
-            && (value.to_string().starts_with(digits)
-                || format!("{value:.*}", digits.len() - 2) == digits)
+/// Whether clippy's `approx_constant` would flag a float literal written `text` (its
+/// `is_approx_const`, as of clippy 1.95 and as before, applied to the table above).
+fn looks_like_known_constant(text: &str) -> bool {
+    let Ok(value) = text.parse::<f64>() else {
+        return false;
+    };
+    let shortest = value.to_string();
+    let after_dot = text.split_once('.').map_or(0, |(_, frac)| frac.len());
+    KNOWN.iter().any(|&(known, _, _, min_digits)| {
+        let known_text = known.to_string();
+        text.len() > min_digits
+            && (known_text.starts_with(text)
+                || (shortest.len() > min_digits && known_text.starts_with(&shortest))
+                || format!("{known:.*}", text.len() - 2) == text
+                || format!("{known:0width$.after_dot$}", width = text.len()) == text)
     })
 }
 
-/// Digits of a positive finite number that read back as the same number and that
-/// `approx_constant` does not take for a known constant: `{:?}` (shortest round trip), moved to
-/// exponent form (`3.14` → `314e-2`) if needed.
-fn digits(repr: String) -> String {
-    if !looks_like_known_constant(&repr) {
-        return repr;
+/// A positive constant in `scalar` that is not exactly one of [`KNOWN`], and whether it is a
+/// quotient (which needs parentheses as an operand of `+ − · /`).
+///
+/// Normally the shortest literal that reads back as the same number (`{:?}`). If clippy's
+/// `approx_constant` would take that literal for a known constant (a model with a length of
+/// `3.14` m), the same number is written as a quotient of two exactly representable integers,
+/// `314.0_f64 / 100.0_f64`, which IEEE division rounds to exactly the number `3.14` reads as; if
+/// the integers are not exact, as `f64::from_bits(…)`.
+fn positive_constant(a: f64, scalar: ScalarKind) -> (TokenStream, bool) {
+    let (text, suffix) = match scalar {
+        ScalarKind::F32 => (format!("{:?}", a as f32), "_f32"),
+        ScalarKind::F64 => (format!("{a:?}"), "_f64"),
+        ScalarKind::Generic => (format!("{a:?}"), ""),
+    };
+    if !looks_like_known_constant(&text) {
+        return (
+            literal(&format!("{text}{suffix}")).into_token_stream(),
+            false,
+        );
     }
-    match repr.split_once('.') {
-        Some((int, frac)) if !repr.contains('e') => {
-            let mantissa = format!("{int}{frac}");
-            let mantissa = mantissa.trim_start_matches('0');
-            format!("{mantissa}e-{}", frac.len())
+    if let Some((int, frac)) = text.split_once('.').filter(|_| !text.contains('e')) {
+        let numerator = format!("{int}{frac}").trim_start_matches('0').to_owned();
+        let denominator = format!("1{}", "0".repeat(frac.len()));
+        let exact = match (numerator.parse::<u64>(), denominator.parse::<u64>()) {
+            (Ok(n), Ok(d)) => match scalar {
+                ScalarKind::F32 => {
+                    n < 1 << 24 && d < 1 << 24 && (n as f32) / (d as f32) == a as f32
+                }
+                _ => n < 1 << 53 && d < 1 << 53 && (n as f64) / (d as f64) == a,
+            },
+            _ => false,
+        };
+        let (n, d) = (
+            format!("{numerator}.0{suffix}"),
+            format!("{denominator}.0{suffix}"),
+        );
+        if exact && !looks_like_known_constant(&n) && !looks_like_known_constant(&d) {
+            let (n, d) = (literal(&n), literal(&d));
+            return (quote!(#n / #d), true);
         }
-        _ => repr,
     }
+    let tokens = match scalar {
+        ScalarKind::F32 => {
+            let bits = Literal::u32_unsuffixed((a as f32).to_bits());
+            quote!(::core::primitive::f32::from_bits(#bits))
+        }
+        _ => {
+            let bits = Literal::u64_unsuffixed(a.to_bits());
+            quote!(::core::primitive::f64::from_bits(#bits))
+        }
+    };
+    (tokens, false)
 }
 
-/// A constant as an operand in `scalar`.
-fn constant(x: f64, scalar: ScalarKind) -> Result<TokenStream, EmitError> {
+/// A constant as an operand in `scalar`, and whether it is a quotient (see
+/// [`positive_constant`]).
+fn constant(x: f64, scalar: ScalarKind) -> Result<(TokenStream, bool), EmitError> {
     let error = EmitError::NonFiniteConstant { value: x, scalar };
     let in_scalar_finite = match scalar {
         ScalarKind::F32 => (x as f32).is_finite(),
@@ -511,33 +569,27 @@ fn constant(x: f64, scalar: ScalarKind) -> Result<TokenStream, EmitError> {
         ScalarKind::F32 => a as f32 == k.1,
         _ => a == k.0,
     });
-    let tokens = match (scalar, known) {
-        (ScalarKind::F64, Some(k)) => {
+    let module = match scalar {
+        ScalarKind::F32 => quote!(f32),
+        _ => quote!(f64),
+    };
+    let (value, compound) = match known {
+        Some(k) => {
             let name = format_ident!("{}", k.2);
-            quote!(#minus ::core::f64::consts::#name)
+            (quote!(#minus ::core::#module::consts::#name), false)
         }
-        (ScalarKind::F32, Some(k)) => {
-            let name = format_ident!("{}", k.2);
-            quote!(#minus ::core::f32::consts::#name)
-        }
-        (ScalarKind::Generic, Some(k)) => {
-            let name = format_ident!("{}", k.2);
-            quote!(::articulated::nalgebra::convert::<f64, T>(#minus ::core::f64::consts::#name))
-        }
-        (ScalarKind::F64, None) => {
-            let lit = literal(&format!("{}_f64", digits(format!("{a:?}"))));
-            quote!(#minus #lit)
-        }
-        (ScalarKind::F32, None) => {
-            let lit = literal(&format!("{}_f32", digits(format!("{:?}", a as f32))));
-            quote!(#minus #lit)
-        }
-        (ScalarKind::Generic, None) => {
-            let lit = literal(&digits(format!("{a:?}")));
-            quote!(::articulated::nalgebra::convert::<f64, T>(#minus #lit))
+        None => {
+            let (c, compound) = positive_constant(a, scalar);
+            (quote!(#minus #c), compound)
         }
     };
-    Ok(tokens)
+    Ok(match scalar {
+        ScalarKind::Generic => (
+            quote!(::articulated::nalgebra::convert::<f64, T>(#value)),
+            false,
+        ),
+        _ => (value, compound),
+    })
 }
 
 /// A float literal token from its text.
