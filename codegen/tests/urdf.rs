@@ -383,6 +383,11 @@ fn errors_name_the_problem_and_the_line() {
             6,
             "link `a` is defined twice",
         ),
+        (
+            r#"<joint name="ja" type="revolute"><parent link="a"/><child link="a"/></joint>"#,
+            6,
+            "joint `ja` is defined twice",
+        ),
     ];
     for (extra, line, msg) in cases {
         let e = err(&chain_with(extra));
@@ -517,4 +522,68 @@ fn no_panic_on_any_prefix_or_mangling() {
         let edited: String = edited.into_iter().collect();
         let _ = from_urdf_str(&edited, (state >> 50) % 2 == 0);
     }
+}
+
+fn rpy_rot(rpy: [f64; 3]) -> M3 {
+    matmul(&matmul(&rz(rpy[2]), &ry(rpy[1])), &rx(rpy[0]))
+}
+
+#[test]
+fn placements_through_fixed_joints_compose_even_at_gimbal_lock() {
+    // base -fixed(A)-> w -revolute(B)-> l: the revolute joint's frame in the world is A·B; the
+    // roll-pitch-yaw we store must give that rotation, also where pitch is ±90°.
+    let cases: [([f64; 3], [f64; 3]); 5] = [
+        ([0.0, FRAC_PI_2, 0.0], [0.3, 0.0, 0.0]),
+        ([0.2, -FRAC_PI_2, 0.4], [0.0, 0.0, -0.7]),
+        ([0.1, 0.2, 0.3], [-0.4, 0.5, -0.6]),
+        ([3.0, 1.5707963, -3.0], [0.0, 1e-9, 0.0]),
+        ([0.0, 0.0, 0.0], [0.0, 0.0, 0.0]),
+    ];
+    for (a, b) in cases {
+        let xml = robot(&format!(
+            r#"<link name="base"/><link name="w"/><link name="l"/>
+<joint name="weld" type="fixed"><parent link="base"/><child link="w"/><origin xyz="0.1 0.2 0.3" rpy="{} {} {}"/></joint>
+<joint name="j" type="revolute"><parent link="w"/><child link="l"/><origin xyz="0.5 -0.5 1" rpy="{} {} {}"/></joint>"#,
+            a[0], a[1], a[2], b[0], b[1], b[2]
+        ));
+        let m = from_urdf_str(&xml, false).unwrap();
+        assert_eq!(m.nb(), 1);
+        assert_eq!(m.joints[0].parent, None);
+        let (ra, rb) = (rpy_rot(a), rpy_rot(b));
+        let expected = matmul(&ra, &rb);
+        assert_close33(rpy_rot(c3(&m.joints[0].placement.rpy)), expected, 1e-15);
+        let p = [0.5, -0.5, 1.0];
+        let xyz: [f64; 3] =
+            [0, 1, 2].map(|i| [0.1, 0.2, 0.3][i] + (0..3).map(|k| ra[i][k] * p[k]).sum::<f64>());
+        assert!(close3(c3(&m.joints[0].placement.xyz), xyz, 1e-15));
+    }
+}
+
+#[test]
+fn links_welded_to_the_root_join_the_world_or_the_floating_root() {
+    let xml = robot(&format!(
+        r#"<link name="world"/><link name="base_link">{}</link><link name="arm">{}</link>
+<joint name="to_world" type="fixed"><parent link="world"/><child link="base_link"/><origin xyz="0 0 1"/></joint>
+<joint name="shoulder" type="revolute"><parent link="base_link"/><child link="arm"/><origin xyz="0 0 0.5"/><axis xyz="0 1 0"/></joint>"#,
+        inertial(3.0, "0 0 0", "0 0 0", [0.1, 0.0, 0.0, 0.1, 0.0, 0.1]),
+        inertial(1.0, "0 0 0", "0 0 0", [0.1, 0.0, 0.0, 0.1, 0.0, 0.1]),
+    ));
+    // Fixed base: base_link is part of the world; the shoulder hangs from the world at z = 1.5.
+    let m = from_urdf_str(&xml, false).unwrap();
+    assert_eq!(m.nb(), 1);
+    assert_eq!(m.joints[0].parent, None);
+    assert_eq!(c3(&m.joints[0].placement.xyz), [0.0, 0.0, 1.5]);
+    // Floating: the free base carries `world` with base_link merged into it (mass 3 at z = 1).
+    let m = from_urdf_str(&xml, true).unwrap();
+    assert_eq!(m.nb(), 2);
+    assert_eq!(m.bodies[0].name, "world");
+    assert_eq!(c(&m.bodies[0].mass), 3.0);
+    assert_eq!(c3(&m.bodies[0].com), [0.0, 0.0, 1.0]);
+    assert_close33(
+        c33(&m.bodies[0].inertia),
+        [[0.1, 0.0, 0.0], [0.0, 0.1, 0.0], [0.0, 0.0, 0.1]],
+        1e-16,
+    );
+    assert_eq!(m.joints[1].parent, Some(0));
+    assert_eq!(c3(&m.joints[1].placement.xyz), [0.0, 0.0, 1.5]);
 }
