@@ -1,6 +1,8 @@
 //! `.chain` files: read, tokenize with line/column spans, parse, lower; errors as
 //! `path:line:column: error: message`.
 
+extern crate proc_macro;
+
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
@@ -67,6 +69,7 @@ impl std::error::Error for FileError {}
 /// Spans carry line and column through proc-macro2's `span-locations` feature, so every
 /// diagnostic names the offending token's line and column.
 pub fn parse_chain_str(src: &str, path: &Path) -> Result<Model, FileError> {
+    let _lexer = FallbackLexer::new();
     let fail = |diagnostics: Vec<Diagnostic>| FileError {
         path: path.to_path_buf(),
         diagnostics,
@@ -74,6 +77,33 @@ pub fn parse_chain_str(src: &str, path: &Path) -> Result<Model, FileError> {
     let tokens = TokenStream::from_str(src).map_err(|e| fail(vec![lex_diagnostic(&e, src)]))?;
     let def: ChainDef = syn::parse2(tokens).map_err(|e| fail(diagnostics(e, src)))?;
     super::lower(&def).map_err(|e| fail(diagnostics(e, src)))
+}
+
+/// Inside a proc macro (a macro that reads a `.chain` file), the compiler would tokenize the text
+/// with call-site spans, which know nothing of the file's lines. While this guard lives,
+/// proc-macro2 uses its own lexer instead, whose spans carry the file's line and column. No token
+/// escapes [`parse_chain_str`], so nothing mixes the two kinds of span. Outside a macro this does
+/// nothing.
+struct FallbackLexer {
+    forced: bool,
+}
+
+impl FallbackLexer {
+    fn new() -> Self {
+        let forced = proc_macro::is_available();
+        if forced {
+            proc_macro2::fallback::force();
+        }
+        FallbackLexer { forced }
+    }
+}
+
+impl Drop for FallbackLexer {
+    fn drop(&mut self) {
+        if self.forced {
+            proc_macro2::fallback::unforce();
+        }
+    }
 }
 
 /// Reads, parses and lowers a `.chain` file.
