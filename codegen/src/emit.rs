@@ -2,13 +2,15 @@
 //!
 //! [`straight_line`] turns the nodes some outputs need into one `let` per operation, in
 //! dependency order, plus one expression per output; the caller wraps them in a function body
-//! (the trait impls of DESIGN §4). [`format`] pretty-prints a whole item list.
+//! (the trait impls of DESIGN §4). [`format()`] pretty-prints a whole item list.
 //!
 //! The emitted code allocates nothing, has no `unsafe`, cannot panic, and compiles under
 //! `#![no_std]` without `alloc`:
 //! - [`ScalarKind::F64`]: `1.5_f64` literals, `::articulated::libm::{sin, cos, sincos, sqrt}`;
 //! - [`ScalarKind::F32`]: `1.5_f32` literals, `sinf`, `cosf`, `sincosf`, `sqrtf` (constants are
-//!   rounded to `f32` when printed; the arithmetic on them happened in `f64` while tracing);
+//!   rounded to `f32` and the graph folded again, so that a constant that becomes `0` or `±1`
+//!   in `f32` disappears there too; arithmetic between constants was done in `f64` while
+//!   tracing);
 //! - [`ScalarKind::Generic`]: a type parameter `T: nalgebra::RealField + Copy` in scope; methods
 //!   `x.sin()`, `x.cos()`, `x.sin_cos()`, `x.sqrt()` of `nalgebra::ComplexField` (callable
 //!   through the bound) and constants `::articulated::nalgebra::convert::<f64, T>(1.5)`.
@@ -96,6 +98,40 @@ impl From<EmitError> for syn::Error {
 /// # Panics
 /// If an output belongs to another graph.
 pub fn straight_line(
+    graph: &Graph,
+    outputs: &[Sym],
+    scalar: ScalarKind,
+    input: &dyn Fn(Var) -> TokenStream,
+) -> Result<Emitted, EmitError> {
+    if scalar != ScalarKind::F32 {
+        return emit(graph, outputs, scalar, input);
+    }
+    // Round the constants to f32 first, so that one that becomes 0 or ±1 folds away. Folding
+    // two rounded constants can make a new one that rounds to 0 or ±1 in turn: repeat until
+    // nothing changes (two passes in practice). A constant that overflows f32 is kept as it is,
+    // for `constant` to report.
+    let to_f32 = |x: f64| {
+        let r = x as f32;
+        if r.is_finite() {
+            f64::from(r)
+        } else {
+            x
+        }
+    };
+    let (mut g, mut outs) = graph.map_constants(outputs, to_f32);
+    for _ in 0..4 {
+        let (next, next_outs) = g.map_constants(&outs, to_f32);
+        let settled = next.len() == g.len();
+        (g, outs) = (next, next_outs);
+        if settled {
+            break;
+        }
+    }
+    emit(&g, &outs, scalar, input)
+}
+
+/// [`straight_line`] with the constants as they are.
+fn emit(
     graph: &Graph,
     outputs: &[Sym],
     scalar: ScalarKind,

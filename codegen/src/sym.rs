@@ -1,9 +1,9 @@
 //! A symbolic scalar that records an expression graph.
 //!
-//! The dynamics recursions are written once, generically over
-//! [`Scalar`](articulated_dynamics::Scalar), and never branch on a value. Run on `f64` they compute
-//! numbers; run on [`Sym`] inside [`trace`] they record every operation as a node of a [`Graph`],
-//! which [`crate::emit`] turns into straight-line Rust and [`Graph::eval`] interprets in `f64`.
+//! The dynamics recursions are written once, generically over [`Scalar`], and never branch on a
+//! value. Run on `f64` they compute numbers; run on [`Sym`] inside [`trace`] they record every
+//! operation as a node of a [`Graph`], which [`crate::emit`] turns into straight-line Rust and
+//! [`Graph::eval`] interprets in `f64`.
 //!
 //! The graph is simplified while it is built, so that no later pass has to:
 //! - **hash-consing**: an expression built twice is one node (the operands of `+` and `·` are put
@@ -434,6 +434,50 @@ impl Graph {
         }
         counts.sin_cos = trig_args.len();
         counts
+    }
+
+    /// Rebuilds the part of the graph `outputs` need with every constant `c` replaced by
+    /// `constant(c)`, folding again on the way (names carried over); returns the new graph and
+    /// the outputs in it.
+    ///
+    /// The emitter uses it to round constants to `f32` before printing them: a constant that
+    /// becomes exactly `0` or `1` in `f32` must fold away there too (`x·1.0_f32` would be a clippy
+    /// warning in the user's crate).
+    ///
+    /// # Panics
+    /// If an output belongs to another graph.
+    pub fn map_constants(
+        &self,
+        outputs: &[Sym],
+        constant: impl Fn(f64) -> f64,
+    ) -> (Graph, Vec<Sym>) {
+        let live = self.live(outputs);
+        let (mut graph, (new, map)) = trace(|| {
+            let mut map: HashMap<Sym, Sym> = HashMap::with_capacity(live.len());
+            for &s in &live {
+                let m = |a: Sym| map[&a];
+                let n = match self.node(s) {
+                    Node::Const(x) => Sym::from_f64(constant(x)),
+                    Node::Input(v) => Sym::input(v),
+                    Node::Add(a, b) => m(a) + m(b),
+                    Node::Sub(a, b) => m(a) - m(b),
+                    Node::Mul(a, b) => m(a) * m(b),
+                    Node::Div(a, b) => m(a) / m(b),
+                    Node::Neg(a) => -m(a),
+                    Node::Sin(a) => unary(m(a), Graph::sin),
+                    Node::Cos(a) => unary(m(a), Graph::cos),
+                    Node::Sqrt(a) => m(a).sqrt(),
+                };
+                map.insert(s, n);
+            }
+            (outputs.iter().map(|s| map[s]).collect::<Vec<_>>(), map)
+        });
+        for &s in &live {
+            if let Some(name) = self.hint_of(s) {
+                graph.hint(map[&s], name);
+            }
+        }
+        (graph, new)
     }
 
     /// The node index of `s`, checking that `s` belongs to this graph.

@@ -287,6 +287,36 @@ fn constants_round_trip_and_dodge_approx_constant() {
 }
 
 #[test]
+fn f32_constants_that_round_to_zero_or_one_fold_away() {
+    let (graph, out) = trace(|| {
+        let (x, y) = (Sym::input(Var::Q(0)), Sym::input(Var::Q(1)));
+        let k = Sym::from_f64;
+        vec![
+            k(1.0 + 1e-10) * x + k(1e-50) * y,
+            k(-1.0 - 1e-12) * y.named("why"),
+            k(0.1) * x,
+            // Rounds to 0.5 and 2 in f32; their product, folded in f64, is 1 + 2e-12: rounds to 1.
+            (k(0.5 + 1e-12) * k(2.0)) * y,
+        ]
+    });
+    let e32 = emit::straight_line(&graph, &out, ScalarKind::F32, &q_input).unwrap();
+    let outputs: Vec<String> = e32.outputs.iter().map(|o| o.to_string()).collect();
+    assert_eq!(outputs[0], "q [0]");
+    assert_eq!(outputs[3], "q [1]");
+    let text = e32.statements.to_string();
+    assert!(text.contains("= - q [1] ;"), "{text}");
+    assert!(text.contains("0.1_f32 * q [0]"), "{text}");
+    assert!(
+        !text.contains("1.0_f32") && !text.contains("0.0_f32"),
+        "{text}"
+    );
+    assert_eq!((e32.ops.negs, e32.ops.muls, e32.ops.total()), (1, 1, 2));
+    // In f64 every constant stays.
+    let e64 = emit::straight_line(&graph, &out, ScalarKind::F64, &q_input).unwrap();
+    assert_eq!(e64.ops.muls, 5);
+}
+
+#[test]
 fn a_non_finite_constant_is_an_error_not_code() {
     let (graph, out) = trace(|| vec![Sym::from_f64(f64::NAN) * Sym::input(Var::Q(0))]);
     let err = emit::straight_line(&graph, &out, ScalarKind::F64, &q_input).unwrap_err();

@@ -416,3 +416,19 @@ fn a_sym_outside_any_trace_panics_with_a_message() {
         .unwrap_or("");
     assert!(msg.contains("outside `sym::trace`"), "{msg}");
 }
+
+#[test]
+fn map_constants_refolds_and_keeps_names() {
+    let (graph, out) = trace(|| {
+        let x = q(0);
+        let named = (c(1.0 + 1e-10) * x + c(2.0)).named("shifted");
+        vec![named * c(0.5), c(3.0)]
+    });
+    let (rounded, new) = graph.map_constants(&out, |x| f64::from(x as f32));
+    // 1 + 1e-10 became 1 and the product with x folded away: x + 2, (x + 2)·0.5, and 3.
+    assert_eq!(rounded.op_counts(&new).total(), 2);
+    assert_eq!(rounded.hint_of(rounded.live(&new[..1])[2]), Some("shifted"));
+    let at = |_: Var| 0.25;
+    assert_eq!(rounded.eval(&new, at), vec![1.125, 3.0]);
+    approx::assert_relative_eq!(graph.eval(&out, at)[0], 1.125, max_relative = 1e-9);
+}
