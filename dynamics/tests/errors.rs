@@ -266,3 +266,59 @@ fn non_finite_result() {
         .unwrap_err();
     assert!(matches!(e, Error::Singular(_)), "{e}");
 }
+
+/// An inertia that is not positive definite, or nearly singular (a model built by hand, past the
+/// front ends' checks), makes M indefinite or numerically singular. ABA's pivots need not notice;
+/// forward dynamics must still refuse, never return rounding noise.
+#[test]
+fn indefinite_mass_matrix_is_singular() {
+    use articulated_dynamics::model::{
+        Body, Joint, JointKind, Model, Output, Placement, ScalarKind, Value, DEFAULT_GRAVITY,
+    };
+    use articulated_dynamics::reference::{Error, Reference};
+    let c = Value::Const;
+    let diag = |a: f64, b: f64, d: f64| {
+        [
+            [c(a), c(0.0), c(0.0)],
+            [c(0.0), c(b), c(0.0)],
+            [c(0.0), c(0.0), c(d)],
+        ]
+    };
+    let model = |inertia| Model {
+        name: "Bad".into(),
+        visibility: String::new(),
+        doc: Vec::new(),
+        gravity: Some(DEFAULT_GRAVITY),
+        params: Vec::new(),
+        bodies: vec![Body {
+            name: "b".into(),
+            mass: c(1.0),
+            com: [c(0.0); 3],
+            inertia,
+        }],
+        joints: vec![Joint {
+            name: "float".into(),
+            kind: JointKind::FreeQuaternion,
+            parent: None,
+            placement: Placement::IDENTITY,
+        }],
+        scalar: ScalarKind::F64,
+        outputs: Output::DEFAULT.to_vec(),
+    };
+    let q = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
+    // A negative principal moment: caught by ABA's own pivots.
+    let r = Reference::new(&model(diag(1.0, 1.0, -1e-20))).unwrap();
+    let e = r.forward_dynamics(&q, &[0.0; 6], &[0.0; 6]).unwrap_err();
+    assert!(matches!(&e, Error::Singular(_)), "{e}");
+    // A moment 1e-14 of the others: every ABA pivot is positive and passes its tolerances, but
+    // κ(M) = 1e14, past what f64 can invert to three digits; the eigenvalue check refuses it.
+    let r = Reference::new(&model(diag(1.0, 1.0, 1e-14))).unwrap();
+    let e = r.forward_dynamics(&q, &[0.0; 6], &[0.0; 6]).unwrap_err();
+    assert!(
+        matches!(&e, Error::Singular(msg) if msg.contains("not positive definite")),
+        "{e}"
+    );
+    // The same body at κ(M) = 1e10 is accepted.
+    let r = Reference::new(&model(diag(1.0, 1.0, 1e-10))).unwrap();
+    assert!(r.forward_dynamics(&q, &[0.0; 6], &[0.0; 6]).is_ok());
+}

@@ -95,6 +95,8 @@ pub enum Error {
     },
 }
 
+impl core::error::Error for Error {}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -222,6 +224,10 @@ fn finite(output: &'static str, x: Vec<f64>) -> Result<Vec<f64>, Error> {
 /// diagonal entry of the whole tree (catches an inertia that is zero up to rounding).
 const PIVOT_LOCAL_TOL: f64 = 1e-13;
 const PIVOT_GLOBAL_TOL: f64 = 1e-15;
+/// `M(q)` counts as singular when its smallest eigenvalue is not above this fraction of its
+/// largest: past that condition number (κ(M) > 1e13), q̈ can have fewer than three correct
+/// digits in f64 (relative error up to ε·κ ≈ 2e-3).
+const M_EIGEN_TOL: f64 = 1e-13;
 
 impl Reference {
     /// The reference dynamics of `model` with its parameters at their default values.
@@ -329,6 +335,21 @@ impl Reference {
             return Err(Error::Singular(format!(
                 "joint `{}` (velocity {k}): the acceleration is not finite",
                 self.joint_of_v(k)
+            )));
+        }
+        // ABA's pivots can stay positive by rounding when M is singular or indefinite (a massless
+        // root under a free base, an inertia that is not positive definite), and then q̈ is
+        // rounding noise times 1e16. The eigenvalues of M itself settle it: this is a reference,
+        // so an O(n³) check is affordable.
+        let m = DMatrix::from_vec(self.nv(), self.nv(), crba(&self.tree, q));
+        let eig = m.symmetric_eigenvalues();
+        let (lo, hi) = eig.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| {
+            (lo.min(x), hi.max(x.abs()))
+        });
+        if lo.is_nan() || lo <= M_EIGEN_TOL * hi {
+            return Err(Error::Singular(format!(
+                "the mass matrix is not positive definite here: its eigenvalues range from {lo:e} \
+                 to {hi:e}"
             )));
         }
         Ok(DVector::from_vec(out.qdd))
