@@ -1,10 +1,14 @@
 //! The generator behind `articulated`: all logic on `proc_macro2`, so that the `chain!` macro, a
 //! `build.rs` and the CLI share it.
 //!
-//! Pipeline: [`parse`] (tokens → [`parse::ChainDef`], spans kept) → [`lower`] (checks, then
-//! [`articulated_dynamics::model::Model`]). [`urdf`] builds the same Model from a URDF file.
+//! Pipeline: [`parse`] (tokens → [`parse::ChainDef`], spans kept) → [`lower`] (all checks at
+//! once, then an [`articulated_dynamics::model::Model`]) → [`sym`] (the recursions traced over a
+//! symbolic scalar into an expression graph: hash-consed, constants folded) → [`emit`]
+//! (straight-line Rust). [`urdf`] builds the same Model from a URDF file; [`load`] picks the front
+//! end by file extension.
 
 pub mod emit;
+pub mod load;
 pub mod lower;
 pub mod parse;
 pub mod sym;

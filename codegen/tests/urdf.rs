@@ -520,7 +520,7 @@ fn no_panic_on_any_prefix_or_mangling() {
             }
         }
         let edited: String = edited.into_iter().collect();
-        let _ = from_urdf_str(&edited, (state >> 50) % 2 == 0);
+        let _ = from_urdf_str(&edited, (state >> 50).is_multiple_of(2));
     }
 }
 
