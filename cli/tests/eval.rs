@@ -1,0 +1,242 @@
+//! `articulated eval` end to end: the binary's JSON against Pinocchio's values (an independent
+//! library), and its error paths.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use serde_json::Value;
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+/// Runs the binary; (exit success, stdout, stderr).
+fn eval(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_articulated"))
+        .arg("eval")
+        .args(args)
+        .current_dir(repo())
+        .output()
+        .expect("the binary runs");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn csv(v: &Value) -> String {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| format!("{:e}", x.as_f64().unwrap()))
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+fn flat(v: &Value) -> Vec<f64> {
+    match v {
+        Value::Array(items) => items.iter().flat_map(flat).collect(),
+        Value::Number(n) => vec![n.as_f64().unwrap()],
+        _ => panic!("not numeric: {v}"),
+    }
+}
+
+/// Largest difference between `ours` and `theirs`, relative to the largest entry of `theirs`.
+fn rel_err(ours: &Value, theirs: &Value) -> f64 {
+    let (a, b) = (flat(ours), flat(theirs));
+    assert_eq!(a.len(), b.len(), "shapes differ: {ours} vs {theirs}");
+    let scale = b.iter().fold(1e-300_f64, |m, x| m.max(x.abs()));
+    a.iter()
+        .zip(&b)
+        .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()))
+        / scale
+}
+
+/// Runs `eval` on every state Pinocchio recorded for `urdf` and compares each output to 1e-10.
+fn agree_with_pinocchio(urdf: &str, data: &str, model: &str, base: &str) {
+    let text = std::fs::read_to_string(repo().join(data)).expect("reference data present");
+    // Python's json.dump writes NaN as a bare `NaN`, which is not JSON: read it as null.
+    let json: Value = serde_json::from_str(&text.replace("NaN", "null")).unwrap();
+    let entry = &json["models"][model][base];
+    let floating = base == "floating";
+    let mut worst = [0.0_f64; 5];
+    let mut singular = 0;
+    for state in entry["states"].as_array().unwrap() {
+        let (q, v, a, tau) = (
+            csv(&state["q"]),
+            csv(&state["v"]),
+            csv(&state["a"]),
+            csv(&state["tau"]),
+        );
+        let mut args = vec![urdf, "--q", &q, "--v", &v, "--a", &a, "--tau", &tau];
+        if floating {
+            args.push("--floating");
+        }
+        let (ok, stdout, stderr) = eval(&args);
+        if state["qdd"].as_array().unwrap().iter().any(Value::is_null) {
+            // Pinocchio's q̈ is NaN: M(q) is singular there (a massless root whose free-base
+            // rotations repeat the joints below it). We must refuse, not print noise.
+            assert!(
+                !ok,
+                "{model}/{base}: M is singular, yet eval printed {stdout}"
+            );
+            assert!(stderr.contains("singular"), "{stderr}");
+            singular += 1;
+            continue;
+        }
+        assert!(ok, "eval failed: {stderr}");
+        let ours: Value = serde_json::from_str(&stdout).unwrap();
+        assert_eq!(ours["nq"], entry["nq"]);
+        assert_eq!(ours["nv"], entry["nv"]);
+        let pairs = [
+            ("mass_matrix", "mass_matrix"),
+            ("bias", "bias"),
+            ("gravity", "gravity"),
+            ("tau", "tau_out"),
+            ("qdd", "qdd"),
+        ];
+        for (k, (ours_key, theirs_key)) in pairs.iter().enumerate() {
+            let e = rel_err(&ours[ours_key], &state[theirs_key]);
+            worst[k] = worst[k].max(e);
+            assert!(e < 1e-10, "{model}/{base} {ours_key}: relative error {e:e}");
+        }
+    }
+    println!("{model}/{base}: {singular} states with a singular M refused; worst relative error M {:.1e} bias {:.1e} gravity {:.1e} tau {:.1e} qdd {:.1e}",
+        worst[0], worst[1], worst[2], worst[3], worst[4]);
+}
+
+#[test]
+fn arm7_urdf_agrees_with_pinocchio() {
+    agree_with_pinocchio(
+        "models/arm7.urdf",
+        "tests/data/pinocchio-arm7.json",
+        "arm7",
+        "fixed",
+    );
+    agree_with_pinocchio(
+        "models/arm7.urdf",
+        "tests/data/pinocchio-arm7.json",
+        "arm7",
+        "floating",
+    );
+}
+
+#[test]
+fn two_spherical_joints_urdf_agrees_with_pinocchio() {
+    let data = "tests/data/pinocchio/pinocchio-values.json";
+    let urdf = "tests/data/pinocchio/two_link_xyz.urdf";
+    agree_with_pinocchio(urdf, data, "two_link_xyz", "fixed");
+    agree_with_pinocchio(urdf, data, "two_link_xyz", "floating");
+}
+
+#[test]
+fn defaults_are_neutral_and_zero() {
+    let (ok, stdout, stderr) = eval(&["models/double_pendulum.chain"]);
+    assert!(ok, "{stderr}");
+    let out: Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(out["nq"], 2);
+    assert_eq!(out["nv"], 2);
+    // Hanging straight down at rest: no gravity torque, no bias, no motion.
+    for key in ["bias", "gravity", "tau", "qdd"] {
+        assert!(
+            flat(&out[key]).iter().all(|x| x.abs() < 1e-12),
+            "{key}: {}",
+            out[key]
+        );
+    }
+    // M(0) in closed form: m1 c1² + I1 + m2 (l1 + c2)² + I2 (both about y).
+    let m00 = 1.0 * 0.25 + 0.02 + 0.7 * 1.35 * 1.35 + 0.01;
+    assert!((flat(&out["mass_matrix"])[0] - m00).abs() < 1e-12);
+}
+
+#[test]
+fn unreadable_file_is_an_error() {
+    let (ok, _, stderr) = eval(&["models/no_such_model.chain"]);
+    assert!(!ok);
+    assert!(stderr.contains("no_such_model.chain"), "{stderr}");
+    assert!(stderr.contains("cannot read"), "{stderr}");
+}
+
+#[test]
+fn unknown_extension_is_an_error() {
+    let (ok, _, stderr) = eval(&["README.md"]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("expected a `.chain` or `.urdf` file"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn parse_error_names_line_and_column() {
+    let dir = std::env::temp_dir().join(format!("articulated-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bad.chain");
+    std::fs::write(
+        &path,
+        "chain Bad {\n    body b { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }\n    joint j: revolute(y) { parent: world, child: nobody }\n}\n",
+    )
+    .unwrap();
+    let (ok, _, stderr) = eval(&[path.to_str().unwrap()]);
+    assert!(!ok);
+    // `nobody` is on line 3, column 50 (1-based).
+    let expected = format!("{}:3:50:", path.display());
+    assert!(
+        stderr.contains(&expected),
+        "expected `{expected}` in: {stderr}"
+    );
+    assert!(stderr.contains("nobody"), "{stderr}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn wrong_length_is_an_error() {
+    let (ok, _, stderr) = eval(&["models/two_link.chain", "--q", "0.1,0.2"]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("--q has 2 values, but the model needs 6"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn non_finite_value_is_an_error() {
+    for bad in ["nan", "inf", "-inf"] {
+        let q = format!("0,0,{bad},0,0,0");
+        let (ok, _, stderr) = eval(&["models/two_link.chain", "--q", &q]);
+        assert!(!ok, "{bad} accepted");
+        assert!(
+            stderr.contains("--q[2]") && stderr.contains("finite"),
+            "{stderr}"
+        );
+    }
+    let (ok, _, stderr) = eval(&["models/two_link.chain", "--v", "0,0,zero,0,0,0"]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("--v[2] = `zero` is not a number"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn floating_on_a_chain_file_is_an_error() {
+    let (ok, _, stderr) = eval(&["models/two_link.chain", "--floating"]);
+    assert!(!ok);
+    assert!(stderr.contains("free base"), "{stderr}");
+}
+
+#[test]
+fn every_shipped_model_evaluates() {
+    for m in articulated_models::ALL {
+        for path in std::iter::once(m.chain).chain(m.urdf) {
+            let (ok, stdout, stderr) = eval(&[path]);
+            assert!(ok, "{path}: {stderr}");
+            let out: Value = serde_json::from_str(&stdout).unwrap();
+            assert!(flat(&out["qdd"]).iter().all(|x| x.is_finite()), "{path}");
+        }
+    }
+}
