@@ -11,4 +11,3 @@
 pub use articulated_dynamics::scalar::{self, Scalar};
 #[cfg(feature = "alloc")]
 pub use articulated_dynamics::{model, reference};
-pub use articulated_macros::*;
