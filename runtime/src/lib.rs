@@ -1,13 +1,35 @@
 //! `articulated`: rigid-body dynamics generated at compile time from a chain description.
 //!
-//! This crate is what users depend on. It re-exports the macros, the chain [`model`], the
-//! [`Scalar`] trait and the [`reference`] dynamics.
+//! This crate is what users depend on. It re-exports the macros ([`chain!`],
+//! [`derive@Chain`]), the traits generated chains implement ([`MassMatrix`], [`Bias`],
+//! [`Gravity`], [`InverseDynamics`], [`ForwardDynamics`]; bring them in with
+//! `use articulated::prelude::*;`), and, with the `alloc` feature (on through `std`, the
+//! default), the chain [`model`] and the interpreted [`reference`] dynamics.
+//!
+//! Without default features it is `#![no_std]` and needs no allocator: generated code uses only
+//! `core`, nalgebra's fixed-size types and `libm`.
 //!
 //! # Conventions
 //! SI units. Spatial vectors are **angular first** (Featherstone): a motion is `[ω; v]`, a force
 //! `[n; f]`. Pinocchio orders them linear first; convert when comparing.
 #![cfg_attr(not(feature = "std"), no_std)]
 
+mod generated;
+
 pub use articulated_dynamics::scalar::{self, Scalar};
 #[cfg(feature = "alloc")]
 pub use articulated_dynamics::{model, reference};
+pub use articulated_macros::{chain, Chain};
+pub use generated::*;
+/// Re-exported for generated code (math under `no_std`).
+pub use libm;
+/// Re-exported for generated code and users (the fixed-size vectors and matrices).
+pub use nalgebra;
+
+/// `use articulated::prelude::*;` brings the traits of generated chains into scope.
+pub mod prelude {
+    pub use crate::{
+        Bias, Chain, ForwardDynamics, Gravity, InverseDynamics, MassMatrix, OpCounts,
+        SingularMassMatrix,
+    };
+}

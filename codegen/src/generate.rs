@@ -1,0 +1,677 @@
+//! From a [`Model`] to Rust: trace each requested output's recursion over the symbolic scalar
+//! ([`crate::sym`]), emit it as straight-line code ([`crate::emit`]), and wrap it in the type and
+//! trait impls the runtime defines (`articulated::{Chain, MassMatrix, Bias, Gravity,
+//! InverseDynamics, ForwardDynamics}`, DESIGN §4).
+//!
+//! The recursions traced are the reference's own generic code (`articulated_dynamics::reference`:
+//! RNEA, CRBA, ABA), instantiated on [`Sym`]: what the reference computes in `f64` at run time,
+//! the generator records once, folds and emits. The reference's independence comes from its own
+//! checks (Wieber's second formulation, closed forms, Pinocchio).
+//!
+//! Forward dynamics is traced two ways and the one with fewer operations is kept, per model:
+//! - **ABA** (Featherstone 2008, RBDA §7.3), O(n);
+//! - **CRBA + LᵀDL**: `M` from CRBA, `h = N·q̇ + g` from RNEA, then `M = LᵀDL` factored from the
+//!   last coordinate to the first (RBDA §6.5, "LTDL"), which keeps the tree's sparsity: the
+//!   structural zeros of `M` are exact zeros in the graph, so every product with them folds away.
+
+use articulated_dynamics::model::{Model, Output, ScalarKind};
+use articulated_dynamics::reference::{aba, crba, rnea, Tree};
+use articulated_dynamics::Scalar;
+use proc_macro2::{Ident, Span, TokenStream};
+use quote::{format_ident, quote};
+
+use crate::emit::{self, Emitted};
+use crate::sym::{self, Graph, OpCounts, Sym, Var};
+
+/// Relative pivot tolerance of generated forward dynamics: a pivot must exceed this fraction of
+/// its unreduced value (the same test as the reference's ABA, `articulated::reference`).
+const PIVOT_TOL_F64: f64 = 1e-13;
+/// The same for `f32` (its epsilon is 1.2e-7).
+const PIVOT_TOL_F32: f64 = 1e-6;
+
+/// How forward dynamics is computed in generated code.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FdMethod {
+    /// The articulated-body algorithm.
+    Aba,
+    /// CRBA, RNEA, then a sparse `LᵀDL` of `M` and two triangular solves.
+    CrbaLtdl,
+}
+
+impl FdMethod {
+    /// A short name for docs and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            FdMethod::Aba => "ABA (RBDA §7.3)",
+            FdMethod::CrbaLtdl => "CRBA + sparse LᵀDL (RBDA §6.2, §6.5)",
+        }
+    }
+}
+
+/// One output traced into its own graph.
+#[derive(Debug)]
+pub struct Traced {
+    /// Which output.
+    pub output: Output,
+    /// The expression graph.
+    pub graph: Graph,
+    /// The values, in order: `M` row-major for the mass matrix, one per velocity otherwise.
+    pub values: Vec<Sym>,
+    /// Forward dynamics only: each pivot with the unreduced value it is compared to.
+    pub pivots: Vec<(Sym, Sym)>,
+    /// Forward dynamics only: the method kept.
+    pub method: Option<FdMethod>,
+    /// Forward dynamics only: the operation counts of both methods (ABA, CRBA + LᵀDL).
+    pub candidates: Vec<(FdMethod, OpCounts)>,
+}
+
+impl Traced {
+    /// Operations the emitted function performs (values and pivots).
+    pub fn ops(&self) -> OpCounts {
+        self.graph.op_counts(&self.all_outputs())
+    }
+
+    fn all_outputs(&self) -> Vec<Sym> {
+        let mut all = self.values.clone();
+        for (p, d) in &self.pivots {
+            all.push(*p);
+            all.push(*d);
+        }
+        all
+    }
+
+    /// Evaluates the graph in `f64` (the CLI's `--engine symbolic`): the values, then, for
+    /// forward dynamics, whether every pivot passed.
+    pub fn eval(&self, input: impl Fn(Var) -> f64) -> (Vec<f64>, bool) {
+        let all = self.graph.eval(&self.all_outputs(), input);
+        let (values, pivots) = all.split_at(self.values.len());
+        let ok = pivots
+            .chunks(2)
+            .all(|pd| pd[0] > PIVOT_TOL_F64 * pd[1] && pd[0].is_finite());
+        (values.to_vec(), ok)
+    }
+}
+
+fn inputs(n: usize, var: fn(usize) -> Var) -> Vec<Sym> {
+    (0..n).map(|i| Sym::input(var(i))).collect()
+}
+
+/// Traces `output` of `model` (one of the five core outputs) into a graph.
+///
+/// # Errors
+/// An output the generator does not produce yet.
+pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
+    let (nq, nv, np) = (model.nq(), model.nv(), model.params.len());
+    let simple = |f: &dyn Fn(&Tree<Sym>) -> Vec<Sym>| {
+        let (graph, values) = sym::trace(|| {
+            let params = inputs(np, Var::Param);
+            let tree = Tree::new(model, &params);
+            f(&tree)
+        });
+        Traced {
+            output,
+            graph,
+            values,
+            pivots: Vec::new(),
+            method: None,
+            candidates: Vec::new(),
+        }
+    };
+    let zeros = || vec![Sym::zero(); nv];
+    Ok(match output {
+        Output::MassMatrix => simple(&|t| crba(t, &inputs(nq, Var::Q))),
+        Output::Bias => {
+            simple(&|t| rnea(t, &inputs(nq, Var::Q), &inputs(nv, Var::V), &zeros(), false))
+        }
+        Output::Gravity => simple(&|t| rnea(t, &inputs(nq, Var::Q), &zeros(), &zeros(), true)),
+        Output::InverseDynamics => simple(&|t| {
+            rnea(
+                t,
+                &inputs(nq, Var::Q),
+                &inputs(nv, Var::V),
+                &inputs(nv, Var::A),
+                true,
+            )
+        }),
+        Output::ForwardDynamics => {
+            let by_aba = trace_fd(model, FdMethod::Aba);
+            let by_ltdl = trace_fd(model, FdMethod::CrbaLtdl);
+            let candidates = vec![
+                (FdMethod::Aba, by_aba.ops()),
+                (FdMethod::CrbaLtdl, by_ltdl.ops()),
+            ];
+            let mut best = if by_ltdl.ops().total() < by_aba.ops().total() {
+                by_ltdl
+            } else {
+                by_aba
+            };
+            best.candidates = candidates;
+            best
+        }
+        other => {
+            return Err(format!(
+                "the output `{}` is not generated yet: the generator emits `mass_matrix`, `bias`, \
+                 `gravity`, `inverse_dynamics` and `forward_dynamics`",
+                other.name()
+            ))
+        }
+    })
+}
+
+/// Forward dynamics traced by `method`.
+fn trace_fd(model: &Model, method: FdMethod) -> Traced {
+    let (nq, nv, np) = (model.nq(), model.nv(), model.params.len());
+    let (graph, (values, pivots)) = sym::trace(|| {
+        let params = inputs(np, Var::Param);
+        let tree = Tree::new(model, &params);
+        let (q, v, tau) = (inputs(nq, Var::Q), inputs(nv, Var::V), inputs(nv, Var::Tau));
+        match method {
+            FdMethod::Aba => {
+                let out = aba(&tree, &q, &v, &tau, true);
+                (
+                    out.qdd,
+                    out.pivots.into_iter().zip(out.diag).collect::<Vec<_>>(),
+                )
+            }
+            FdMethod::CrbaLtdl => {
+                let m = crba(&tree, &q);
+                let h = rnea(&tree, &q, &v, &vec![Sym::zero(); nv], true);
+                let b: Vec<Sym> = tau.iter().zip(&h).map(|(&t, &h)| t - h).collect();
+                ltdl_solve(m, b, nv)
+            }
+        }
+    });
+    Traced {
+        output: Output::ForwardDynamics,
+        graph,
+        values,
+        pivots,
+        method: Some(method),
+        candidates: Vec::new(),
+    }
+}
+
+/// Solves `M·x = b` by `M = LᵀDL`, eliminating from the last coordinate to the first
+/// (Featherstone 2008, RBDA §6.5): in depth-first coordinate order a coordinate's descendants
+/// come after it, so this order causes no fill-in on a tree. `m` is row-major `n × n`.
+/// Returns `x` and each pivot `D_k` with the unreduced `M_kk`.
+fn ltdl_solve<T: Scalar>(mut m: Vec<T>, b: Vec<T>, n: usize) -> (Vec<T>, Vec<(T, T)>) {
+    let unreduced: Vec<T> = (0..n).map(|k| m[k * n + k]).collect();
+    for k in (0..n).rev() {
+        let d = m[k * n + k];
+        // `i` descends, as in RBDA Table 6.3: row k's entries left of `i` are still unscaled
+        // when the update of row `i` reads them.
+        for i in (0..k).rev() {
+            let a = m[k * n + i] / d;
+            for j in 0..=i {
+                m[i * n + j] = m[i * n + j] - m[k * n + j] * a;
+            }
+            m[k * n + i] = a;
+        }
+    }
+    // Lᵀ·z = b (upper triangular), from the last coordinate up.
+    let mut x = b;
+    for k in (0..n).rev() {
+        for i in 0..k {
+            x[i] = x[i] - m[k * n + i] * x[k];
+        }
+    }
+    // D·y = z.
+    for (k, xk) in x.iter_mut().enumerate() {
+        *xk = *xk / m[k * n + k];
+    }
+    // L·x = y, from the first coordinate down.
+    for k in 0..n {
+        for i in 0..k {
+            x[k] = x[k] - m[k * n + i] * x[i];
+        }
+    }
+    let pivots = (0..n).map(|k| (m[k * n + k], unreduced[k])).collect();
+    (x, pivots)
+}
+
+/// What [`generate`] produced: the tokens and, per function, its operation counts.
+#[derive(Debug)]
+pub struct Generated {
+    /// The type and its impls.
+    pub tokens: TokenStream,
+    /// Each emitted function: its output, operation counts and (forward dynamics) the method
+    /// kept and both candidates' counts.
+    pub functions: Vec<FunctionReport>,
+}
+
+/// One generated function's figures.
+#[derive(Clone, Debug)]
+pub struct FunctionReport {
+    /// Which output.
+    pub output: Output,
+    /// Operations it performs.
+    pub ops: OpCounts,
+    /// Forward dynamics: the method kept.
+    pub method: Option<FdMethod>,
+    /// Forward dynamics: both candidates' counts.
+    pub candidates: Vec<(FdMethod, OpCounts)>,
+}
+
+/// The scalar type's tokens.
+fn scalar_tokens(kind: ScalarKind) -> TokenStream {
+    match kind {
+        ScalarKind::F64 => quote!(f64),
+        ScalarKind::F32 => quote!(f32),
+        ScalarKind::Generic => quote!(T),
+    }
+}
+
+fn ops_tokens(ops: &OpCounts) -> TokenStream {
+    let OpCounts {
+        adds,
+        muls,
+        divs,
+        negs,
+        sin_cos,
+        sqrts,
+    } = *ops;
+    quote! {
+        ::articulated::OpCounts {
+            adds: #adds, muls: #muls, divs: #divs, negs: #negs, sin_cos: #sin_cos, sqrts: #sqrts,
+        }
+    }
+}
+
+/// `let [[q0, _, q2]] = q.data.0;` binding the inputs a function uses (`_` for the others, so
+/// the user's crate sees no unused variable).
+fn destructure(vector: &Ident, n: usize, used: &[bool]) -> TokenStream {
+    let names = (0..n).map(|i| {
+        if used[i] {
+            let id = format_ident!("{}{}", vector, i);
+            quote!(#id)
+        } else {
+            quote!(_)
+        }
+    });
+    quote! { let [[#(#names),*]] = #vector.data.0; }
+}
+
+fn var_ident(var: Var, params: &[Ident]) -> TokenStream {
+    match var {
+        Var::Q(i) => {
+            let id = format_ident!("q{}", i);
+            quote!(#id)
+        }
+        Var::V(i) => {
+            let id = format_ident!("v{}", i);
+            quote!(#id)
+        }
+        Var::A(i) => {
+            let id = format_ident!("a{}", i);
+            quote!(#id)
+        }
+        Var::Tau(i) => {
+            let id = format_ident!("tau{}", i);
+            quote!(#id)
+        }
+        Var::Param(i) => {
+            let id = &params[i];
+            quote!(p.#id)
+        }
+    }
+}
+
+/// Which inputs the live part of a graph reads, per kind.
+struct Used {
+    q: Vec<bool>,
+    v: Vec<bool>,
+    a: Vec<bool>,
+    tau: Vec<bool>,
+    params: bool,
+}
+
+fn used_inputs(t: &Traced, nq: usize, nv: usize) -> Used {
+    let mut u = Used {
+        q: vec![false; nq],
+        v: vec![false; nv],
+        a: vec![false; nv],
+        tau: vec![false; nv],
+        params: false,
+    };
+    for s in t.graph.live(&t.all_outputs()) {
+        if let sym::Node::Input(var) = t.graph.node(s) {
+            match var {
+                Var::Q(i) => u.q[i] = true,
+                Var::V(i) => u.v[i] = true,
+                Var::A(i) => u.a[i] = true,
+                Var::Tau(i) => u.tau[i] = true,
+                Var::Param(_) => u.params = true,
+            }
+        }
+    }
+    u
+}
+
+/// Generates the type and trait impls for `model` (its `outputs`, in its `scalar`).
+///
+/// # Errors
+/// A `syn::Error` at the call site for an output the generator does not produce yet, or a
+/// constant that cannot be emitted.
+pub fn generate(model: &Model) -> syn::Result<Generated> {
+    generate_with(model, true)
+}
+
+/// [`generate`] without the struct itself, for `#[derive(Chain)]`, where the user wrote it.
+///
+/// # Errors
+/// As [`generate`].
+pub fn generate_impls(model: &Model) -> syn::Result<Generated> {
+    generate_with(model, false)
+}
+
+fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
+    let err = |m: String| syn::Error::new(Span::call_site(), m);
+    let name = Ident::new(&model.name, Span::call_site());
+    let name_str = &model.name;
+    let vis: TokenStream = model
+        .visibility
+        .parse()
+        .map_err(|e| err(format!("visibility: {e}")))?;
+    let (nq, nv) = (model.nq(), model.nv());
+    let scalar = scalar_tokens(model.scalar);
+    let generic = model.scalar == ScalarKind::Generic;
+    let param_idents: Vec<Ident> = model
+        .params
+        .iter()
+        .map(|p| Ident::new(&p.name, Span::call_site()))
+        .collect();
+    let params_name = format_ident!("{}Params", name);
+    let params_ty = match (param_idents.is_empty(), generic) {
+        (true, _) => quote!(()),
+        (false, true) => quote!(#params_name<T>),
+        (false, false) => quote!(#params_name<#scalar>),
+    };
+    let impl_generics = if generic {
+        quote!(<T: ::articulated::nalgebra::RealField + Copy>)
+    } else {
+        quote!()
+    };
+    let lit = |x: f64| -> TokenStream {
+        match model.scalar {
+            ScalarKind::F64 => {
+                let l = proc_macro2::Literal::f64_suffixed(x);
+                quote!(#l)
+            }
+            ScalarKind::F32 => {
+                let l = proc_macro2::Literal::f32_suffixed(x as f32);
+                quote!(#l)
+            }
+            ScalarKind::Generic => {
+                let l = proc_macro2::Literal::f64_suffixed(x);
+                quote!(::articulated::nalgebra::convert::<f64, T>(#l))
+            }
+        }
+    };
+
+    // Docs of the type: the user's, then what was generated.
+    let user_doc = model.doc.iter().map(|d| quote!(#[doc = #d]));
+    let mut items = Vec::new();
+    let mut consts = Vec::new();
+    let mut functions = Vec::new();
+    for &output in &model.outputs {
+        let traced = trace(model, output).map_err(err)?;
+        let ops = traced.ops();
+        let used = used_inputs(&traced, nq, nv);
+        let input = |var: Var| var_ident(var, &param_idents);
+        let all = traced.all_outputs();
+        let Emitted {
+            statements,
+            outputs,
+            ..
+        } = emit::straight_line(&traced.graph, &all, model.scalar, &input)?;
+        let (values, pivot_exprs) = outputs.split_at(traced.values.len());
+        let q_id = format_ident!("q");
+        let v_id = format_ident!("v");
+        let a_id = format_ident!("a");
+        let tau_id = format_ident!("tau");
+        let dq = destructure(&q_id, nq, &used.q);
+        let p_arg = if used.params { quote!(p) } else { quote!(_p) };
+        let vector = |vals: &[TokenStream]| {
+            quote! {
+                ::articulated::nalgebra::SVector::<#scalar, #nv>::from_array_storage(
+                    ::articulated::nalgebra::ArrayStorage([[#(#vals),*]])
+                )
+            }
+        };
+        let ops_doc = format!("Operations: {ops}.");
+        let const_name = format_ident!("{}_OPS", output.name().to_uppercase());
+        let const_doc = format!("Operation count of `{}`: {ops}.", output.name());
+        let ops_value = ops_tokens(&ops);
+        consts.push(quote! { #[doc = #const_doc] pub const #const_name: ::articulated::OpCounts = #ops_value; });
+        let sv = |n: usize| quote!(::articulated::nalgebra::SVector<#scalar, #n>);
+        let (sq, svv) = (sv(nq), sv(nv));
+        let item = match output {
+            Output::MassMatrix => {
+                // nalgebra stores columns: column j is M[.][j]; M is symmetric, so row-major
+                // entries read as columns give the same matrix.
+                let cols = (0..nv).map(|j| {
+                    let col = (0..nv).map(|i| &values[j * nv + i]);
+                    quote!([#(#col),*])
+                });
+                quote! {
+                    impl #impl_generics ::articulated::MassMatrix<#scalar, #nq, #nv> for #name {
+                        #[doc = "`M(q)`, the joint-space mass matrix (CRBA, Featherstone 2008, RBDA §6.2)."]
+                        #[doc = #ops_doc]
+                        fn mass_matrix_with(q: &#sq, #p_arg: &#params_ty) -> ::articulated::nalgebra::SMatrix<#scalar, #nv, #nv> {
+                            #dq
+                            #statements
+                            ::articulated::nalgebra::SMatrix::<#scalar, #nv, #nv>::from_array_storage(
+                                ::articulated::nalgebra::ArrayStorage([#(#cols),*])
+                            )
+                        }
+                    }
+                }
+            }
+            Output::Bias => {
+                let dv = destructure(&v_id, nv, &used.v);
+                let out = vector(values);
+                quote! {
+                    impl #impl_generics ::articulated::Bias<#scalar, #nq, #nv> for #name {
+                        #[doc = "`N(q, q̇)·q̇`, the velocity-product terms without gravity (RNEA with `a = 0` and no gravity, RBDA §5.3)."]
+                        #[doc = #ops_doc]
+                        fn bias_with(q: &#sq, v: &#svv, #p_arg: &#params_ty) -> #svv {
+                            #dq
+                            #dv
+                            #statements
+                            #out
+                        }
+                    }
+                }
+            }
+            Output::Gravity => {
+                let out = vector(values);
+                quote! {
+                    impl #impl_generics ::articulated::Gravity<#scalar, #nq, #nv> for #name {
+                        #[doc = "`g(q)`, the generalized force that holds the chain still (RNEA with `v = a = 0`, RBDA §5.3)."]
+                        #[doc = #ops_doc]
+                        fn gravity_with(q: &#sq, #p_arg: &#params_ty) -> #svv {
+                            #dq
+                            #statements
+                            #out
+                        }
+                    }
+                }
+            }
+            Output::InverseDynamics => {
+                let dv = destructure(&v_id, nv, &used.v);
+                let da = destructure(&a_id, nv, &used.a);
+                let out = vector(values);
+                quote! {
+                    impl #impl_generics ::articulated::InverseDynamics<#scalar, #nq, #nv> for #name {
+                        #[doc = "`τ = M(q)·a + N(q, q̇)·q̇ + g(q)` (RNEA, Featherstone 2008, RBDA §5.3)."]
+                        #[doc = #ops_doc]
+                        fn inverse_dynamics_with(q: &#sq, v: &#svv, a: &#svv, #p_arg: &#params_ty) -> #svv {
+                            #dq
+                            #dv
+                            #da
+                            #statements
+                            #out
+                        }
+                    }
+                }
+            }
+            Output::ForwardDynamics => {
+                let dv = destructure(&v_id, nv, &used.v);
+                let dt = destructure(&tau_id, nv, &used.tau);
+                let tol = lit(if model.scalar == ScalarKind::F32 {
+                    PIVOT_TOL_F32
+                } else {
+                    PIVOT_TOL_F64
+                });
+                let checks = pivot_exprs.chunks(2).enumerate().map(|(k, pd)| {
+                    let (p, d) = (&pd[0], &pd[1]);
+                    quote! {
+                        if !::articulated::__private::positive_pivot(#p, #d, #tol) {
+                            return Err(::articulated::SingularMassMatrix { velocity: #k });
+                        }
+                    }
+                });
+                let finite = values.iter().enumerate().map(|(k, x)| {
+                    quote! {
+                        if !#x.is_finite() {
+                            return Err(::articulated::SingularMassMatrix { velocity: #k });
+                        }
+                    }
+                });
+                let out = vector(values);
+                let method_doc = format!(
+                    "Computed by {} (the candidate with fewer operations for this chain: {}).",
+                    traced.method.map_or("", FdMethod::name),
+                    traced
+                        .candidates
+                        .iter()
+                        .map(|(m, o)| format!("{} {}", m.name(), o.total()))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                );
+                quote! {
+                    impl #impl_generics ::articulated::ForwardDynamics<#scalar, #nq, #nv> for #name {
+                        #[doc = "`q̈ = M(q)⁻¹·(τ − N(q, q̇)·q̇ − g(q))`; an error where `M(q)` is singular."]
+                        #[doc = #method_doc]
+                        #[doc = #ops_doc]
+                        fn forward_dynamics_with(q: &#sq, v: &#svv, tau: &#svv, #p_arg: &#params_ty)
+                            -> ::core::result::Result<#svv, ::articulated::SingularMassMatrix> {
+                            #dq
+                            #dv
+                            #dt
+                            #statements
+                            #(#checks)*
+                            #(#finite)*
+                            Ok(#out)
+                        }
+                    }
+                }
+            }
+            _ => unreachable!("trace() refused the others"),
+        };
+        items.push(item);
+        functions.push(FunctionReport {
+            output,
+            ops,
+            method: traced.method,
+            candidates: traced.candidates.clone(),
+        });
+    }
+
+    let summary = format!(
+        "Generated by `articulated` from the chain `{name_str}`: {} bodies, `NQ = {nq}` positions, \
+         `NV = {nv}` velocities. Outputs: {}.",
+        model.nb(),
+        model
+            .outputs
+            .iter()
+            .map(|o| format!("`{}`", o.name()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let params_item = if param_idents.is_empty() {
+        quote!()
+    } else {
+        let fields = model.params.iter().zip(&param_idents).map(|(p, id)| {
+            let d = format!("`{}` (default {:?}).", p.name, p.default);
+            quote! { #[doc = #d] pub #id: #scalar, }
+        });
+        let defaults = model.params.iter().zip(&param_idents).map(|(p, id)| {
+            let v = lit(p.default);
+            quote!(#id: #v)
+        });
+        let doc = format!("The runtime parameters of [`{name_str}`], in declaration order.");
+        let struct_generics = if generic {
+            quote!(<T>)
+        } else {
+            quote!(<T = #scalar>)
+        };
+        quote! {
+            #[doc = #doc]
+            #[derive(Clone, Copy, Debug, PartialEq)]
+            #vis struct #params_name #struct_generics { #(#fields)* }
+            impl #impl_generics #params_name<#scalar> {
+                /// The values the description gives.
+                pub fn defaults() -> Self { Self { #(#defaults),* } }
+            }
+        }
+    };
+    let default_body = if param_idents.is_empty() {
+        quote!()
+    } else {
+        quote!(#params_name::defaults())
+    };
+    let the_struct = if with_struct {
+        quote! {
+            #(#user_doc)*
+            #[doc = ""]
+            #[doc = #summary]
+            #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+            #vis struct #name;
+        }
+    } else {
+        quote!()
+    };
+    let tokens = quote! {
+        #the_struct
+
+        impl #name {
+            /// Number of position coordinates.
+            pub const NQ: usize = #nq;
+            /// Number of velocity coordinates.
+            pub const NV: usize = #nv;
+            #(#consts)*
+        }
+
+        #params_item
+
+        impl #impl_generics ::articulated::Chain<#scalar> for #name {
+            const NAME: &'static str = #name_str;
+            type Params = #params_ty;
+            fn default_params() -> #params_ty {
+                #default_body
+            }
+        }
+
+        #(#items)*
+    };
+    Ok(Generated { tokens, functions })
+}
+
+/// The generated code formatted as a file, with a header saying where it came from.
+///
+/// # Errors
+/// As [`generate`], or if the tokens do not parse as a file (a bug).
+pub fn generate_file(model: &Model, source: &str) -> syn::Result<String> {
+    let g = generate(model)?;
+    let body = emit::format(g.tokens)?;
+    let mut header = format!(
+        "// Generated by articulated-codegen from {source}. Do not edit: regenerate with\n\
+         // `articulated expand {source}`.\n//\n"
+    );
+    for f in &g.functions {
+        header.push_str(&format!("// {:<17} {}\n", f.output.name(), f.ops));
+    }
+    Ok(format!("{header}\n{body}"))
+}

@@ -1,0 +1,184 @@
+//! The traits a generated chain implements, and what its code needs at run time.
+//!
+//! For a chain `C` with `NQ` positions and `NV` velocities, `chain!{}` or `#[derive(Chain)]`
+//! emits a type `C` with the constants `C::NQ`, `C::NV` and one `C::<OUTPUT>_OPS` per generated
+//! function (an [`OpCounts`]), and implements [`Chain`] plus one trait per requested output:
+//!
+//! | trait | function | what it computes |
+//! |---|---|---|
+//! | [`MassMatrix`] | `C::mass_matrix(&q)` | `M(q)`, `NV × NV` |
+//! | [`Bias`] | `C::bias(&q, &v)` | `N(q, q̇)·q̇`, the velocity-product terms, **without gravity** |
+//! | [`Gravity`] | `C::gravity(&q)` | `g(q)`, the generalized force that holds the chain still |
+//! | [`InverseDynamics`] | `C::inverse_dynamics(&q, &v, &a)` | `τ = M·a + N·q̇ + g` |
+//! | [`ForwardDynamics`] | `C::forward_dynamics(&q, &v, &tau)` | `q̈`, or [`SingularMassMatrix`] |
+//!
+//! Each takes and returns nalgebra fixed-size types and allocates nothing. A chain with runtime
+//! parameters takes them through the `_with` twin of each function (`C::mass_matrix_with(&q,
+//! &params)`); the plain function uses the defaults from the description.
+
+use core::fmt;
+
+use nalgebra::{SMatrix, SVector};
+
+/// How many operations a generated function performs (counted on its expression graph).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct OpCounts {
+    /// Additions and subtractions.
+    pub adds: usize,
+    /// Multiplications.
+    pub muls: usize,
+    /// Divisions.
+    pub divs: usize,
+    /// Negations.
+    pub negs: usize,
+    /// Sine/cosine pairs (one per angle).
+    pub sin_cos: usize,
+    /// Square roots.
+    pub sqrts: usize,
+}
+
+impl OpCounts {
+    /// All operations together.
+    pub const fn total(&self) -> usize {
+        self.adds + self.muls + self.divs + self.negs + self.sin_cos + self.sqrts
+    }
+}
+
+impl fmt::Display for OpCounts {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} add/sub, {} mul, {} div, {} neg, {} sin/cos, {} sqrt ({} total)",
+            self.adds,
+            self.muls,
+            self.divs,
+            self.negs,
+            self.sin_cos,
+            self.sqrts,
+            self.total()
+        )
+    }
+}
+
+/// Generated forward dynamics found `M(q)` singular (or not positive definite) at this state:
+/// a pivot of its factorization was not positive relative to its unreduced value, or the result
+/// was not finite.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SingularMassMatrix {
+    /// The velocity coordinate whose pivot failed (or whose acceleration is not finite).
+    pub velocity: usize,
+}
+
+impl fmt::Display for SingularMassMatrix {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "the mass matrix is singular at this state (velocity coordinate {})",
+            self.velocity
+        )
+    }
+}
+
+impl core::error::Error for SingularMassMatrix {}
+
+/// A generated chain, in the scalar `T`.
+pub trait Chain<T> {
+    /// The chain's name in its description.
+    const NAME: &'static str;
+    /// Its runtime parameters: `()` when it has none, else a generated struct with one public
+    /// field per parameter.
+    type Params: Copy;
+    /// The parameter values the description gives.
+    fn default_params() -> Self::Params;
+}
+
+/// `M(q)`: the joint-space mass matrix (Wieber 2005, eq. 6; Featherstone 2008, RBDA §6.2).
+pub trait MassMatrix<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `M(q)` for the parameters `p`.
+    fn mass_matrix_with(q: &SVector<T, NQ>, p: &Self::Params) -> SMatrix<T, NV, NV>;
+    /// `M(q)` with the default parameters.
+    fn mass_matrix(q: &SVector<T, NQ>) -> SMatrix<T, NV, NV> {
+        Self::mass_matrix_with(q, &Self::default_params())
+    }
+}
+
+/// `N(q, q̇)·q̇`: the velocity-product terms, without gravity (Wieber 2005, eq. 7).
+pub trait Bias<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `N(q, q̇)·q̇` for the parameters `p`.
+    fn bias_with(q: &SVector<T, NQ>, v: &SVector<T, NV>, p: &Self::Params) -> SVector<T, NV>;
+    /// `N(q, q̇)·q̇` with the default parameters.
+    fn bias(q: &SVector<T, NQ>, v: &SVector<T, NV>) -> SVector<T, NV> {
+        Self::bias_with(q, v, &Self::default_params())
+    }
+}
+
+/// `g(q)`: the generalized force that holds the chain still against gravity (minus Wieber's
+/// `𝓕_g`, eq. 14).
+pub trait Gravity<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `g(q)` for the parameters `p`.
+    fn gravity_with(q: &SVector<T, NQ>, p: &Self::Params) -> SVector<T, NV>;
+    /// `g(q)` with the default parameters.
+    fn gravity(q: &SVector<T, NQ>) -> SVector<T, NV> {
+        Self::gravity_with(q, &Self::default_params())
+    }
+}
+
+/// `τ = M(q)·a + N(q, q̇)·q̇ + g(q)`: the joint forces that produce the acceleration `a`
+/// (Featherstone 2008, RBDA §5.3).
+pub trait InverseDynamics<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `τ` for the parameters `p`.
+    fn inverse_dynamics_with(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        a: &SVector<T, NV>,
+        p: &Self::Params,
+    ) -> SVector<T, NV>;
+    /// `τ` with the default parameters.
+    fn inverse_dynamics(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        a: &SVector<T, NV>,
+    ) -> SVector<T, NV> {
+        Self::inverse_dynamics_with(q, v, a, &Self::default_params())
+    }
+}
+
+/// `q̈ = M(q)⁻¹·(τ − N(q, q̇)·q̇ − g(q))`, or an error where `M(q)` is singular.
+pub trait ForwardDynamics<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `q̈` for the parameters `p`.
+    ///
+    /// # Errors
+    /// [`SingularMassMatrix`] where `M(q)` is singular or the result is not finite.
+    fn forward_dynamics_with(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        tau: &SVector<T, NV>,
+        p: &Self::Params,
+    ) -> Result<SVector<T, NV>, SingularMassMatrix>;
+    /// `q̈` with the default parameters.
+    ///
+    /// # Errors
+    /// [`SingularMassMatrix`] where `M(q)` is singular or the result is not finite.
+    fn forward_dynamics(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        tau: &SVector<T, NV>,
+    ) -> Result<SVector<T, NV>, SingularMassMatrix> {
+        Self::forward_dynamics_with(q, v, tau, &Self::default_params())
+    }
+}
+
+/// Helpers the generated code calls; not part of the public API.
+#[doc(hidden)]
+pub mod __private {
+    /// `pivot > tol·scale`, false for NaN: a factorization pivot that is positive relative to
+    /// its unreduced value.
+    #[inline(always)]
+    pub fn positive_pivot<T: PartialOrd + Copy + core::ops::Mul<Output = T>>(
+        pivot: T,
+        scale: T,
+        tol: T,
+    ) -> bool {
+        pivot > tol * scale
+    }
+}
