@@ -322,3 +322,37 @@ fn indefinite_mass_matrix_is_singular() {
     let r = Reference::new(&model(diag(1.0, 1.0, 1e-10))).unwrap();
     assert!(r.forward_dynamics(&q, &[0.0; 6], &[0.0; 6]).is_ok());
 }
+
+/// Regression: a model whose only joint is fixed has `nv = 0`; forward dynamics must return the
+/// empty acceleration, not panic in the eigenvalue check of `M` (found by `forward_inverts_inverse`).
+#[test]
+fn forward_dynamics_of_a_model_without_velocities_is_empty() {
+    use articulated_dynamics::model::{
+        Body, Joint, JointKind, Model, Output, Placement, ScalarKind, Value, DEFAULT_GRAVITY,
+    };
+    use articulated_dynamics::reference::Reference;
+    let c = Value::Const;
+    let model = Model {
+        name: "Welded".into(),
+        visibility: String::new(),
+        doc: Vec::new(),
+        gravity: Some(DEFAULT_GRAVITY),
+        params: Vec::new(),
+        bodies: vec![Body {
+            name: "b".into(),
+            mass: c(1.0),
+            com: [c(0.0); 3],
+            inertia: [[c(1.0), c(0.0), c(0.0)], [c(0.0), c(1.0), c(0.0)], [c(0.0), c(0.0), c(1.0)]],
+        }],
+        joints: vec![Joint {
+            name: "weld".into(),
+            kind: JointKind::Fixed,
+            parent: None,
+            placement: Placement::IDENTITY,
+        }],
+        scalar: ScalarKind::F64,
+        outputs: Output::DEFAULT.to_vec(),
+    };
+    let r = Reference::new(&model).unwrap();
+    assert_eq!(r.forward_dynamics(&[], &[], &[]).unwrap().len(), 0);
+}

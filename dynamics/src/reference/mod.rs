@@ -341,6 +341,10 @@ impl Reference {
         // root under a free base, an inertia that is not positive definite), and then q̈ is
         // rounding noise times 1e16. The eigenvalues of M itself settle it: this is a reference,
         // so an O(n³) check is affordable.
+        if self.nv() == 0 {
+            // Nothing moves (only fixed joints); nalgebra's eigen-solver refuses an empty matrix.
+            return Ok(DVector::from_vec(out.qdd));
+        }
         let m = DMatrix::from_vec(self.nv(), self.nv(), crba(&self.tree, q));
         let eig = m.symmetric_eigenvalues();
         let (lo, hi) = eig.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| {
