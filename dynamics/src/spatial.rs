@@ -178,12 +178,18 @@ impl<T: Scalar> Mat3<T> {
     pub fn rot_axis(u: Vec3<T>, angle: T) -> Self {
         let (s, c) = angle.sin_cos();
         let k = Self::skew(u);
-        let k2 = k.mul_mat(&k);
         let one_c = T::one() - c;
         let mut out = Self::identity();
         for i in 0..3 {
             for j in 0..3 {
-                out.0[i][j] = out.0[i][j] + s * k.0[i][j] + one_c * k2.0[i][j];
+                out.0[i][j] = if i == j {
+                    // u_i² + c·(1 − u_i²), equal to c + (1 − c)·u_i², but written so that a
+                    // coordinate axis folds to exactly 1 or c when traced symbolically.
+                    let uu = u.0[i] * u.0[i];
+                    uu + c * (T::one() - uu)
+                } else {
+                    one_c * u.0[i] * u.0[j] + s * k.0[i][j]
+                };
             }
         }
         out
