@@ -92,6 +92,22 @@ impl Traced {
     }
 }
 
+/// Names each body's transform from its parent (`X_up`: rotation `{body}_e{i}{j}`, translation
+/// `{body}_r{i}`) so the emitted code reads in body terms. The recursions compute the same
+/// transforms later; hash-consing makes them these very nodes, so the names stick.
+fn name_bodies(model: &Model, tree: &Tree<Sym>, q: &[Sym]) {
+    let x_up = tree.x_up(q);
+    for (b, body) in model.bodies.iter().enumerate() {
+        let x = &x_up[tree.body_node[b]];
+        for i in 0..3 {
+            for j in 0..3 {
+                x.e.0[i][j].named(&format!("{}_e{i}{j}", body.name));
+            }
+            x.r.0[i].named(&format!("{}_r{i}", body.name));
+        }
+    }
+}
+
 fn inputs(n: usize, var: fn(usize) -> Var) -> Vec<Sym> {
     (0..n).map(|i| Sym::input(var(i))).collect()
 }
@@ -106,6 +122,7 @@ pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
         let (graph, values) = sym::trace(|| {
             let params = inputs(np, Var::Param);
             let tree = Tree::new(model, &params);
+            name_bodies(model, &tree, &inputs(nq, Var::Q));
             f(&tree)
         });
         Traced {
@@ -165,6 +182,7 @@ fn trace_fd(model: &Model, method: FdMethod) -> Traced {
         let params = inputs(np, Var::Param);
         let tree = Tree::new(model, &params);
         let (q, v, tau) = (inputs(nq, Var::Q), inputs(nv, Var::V), inputs(nv, Var::Tau));
+        name_bodies(model, &tree, &q);
         match method {
             FdMethod::Aba => {
                 let out = aba(&tree, &q, &v, &tau, true);
@@ -373,7 +391,11 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
         .visibility
         .parse()
         .map_err(|e| err(format!("visibility: {e}")))?;
-    let (nq, nv) = (model.nq(), model.nv());
+    let (nq_n, nv_n) = (model.nq(), model.nv());
+    let (nq, nv) = (
+        proc_macro2::Literal::usize_unsuffixed(nq_n),
+        proc_macro2::Literal::usize_unsuffixed(nv_n),
+    );
     let scalar = scalar_tokens(model.scalar);
     let generic = model.scalar == ScalarKind::Generic;
     let param_idents: Vec<Ident> = model
@@ -417,7 +439,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
     for &output in &model.outputs {
         let traced = trace(model, output).map_err(err)?;
         let ops = traced.ops();
-        let used = used_inputs(&traced, nq, nv);
+        let used = used_inputs(&traced, nq_n, nv_n);
         let input = |var: Var| var_ident(var, &param_idents);
         let all = traced.all_outputs();
         let Emitted {
@@ -430,7 +452,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
         let v_id = format_ident!("v");
         let a_id = format_ident!("a");
         let tau_id = format_ident!("tau");
-        let dq = destructure(&q_id, nq, &used.q);
+        let dq = destructure(&q_id, nq_n, &used.q);
         let p_arg = if used.params { quote!(p) } else { quote!(_p) };
         let vector = |vals: &[TokenStream]| {
             quote! {
@@ -439,24 +461,24 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
                 )
             }
         };
-        let ops_doc = format!("Operations: {ops}.");
+        let ops_doc = format!(" Operations: {ops}.");
         let const_name = format_ident!("{}_OPS", output.name().to_uppercase());
-        let const_doc = format!("Operation count of `{}`: {ops}.", output.name());
+        let const_doc = format!(" Operation count of `{}`: {ops}.", output.name());
         let ops_value = ops_tokens(&ops);
         consts.push(quote! { #[doc = #const_doc] pub const #const_name: ::articulated::OpCounts = #ops_value; });
-        let sv = |n: usize| quote!(::articulated::nalgebra::SVector<#scalar, #n>);
-        let (sq, svv) = (sv(nq), sv(nv));
+        let sv = |n: &proc_macro2::Literal| quote!(::articulated::nalgebra::SVector<#scalar, #n>);
+        let (sq, svv) = (sv(&nq), sv(&nv));
         let item = match output {
             Output::MassMatrix => {
                 // nalgebra stores columns: column j is M[.][j]; M is symmetric, so row-major
                 // entries read as columns give the same matrix.
-                let cols = (0..nv).map(|j| {
-                    let col = (0..nv).map(|i| &values[j * nv + i]);
+                let cols = (0..nv_n).map(|j| {
+                    let col = (0..nv_n).map(|i| &values[j * nv_n + i]);
                     quote!([#(#col),*])
                 });
                 quote! {
                     impl #impl_generics ::articulated::MassMatrix<#scalar, #nq, #nv> for #name {
-                        #[doc = "`M(q)`, the joint-space mass matrix (CRBA, Featherstone 2008, RBDA §6.2)."]
+                        #[doc = " `M(q)`, the joint-space mass matrix (CRBA, Featherstone 2008, RBDA §6.2)."]
                         #[doc = #ops_doc]
                         fn mass_matrix_with(q: &#sq, #p_arg: &#params_ty) -> ::articulated::nalgebra::SMatrix<#scalar, #nv, #nv> {
                             #dq
@@ -469,11 +491,11 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
                 }
             }
             Output::Bias => {
-                let dv = destructure(&v_id, nv, &used.v);
+                let dv = destructure(&v_id, nv_n, &used.v);
                 let out = vector(values);
                 quote! {
                     impl #impl_generics ::articulated::Bias<#scalar, #nq, #nv> for #name {
-                        #[doc = "`N(q, q̇)·q̇`, the velocity-product terms without gravity (RNEA with `a = 0` and no gravity, RBDA §5.3)."]
+                        #[doc = " `N(q, q̇)·q̇`, the velocity-product terms without gravity (RNEA with `a = 0` and no gravity, RBDA §5.3)."]
                         #[doc = #ops_doc]
                         fn bias_with(q: &#sq, v: &#svv, #p_arg: &#params_ty) -> #svv {
                             #dq
@@ -488,7 +510,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
                 let out = vector(values);
                 quote! {
                     impl #impl_generics ::articulated::Gravity<#scalar, #nq, #nv> for #name {
-                        #[doc = "`g(q)`, the generalized force that holds the chain still (RNEA with `v = a = 0`, RBDA §5.3)."]
+                        #[doc = " `g(q)`, the generalized force that holds the chain still (RNEA with `v = a = 0`, RBDA §5.3)."]
                         #[doc = #ops_doc]
                         fn gravity_with(q: &#sq, #p_arg: &#params_ty) -> #svv {
                             #dq
@@ -499,12 +521,12 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
                 }
             }
             Output::InverseDynamics => {
-                let dv = destructure(&v_id, nv, &used.v);
-                let da = destructure(&a_id, nv, &used.a);
+                let dv = destructure(&v_id, nv_n, &used.v);
+                let da = destructure(&a_id, nv_n, &used.a);
                 let out = vector(values);
                 quote! {
                     impl #impl_generics ::articulated::InverseDynamics<#scalar, #nq, #nv> for #name {
-                        #[doc = "`τ = M(q)·a + N(q, q̇)·q̇ + g(q)` (RNEA, Featherstone 2008, RBDA §5.3)."]
+                        #[doc = " `τ = M(q)·a + N(q, q̇)·q̇ + g(q)` (RNEA, Featherstone 2008, RBDA §5.3)."]
                         #[doc = #ops_doc]
                         fn inverse_dynamics_with(q: &#sq, v: &#svv, a: &#svv, #p_arg: &#params_ty) -> #svv {
                             #dq
@@ -517,8 +539,8 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
                 }
             }
             Output::ForwardDynamics => {
-                let dv = destructure(&v_id, nv, &used.v);
-                let dt = destructure(&tau_id, nv, &used.tau);
+                let dv = destructure(&v_id, nv_n, &used.v);
+                let dt = destructure(&tau_id, nv_n, &used.tau);
                 let tol = lit(if model.scalar == ScalarKind::F32 {
                     PIVOT_TOL_F32
                 } else {
@@ -526,6 +548,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
                 });
                 let checks = pivot_exprs.chunks(2).enumerate().map(|(k, pd)| {
                     let (p, d) = (&pd[0], &pd[1]);
+                    let k = proc_macro2::Literal::usize_unsuffixed(k);
                     quote! {
                         if !::articulated::__private::positive_pivot(#p, #d, #tol) {
                             return Err(::articulated::SingularMassMatrix { velocity: #k });
@@ -533,6 +556,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
                     }
                 });
                 let finite = values.iter().enumerate().map(|(k, x)| {
+                    let k = proc_macro2::Literal::usize_unsuffixed(k);
                     quote! {
                         if !#x.is_finite() {
                             return Err(::articulated::SingularMassMatrix { velocity: #k });
@@ -541,7 +565,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
                 });
                 let out = vector(values);
                 let method_doc = format!(
-                    "Computed by {} (the candidate with fewer operations for this chain: {}).",
+                    " Computed by {} (the candidate with fewer operations for this chain: {}).",
                     traced.method.map_or("", FdMethod::name),
                     traced
                         .candidates
@@ -552,7 +576,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
                 );
                 quote! {
                     impl #impl_generics ::articulated::ForwardDynamics<#scalar, #nq, #nv> for #name {
-                        #[doc = "`q̈ = M(q)⁻¹·(τ − N(q, q̇)·q̇ − g(q))`; an error where `M(q)` is singular."]
+                        #[doc = " `q̈ = M(q)⁻¹·(τ − N(q, q̇)·q̇ − g(q))`; an error where `M(q)` is singular."]
                         #[doc = #method_doc]
                         #[doc = #ops_doc]
                         fn forward_dynamics_with(q: &#sq, v: &#svv, tau: &#svv, #p_arg: &#params_ty)
@@ -580,7 +604,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
     }
 
     let summary = format!(
-        "Generated by `articulated` from the chain `{name_str}`: {} bodies, `NQ = {nq}` positions, \
+        " Generated by `articulated` from the chain `{name_str}`: {} bodies, `NQ = {nq}` positions, \
          `NV = {nv}` velocities. Outputs: {}.",
         model.nb(),
         model
@@ -594,14 +618,14 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
         quote!()
     } else {
         let fields = model.params.iter().zip(&param_idents).map(|(p, id)| {
-            let d = format!("`{}` (default {:?}).", p.name, p.default);
+            let d = format!(" `{}` (default {:?}).", p.name, p.default);
             quote! { #[doc = #d] pub #id: #scalar, }
         });
         let defaults = model.params.iter().zip(&param_idents).map(|(p, id)| {
             let v = lit(p.default);
             quote!(#id: #v)
         });
-        let doc = format!("The runtime parameters of [`{name_str}`], in declaration order.");
+        let doc = format!(" The runtime parameters of [`{name_str}`], in declaration order.");
         let struct_generics = if generic {
             quote!(<T>)
         } else {
@@ -617,10 +641,13 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
             }
         }
     };
-    let default_body = if param_idents.is_empty() {
-        quote!()
+    // `-> ()` would trip clippy's `unused_unit` in the user's crate.
+    let default_fn = if param_idents.is_empty() {
+        quote!(
+            fn default_params() {}
+        )
     } else {
-        quote!(#params_name::defaults())
+        quote!(fn default_params() -> #params_ty { #params_name::defaults() })
     };
     let the_struct = if with_struct {
         quote! {
@@ -649,9 +676,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
         impl #impl_generics ::articulated::Chain<#scalar> for #name {
             const NAME: &'static str = #name_str;
             type Params = #params_ty;
-            fn default_params() -> #params_ty {
-                #default_body
-            }
+            #default_fn
         }
 
         #(#items)*
