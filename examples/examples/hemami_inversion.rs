@@ -2,37 +2,34 @@
 //! the legs and trunk, compute the joint couples that produce it (inverse dynamics), then drive
 //! the forward dynamics with those couples and check that the same motion comes back.
 //!
+//! The dynamics are generated at compile time from `models/two_link.chain`
+//! (`#[derive(Chain)]`): straight-line code, no allocation.
+//!
 //! ```sh
 //! cargo run --release -p articulated-examples --example hemami_inversion
 //! ```
 
 use std::f64::consts::PI;
-use std::path::Path;
 
-use articulated::reference::Reference;
-use articulated_codegen::load::load_model;
+use articulated::nalgebra::SVector;
+use articulated::prelude::*;
+
+/// Hemami's two-link system, generated from its description.
+#[derive(articulated::Chain)]
+#[chain(file = "../models/two_link.chain")]
+struct TwoLink;
+
+type V6 = SVector<f64, 6>;
 
 /// The prescribed motion: the ankle sways forward and sideways, the hip counter-rotates.
 /// Returns (q, q̇, q̈) at time t; coordinates [ankle x, y, z, hip x, y, z] (roll, pitch, yaw).
-fn sway(t: f64) -> ([f64; 6], [f64; 6], [f64; 6]) {
+fn sway(t: f64) -> (V6, V6, V6) {
     // amplitude (rad) and angular frequency (rad/s) of each coordinate
     let amp = [0.03, 0.08, 0.0, -0.02, -0.15, 0.05];
-    let w = [
-        2.0 * PI * 0.4,
-        2.0 * PI * 0.5,
-        0.0,
-        2.0 * PI * 0.4,
-        2.0 * PI * 0.5,
-        2.0 * PI * 0.3,
-    ];
-    let mut q = [0.0; 6];
-    let mut v = [0.0; 6];
-    let mut a = [0.0; 6];
-    for i in 0..6 {
-        q[i] = amp[i] * (w[i] * t).sin();
-        v[i] = amp[i] * w[i] * (w[i] * t).cos();
-        a[i] = -amp[i] * w[i] * w[i] * (w[i] * t).sin();
-    }
+    let w = [0.8 * PI, PI, 0.0, 0.8 * PI, PI, 0.6 * PI];
+    let q = V6::from_fn(|i, _| amp[i] * (w[i] * t).sin());
+    let v = V6::from_fn(|i, _| amp[i] * w[i] * (w[i] * t).cos());
+    let a = V6::from_fn(|i, _| -amp[i] * w[i] * w[i] * (w[i] * t).sin());
     (q, v, a)
 }
 
@@ -46,74 +43,76 @@ enum Drive {
     ComputedTorque { kp: f64, kd: f64 },
 }
 
-/// Replays the sway with RK4 (step `dt`, `steps` steps) and returns the largest deviation from it
-/// at each printed time (every `every` steps), with the couples applied there.
+/// The couples applied at time `t` in the state `(q, v)`.
+fn couples(drive: Drive, t: f64, q: &V6, v: &V6) -> V6 {
+    let (q_ref, v_ref, a_ref) = sway(t);
+    match drive {
+        Drive::OpenLoop => TwoLink::inverse_dynamics(&q_ref, &v_ref, &a_ref),
+        Drive::ComputedTorque { kp, kd } => {
+            let a_cmd = a_ref + (q_ref - q) * kp + (v_ref - v) * kd;
+            TwoLink::inverse_dynamics(q, v, &a_cmd)
+        }
+    }
+}
+
+/// One row of the printed table: time, couples, largest deviation from the sway.
+type Row = (f64, V6, f64);
+
+/// Replays the sway with RK4 (step `dt`, `steps` steps) and returns a row every `every` steps.
 fn replay(
-    dynamics: &Reference,
     drive: Drive,
     dt: f64,
     steps: usize,
     every: usize,
-) -> Result<Vec<(f64, Vec<f64>, f64)>, articulated::reference::Error> {
-    let couples = |t: f64, x: &[f64]| -> Result<Vec<f64>, articulated::reference::Error> {
-        let (q, v, a) = sway(t);
-        let tau = match drive {
-            Drive::OpenLoop => dynamics.inverse_dynamics(&q, &v, &a)?,
-            Drive::ComputedTorque { kp, kd } => {
-                let a_cmd: Vec<f64> = (0..6)
-                    .map(|i| a[i] + kp * (q[i] - x[i]) + kd * (v[i] - x[6 + i]))
-                    .collect();
-                dynamics.inverse_dynamics(&x[..6], &x[6..], &a_cmd)?
-            }
-        };
-        Ok(tau.as_slice().to_vec())
+) -> Result<Vec<Row>, SingularMassMatrix> {
+    let deriv = |t: f64, q: &V6, v: &V6| -> Result<(V6, V6), SingularMassMatrix> {
+        Ok((
+            *v,
+            TwoLink::forward_dynamics(q, v, &couples(drive, t, q, v))?,
+        ))
     };
-    let deriv = |t: f64, x: &[f64]| -> Result<Vec<f64>, articulated::reference::Error> {
-        let qdd = dynamics.forward_dynamics(&x[..6], &x[6..], &couples(t, x)?)?;
-        Ok(x[6..].iter().copied().chain(qdd.iter().copied()).collect())
-    };
-    let (q0, v0, _) = sway(0.0);
-    let mut x: Vec<f64> = q0.iter().chain(&v0).copied().collect();
+    let (mut q, mut v, _) = sway(0.0);
     let mut rows = Vec::new();
     for k in 0..=steps {
         let t = k as f64 * dt;
         if k % every == 0 {
-            let (q_ref, _, _) = sway(t);
-            let err = q_ref
-                .iter()
-                .zip(&x)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
-            rows.push((t, couples(t, &x)?, err));
+            let err = (sway(t).0 - q).amax();
+            rows.push((t, couples(drive, t, &q, &v), err));
         }
         if k == steps {
             break;
         }
-        let k1 = deriv(t, &x)?;
-        let x2: Vec<f64> = x.iter().zip(&k1).map(|(a, b)| a + 0.5 * dt * b).collect();
-        let k2 = deriv(t + 0.5 * dt, &x2)?;
-        let x3: Vec<f64> = x.iter().zip(&k2).map(|(a, b)| a + 0.5 * dt * b).collect();
-        let k3 = deriv(t + 0.5 * dt, &x3)?;
-        let x4: Vec<f64> = x.iter().zip(&k3).map(|(a, b)| a + dt * b).collect();
-        let k4 = deriv(t + dt, &x4)?;
-        for i in 0..12 {
-            x[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-        }
+        let (k1q, k1v) = deriv(t, &q, &v)?;
+        let (k2q, k2v) = deriv(
+            t + 0.5 * dt,
+            &(q + k1q * (0.5 * dt)),
+            &(v + k1v * (0.5 * dt)),
+        )?;
+        let (k3q, k3v) = deriv(
+            t + 0.5 * dt,
+            &(q + k2q * (0.5 * dt)),
+            &(v + k2v * (0.5 * dt)),
+        )?;
+        let (k4q, k4v) = deriv(t + dt, &(q + k3q * dt), &(v + k3v * dt))?;
+        q += (k1q + k2q * 2.0 + k3q * 2.0 + k4q) * (dt / 6.0);
+        v += (k1v + k2v * 2.0 + k3v * 2.0 + k4v) * (dt / 6.0);
     }
     Ok(rows)
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/two_link.chain");
-    let model = load_model(&path, false)?;
-    let dynamics = Reference::new(&model)?;
+fn main() -> Result<(), SingularMassMatrix> {
     let (dt, steps, every) = (1e-3, 4000, 500);
-
     println!("Hemami two-link: the couples that produce a sway (inverse dynamics), replayed");
-    println!("through forward dynamics (RK4, dt = {dt} s).\n");
-    let open = replay(&dynamics, Drive::OpenLoop, dt, steps, every)?;
+    println!(
+        "through forward dynamics (RK4, dt = {dt} s); generated code, {} operations",
+        TwoLink::INVERSE_DYNAMICS_OPS.total()
+    );
+    println!(
+        "for inverse and {} for forward dynamics.\n",
+        TwoLink::FORWARD_DYNAMICS_OPS.total()
+    );
+    let open = replay(Drive::OpenLoop, dt, steps, every)?;
     let closed = replay(
-        &dynamics,
         Drive::ComputedTorque {
             kp: 100.0,
             kd: 20.0,
