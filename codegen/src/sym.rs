@@ -140,47 +140,9 @@ pub struct Graph {
     hints: HashMap<u32, String>,
 }
 
-/// Operation counts of the part of a graph that some outputs need (see [`Graph::op_counts`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct OpCounts {
-    /// Additions and subtractions.
-    pub adds: usize,
-    /// Multiplications.
-    pub muls: usize,
-    /// Divisions.
-    pub divs: usize,
-    /// Negations.
-    pub negs: usize,
-    /// Sine/cosine evaluations, counted once per argument (a sine and a cosine of the same angle
-    /// are computed together).
-    pub sin_cos: usize,
-    /// Square roots.
-    pub sqrts: usize,
-}
-
-impl OpCounts {
-    /// All operations together.
-    pub fn total(&self) -> usize {
-        self.adds + self.muls + self.divs + self.negs + self.sin_cos + self.sqrts
-    }
-}
-
-impl fmt::Display for OpCounts {
-    /// `12 add/sub, 20 mul, 0 div, 1 neg, 2 sin/cos, 0 sqrt (35 total)`.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{} add/sub, {} mul, {} div, {} neg, {} sin/cos, {} sqrt ({} total)",
-            self.adds,
-            self.muls,
-            self.divs,
-            self.negs,
-            self.sin_cos,
-            self.sqrts,
-            self.total()
-        )
-    }
-}
+/// Operation counts of the part of a graph that some outputs need (see [`Graph::op_counts`]);
+/// the same type the runtime exposes on generated chains.
+pub use articulated_dynamics::OpCounts;
 
 /// The graphs being recorded on this thread (innermost last) and the next tag to hand out.
 struct Traces {

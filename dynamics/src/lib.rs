@@ -11,6 +11,7 @@ extern crate alloc;
 
 #[cfg(feature = "alloc")]
 pub mod model;
+pub mod op_counts;
 #[cfg(feature = "alloc")]
 pub mod random;
 #[cfg(feature = "alloc")]
@@ -18,4 +19,5 @@ pub mod reference;
 pub mod scalar;
 pub mod spatial;
 
+pub use op_counts::OpCounts;
 pub use scalar::Scalar;

@@ -20,45 +20,7 @@ use core::fmt;
 
 use nalgebra::{SMatrix, SVector};
 
-/// How many operations a generated function performs (counted on its expression graph).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct OpCounts {
-    /// Additions and subtractions.
-    pub adds: usize,
-    /// Multiplications.
-    pub muls: usize,
-    /// Divisions.
-    pub divs: usize,
-    /// Negations.
-    pub negs: usize,
-    /// Sine/cosine pairs (one per angle).
-    pub sin_cos: usize,
-    /// Square roots.
-    pub sqrts: usize,
-}
-
-impl OpCounts {
-    /// All operations together.
-    pub const fn total(&self) -> usize {
-        self.adds + self.muls + self.divs + self.negs + self.sin_cos + self.sqrts
-    }
-}
-
-impl fmt::Display for OpCounts {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{} add/sub, {} mul, {} div, {} neg, {} sin/cos, {} sqrt ({} total)",
-            self.adds,
-            self.muls,
-            self.divs,
-            self.negs,
-            self.sin_cos,
-            self.sqrts,
-            self.total()
-        )
-    }
-}
+pub use articulated_dynamics::OpCounts;
 
 /// Generated forward dynamics found `M(q)` singular (or not positive definite) at this state:
 /// a pivot of its factorization was not positive relative to its unreduced value, or the result
