@@ -267,25 +267,18 @@ fn non_finite_result() {
     assert!(matches!(e, Error::Singular(_)), "{e}");
 }
 
-/// An inertia that is not positive definite, or nearly singular (a model built by hand, past the
-/// front ends' checks), makes M indefinite or numerically singular. ABA's pivots need not notice;
-/// forward dynamics must still refuse, never return rounding noise.
-#[test]
-fn indefinite_mass_matrix_is_singular() {
+/// A model of one body of unit mass at the origin on a single joint of `kind`, with the
+/// inertia `diag(d)`, built by hand (past the front ends' checks).
+fn one_body(
+    kind: articulated_dynamics::model::JointKind,
+    d: [f64; 3],
+) -> articulated_dynamics::model::Model {
     use articulated_dynamics::model::{
-        Body, Joint, JointKind, Model, Output, Placement, ScalarKind, Value, DEFAULT_GRAVITY,
+        Body, Joint, Model, Output, Placement, ScalarKind, Value, DEFAULT_GRAVITY,
     };
-    use articulated_dynamics::reference::{Error, Reference};
     let c = Value::Const;
-    let diag = |a: f64, b: f64, d: f64| {
-        [
-            [c(a), c(0.0), c(0.0)],
-            [c(0.0), c(b), c(0.0)],
-            [c(0.0), c(0.0), c(d)],
-        ]
-    };
-    let model = |inertia| Model {
-        name: "Bad".into(),
+    Model {
+        name: "One".into(),
         visibility: String::new(),
         doc: Vec::new(),
         gravity: Some(DEFAULT_GRAVITY),
@@ -294,65 +287,58 @@ fn indefinite_mass_matrix_is_singular() {
             name: "b".into(),
             mass: c(1.0),
             com: [c(0.0); 3],
-            inertia,
+            inertia: [
+                [c(d[0]), c(0.0), c(0.0)],
+                [c(0.0), c(d[1]), c(0.0)],
+                [c(0.0), c(0.0), c(d[2])],
+            ],
         }],
         joints: vec![Joint {
-            name: "float".into(),
-            kind: JointKind::FreeQuaternion,
+            name: "j".into(),
+            kind,
             parent: None,
             placement: Placement::IDENTITY,
         }],
         scalar: ScalarKind::F64,
         outputs: Output::DEFAULT.to_vec(),
-    };
+    }
+}
+
+/// An inertia that is not positive definite, or nearly singular (a model built by hand, past the
+/// front ends' checks), makes M indefinite or numerically singular. ABA's pivots need not notice;
+/// forward dynamics must still refuse, never return rounding noise.
+#[test]
+fn indefinite_mass_matrix_is_singular() {
+    use articulated_dynamics::model::JointKind;
+    use articulated_dynamics::reference::{Error, Reference};
+    let free = |d| Reference::new(&one_body(JointKind::FreeQuaternion, d)).unwrap();
     let q = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
     // A negative principal moment: caught by ABA's own pivots.
-    let r = Reference::new(&model(diag(1.0, 1.0, -1e-20))).unwrap();
-    let e = r.forward_dynamics(&q, &[0.0; 6], &[0.0; 6]).unwrap_err();
+    let e = free([1.0, 1.0, -1e-20])
+        .forward_dynamics(&q, &[0.0; 6], &[0.0; 6])
+        .unwrap_err();
     assert!(matches!(&e, Error::Singular(_)), "{e}");
     // A moment 1e-14 of the others: every ABA pivot is positive and passes its tolerances, but
     // κ(M) = 1e14, past what f64 can invert to three digits; the eigenvalue check refuses it.
-    let r = Reference::new(&model(diag(1.0, 1.0, 1e-14))).unwrap();
-    let e = r.forward_dynamics(&q, &[0.0; 6], &[0.0; 6]).unwrap_err();
+    let e = free([1.0, 1.0, 1e-14])
+        .forward_dynamics(&q, &[0.0; 6], &[0.0; 6])
+        .unwrap_err();
     assert!(
         matches!(&e, Error::Singular(msg) if msg.contains("not positive definite")),
         "{e}"
     );
     // The same body at κ(M) = 1e10 is accepted.
-    let r = Reference::new(&model(diag(1.0, 1.0, 1e-10))).unwrap();
-    assert!(r.forward_dynamics(&q, &[0.0; 6], &[0.0; 6]).is_ok());
+    assert!(free([1.0, 1.0, 1e-10])
+        .forward_dynamics(&q, &[0.0; 6], &[0.0; 6])
+        .is_ok());
 }
 
 /// Regression: a model whose only joint is fixed has `nv = 0`; forward dynamics must return the
 /// empty acceleration, not panic in the eigenvalue check of `M` (found by `forward_inverts_inverse`).
 #[test]
 fn forward_dynamics_of_a_model_without_velocities_is_empty() {
-    use articulated_dynamics::model::{
-        Body, Joint, JointKind, Model, Output, Placement, ScalarKind, Value, DEFAULT_GRAVITY,
-    };
-    use articulated_dynamics::reference::Reference;
-    let c = Value::Const;
-    let model = Model {
-        name: "Welded".into(),
-        visibility: String::new(),
-        doc: Vec::new(),
-        gravity: Some(DEFAULT_GRAVITY),
-        params: Vec::new(),
-        bodies: vec![Body {
-            name: "b".into(),
-            mass: c(1.0),
-            com: [c(0.0); 3],
-            inertia: [[c(1.0), c(0.0), c(0.0)], [c(0.0), c(1.0), c(0.0)], [c(0.0), c(0.0), c(1.0)]],
-        }],
-        joints: vec![Joint {
-            name: "weld".into(),
-            kind: JointKind::Fixed,
-            parent: None,
-            placement: Placement::IDENTITY,
-        }],
-        scalar: ScalarKind::F64,
-        outputs: Output::DEFAULT.to_vec(),
-    };
-    let r = Reference::new(&model).unwrap();
+    use articulated_dynamics::model::JointKind;
+    let r = articulated_dynamics::reference::Reference::new(&one_body(JointKind::Fixed, [1.0; 3]))
+        .unwrap();
     assert_eq!(r.forward_dynamics(&[], &[], &[]).unwrap().len(), 0);
 }
