@@ -1,7 +1,12 @@
-//! `articulated eval`: one state in, one JSON object out (DESIGN.md §6).
+//! `articulated eval`: one state in, one JSON object out (DESIGN.md §6), computed by either
+//! engine: the interpreted reference, or the generator's own expression graphs
+//! (`--engine symbolic`), which checks the generator without compiling what it emits.
 
-use articulated::reference::Reference;
+use articulated::model::{JointKind, Model, Output};
+use articulated::reference::{Error, Reference};
+use articulated_codegen::generate::trace;
 use articulated_codegen::load::load_model;
+use articulated_codegen::sym::Var;
 use nalgebra::{DMatrix, DVector};
 use serde_json::Value;
 
@@ -46,56 +51,180 @@ fn vector(v: &DVector<f64>) -> Value {
     v.iter().copied().collect::<Vec<f64>>().into()
 }
 
+/// One state: positions, velocities, accelerations, joint forces and parameter values.
+struct State {
+    q: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    tau: Vec<f64>,
+    params: Vec<f64>,
+}
+
+impl State {
+    /// The value of one input of an expression graph.
+    fn input(&self, var: Var) -> f64 {
+        match var {
+            Var::Q(i) => self.q[i],
+            Var::V(i) => self.v[i],
+            Var::A(i) => self.a[i],
+            Var::Tau(i) => self.tau[i],
+            Var::Param(i) => self.params[i],
+        }
+    }
+}
+
+/// What `eval` prints, whichever engine computed it.
+struct Dynamics {
+    mass_matrix: DMatrix<f64>,
+    bias: DVector<f64>,
+    gravity: DVector<f64>,
+    tau: DVector<f64>,
+    qdd: DVector<f64>,
+}
+
 /// Runs `eval`; the JSON text, or the error message for stderr.
 pub fn run(args: &EvalArgs) -> Result<String, String> {
-    if args.engine == Engine::Symbolic {
-        return Err(
-            "error: --engine symbolic needs the generator's expression graph, which is not built \
-             yet; use --engine reference"
-                .to_string(),
-        );
-    }
     let model = load_model(&args.model, args.floating).map_err(|e| e.to_string())?;
-    let reference = match &args.params {
-        None => Reference::new(&model),
-        Some(p) => Reference::with_params(&model, &parse_vector(p, "params", model.params.len())?),
-    }
-    .map_err(|e| format!("{}: error: {e}", args.model.display()))?;
+    let params = match &args.params {
+        None => model.param_defaults(),
+        Some(p) => parse_vector(p, "params", model.params.len())?,
+    };
+    // Checks the model and the parameter values, for both engines.
+    let reference = Reference::with_params(&model, &params)
+        .map_err(|e| format!("{}: error: {e}", args.model.display()))?;
     let (nq, nv) = (reference.nq(), reference.nv());
     let q = match &args.q {
         Some(s) => parse_vector(s, "q", nq)?,
         None => model.neutral(),
     };
-    let zeros = vec![0.0; nv];
     let get = |arg: &Option<String>, what: &str| match arg {
         Some(s) => parse_vector(s, what, nv),
-        None => Ok(zeros.clone()),
+        None => Ok(vec![0.0; nv]),
     };
-    let (v, a, tau) = (
-        get(&args.v, "v")?,
-        get(&args.a, "a")?,
-        get(&args.tau, "tau")?,
-    );
-    let fail = |e: articulated::reference::Error| format!("error: {e}");
+    let state = State {
+        q,
+        v: get(&args.v, "v")?,
+        a: get(&args.a, "a")?,
+        tau: get(&args.tau, "tau")?,
+        params,
+    };
+    let fail = |e: Error| format!("error: {e}");
+    let d = match args.engine {
+        Engine::Reference => by_reference(&reference, &state).map_err(fail)?,
+        Engine::Symbolic => by_graph(&model, &state)?,
+    };
     let fields = [
         ("nq", Value::from(nq)),
         ("nv", Value::from(nv)),
-        (
-            "mass_matrix",
-            matrix_rows(&reference.mass_matrix(&q).map_err(fail)?),
-        ),
-        ("bias", vector(&reference.bias(&q, &v).map_err(fail)?)),
-        ("gravity", vector(&reference.gravity(&q).map_err(fail)?)),
-        (
-            "tau",
-            vector(&reference.inverse_dynamics(&q, &v, &a).map_err(fail)?),
-        ),
-        (
-            "qdd",
-            vector(&reference.forward_dynamics(&q, &v, &tau).map_err(fail)?),
-        ),
+        ("mass_matrix", matrix_rows(&d.mass_matrix)),
+        ("bias", vector(&d.bias)),
+        ("gravity", vector(&d.gravity)),
+        ("tau", vector(&d.tau)),
+        ("qdd", vector(&d.qdd)),
     ];
     Ok(to_json(&fields))
+}
+
+fn by_reference(r: &Reference, s: &State) -> Result<Dynamics, Error> {
+    Ok(Dynamics {
+        mass_matrix: r.mass_matrix(&s.q)?,
+        bias: r.bias(&s.q, &s.v)?,
+        gravity: r.gravity(&s.q)?,
+        tau: r.inverse_dynamics(&s.q, &s.v, &s.a)?,
+        qdd: r.forward_dynamics(&s.q, &s.v, &s.tau)?,
+    })
+}
+
+/// The name of the joint that velocity `k` belongs to.
+fn joint_of_v(model: &Model, k: usize) -> &str {
+    let mut at = 0;
+    for j in &model.joints {
+        at += j.kind.nv();
+        if k < at {
+            return &j.name;
+        }
+    }
+    "?"
+}
+
+/// The generator's expression graphs (`articulated_codegen::generate::trace`), evaluated in
+/// `f64`: what the generated code computes, with the same checks (every forward-dynamics pivot
+/// positive, every result finite), reported as the reference reports them.
+fn by_graph(model: &Model, s: &State) -> Result<Dynamics, String> {
+    let fail = |e: Error| format!("error: {e}");
+    // As the reference: a zero quaternion names no rotation (the graph would give NaN).
+    let mut at = 0;
+    for j in &model.joints {
+        let w = match j.kind {
+            JointKind::SphericalQuaternion => Some(at),
+            JointKind::FreeQuaternion => Some(at + 3),
+            _ => None,
+        };
+        if let Some(index) = w {
+            let n2: f64 = s.q[index..index + 4].iter().map(|x| x * x).sum();
+            if !(n2 > 0.0 && n2.is_finite()) {
+                return Err(fail(Error::Quaternion {
+                    joint: j.name.clone(),
+                    index,
+                }));
+            }
+        }
+        at += j.kind.nq();
+    }
+    let nv = model.nv();
+    let values = |output: Output| -> Result<Vec<f64>, String> {
+        let traced = trace(model, output).map_err(|e| format!("error: {e}"))?;
+        let (values, pivots_ok) = traced.eval(|var| s.input(var));
+        if !pivots_ok {
+            // The generator's test failed; name the pivot that came out worst, relative to its
+            // unreduced value (NaN worst of all).
+            let pd: Vec<(f64, f64)> = traced
+                .pivots
+                .iter()
+                .map(|&(p, d)| {
+                    let x = traced.graph.eval(&[p, d], |var| s.input(var));
+                    (x[0], x[1])
+                })
+                .collect();
+            let ratio = |&(p, d): &(f64, f64)| {
+                let r = p / d.abs();
+                if r.is_nan() {
+                    f64::NEG_INFINITY
+                } else {
+                    r
+                }
+            };
+            let k = (0..pd.len())
+                .min_by(|&i, &j| ratio(&pd[i]).total_cmp(&ratio(&pd[j])))
+                .unwrap_or(0);
+            let (p, d) = pd.get(k).copied().unwrap_or((f64::NAN, f64::NAN));
+            return Err(fail(Error::Singular(format!(
+                "joint `{}` (velocity {k}): pivot {p:e} of the generated forward dynamics is \
+                 not positive (unreduced {d:e}); the mass matrix is singular here",
+                joint_of_v(model, k)
+            ))));
+        }
+        if let Some(k) = values.iter().position(|x| !x.is_finite()) {
+            return Err(fail(if output == Output::ForwardDynamics {
+                Error::Singular(format!(
+                    "joint `{}` (velocity {k}): the acceleration is not finite",
+                    joint_of_v(model, k)
+                ))
+            } else {
+                Error::NonFiniteResult {
+                    output: output.name(),
+                }
+            }));
+        }
+        Ok(values)
+    };
+    Ok(Dynamics {
+        mass_matrix: DMatrix::from_row_slice(nv, nv, &values(Output::MassMatrix)?),
+        bias: DVector::from_vec(values(Output::Bias)?),
+        gravity: DVector::from_vec(values(Output::Gravity)?),
+        tau: DVector::from_vec(values(Output::InverseDynamics)?),
+        qdd: DVector::from_vec(values(Output::ForwardDynamics)?),
+    })
 }
 
 /// One JSON object, keys in the order given (DESIGN.md §6), a matrix row per line, numbers
