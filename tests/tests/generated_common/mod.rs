@@ -1,0 +1,291 @@
+//! Shared by the `generated_*` tests: how generated code is compared with the reference.
+//!
+//! Every comparison is against an independent value (the interpreted reference
+//! `articulated::reference::Reference`, Pinocchio, a closed form); the only check of generated
+//! code against itself is forward(inverse(a)) = a.
+//!
+//! Errors are relative to the largest entry of the expected value (absolute where that is 0), so
+//! one tolerance fits a 2-body and a 30-body tree; a NaN on either side counts as infinite.
+
+// Each test crate that includes this module uses part of it.
+#![allow(dead_code)]
+
+use articulated::nalgebra::{DMatrix, SMatrix, SVector};
+use articulated::prelude::*;
+use articulated::reference::{Error, Reference};
+use proptest::prelude::*;
+use proptest::test_runner::{Config, TestCaseError, TestRunner};
+
+/// Tolerance of M, bias, gravity and inverse dynamics against the reference (relative to the
+/// largest entry).
+pub const TOL: f64 = 1e-12;
+
+/// Largest |ours − theirs| relative to the largest |theirs| (absolute if that is 0); a NaN on
+/// either side gives infinity, so it cannot hide behind `f64::max`.
+pub fn rel_err(ours: &[f64], theirs: &[f64]) -> f64 {
+    assert_eq!(ours.len(), theirs.len(), "lengths differ");
+    let scale = max_abs(theirs);
+    let scale = if scale > 0.0 { scale } else { 1.0 };
+    let worst = ours.iter().zip(theirs).fold(0.0f64, |e, (a, b)| {
+        let d = (a - b).abs();
+        if d.is_nan() {
+            f64::INFINITY
+        } else {
+            e.max(d)
+        }
+    });
+    worst / scale
+}
+
+/// The largest |x| (infinite if any entry is NaN).
+pub fn max_abs(x: &[f64]) -> f64 {
+    x.iter().fold(0.0f64, |s, v| {
+        if v.is_nan() {
+            f64::INFINITY
+        } else {
+            s.max(v.abs())
+        }
+    })
+}
+
+/// The 2-norm condition number of a symmetric matrix from its eigenvalues (infinite where the
+/// smallest is not positive).
+pub fn condition(m: &DMatrix<f64>) -> f64 {
+    let eig = m.clone().symmetric_eigenvalues();
+    let (lo, hi) = eig.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), e| {
+        (lo.min(*e), hi.max(e.abs()))
+    });
+    if lo > 0.0 {
+        hi / lo
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The tolerance of forward dynamics against the reference, relative to the largest |q̈|.
+///
+/// Why it depends on κ(M): the generated code and the reference compute `q̈ = M⁻¹(τ − h)` by
+/// different operation orders (ABA or a sparse LᵀDL against the reference's ABA). Each is
+/// backward stable: it solves a system within a few hundred ulps of `(M, τ − h)`. Perturbation
+/// theory turns that into a forward error up to κ(M) times larger, so two correct solvers may
+/// differ by ~κ·100·ε ≈ κ·2e-14 however exact each step is. With 1e-13·κ (a margin of 5) and a
+/// floor of 1e-12, the two-link (κ ~ 10–100) is held to 1e-12–1e-11 and a 30-body random tree
+/// (κ up to ~1e5) to what its conditioning allows. The κ-free check is [`fd_residual`].
+pub fn fd_tol(kappa: f64) -> f64 {
+    TOL.max(1e-13 * kappa)
+}
+
+/// `‖M·q̈ + h − τ‖∞ / (‖M‖max·‖q̈‖∞ + ‖τ − h‖∞)` with the reference's `M` and `h = bias +
+/// gravity`: how far `q̈` is from solving the reference's equations of motion. A backward-stable
+/// solver keeps this near ε whatever κ(M) is, so it is held to [`TOL`] without a κ factor.
+pub fn fd_residual(m: &DMatrix<f64>, h: &[f64], tau: &[f64], qdd: &[f64]) -> f64 {
+    let n = tau.len();
+    let mut worst = 0.0f64;
+    let mut rhs = 0.0f64;
+    for i in 0..n {
+        let mq: f64 = (0..n).map(|j| m[(i, j)] * qdd[j]).sum();
+        let r = mq + h[i] - tau[i];
+        worst = if r.is_nan() {
+            f64::INFINITY
+        } else {
+            worst.max(r.abs())
+        };
+        rhs = rhs.max((tau[i] - h[i]).abs());
+    }
+    let scale = max_abs(m.as_slice()) * max_abs(qdd) + rhs;
+    if scale > 0.0 {
+        worst / scale
+    } else {
+        worst
+    }
+}
+
+/// The outputs compared, in print order.
+pub const OUTPUTS: [&str; 7] = [
+    "mass_matrix",
+    "bias",
+    "gravity",
+    "inverse_dynamics",
+    "fd_vs_reference/tol",
+    "fd_residual",
+    "fd(id(a))-a/tol",
+];
+
+/// One state's errors, in [`OUTPUTS`] order. The two `/tol` entries are already divided by the
+/// κ-aware [`fd_tol`] (pass when ≤ 1); the others are relative errors (pass when ≤ [`TOL`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Errors {
+    /// See [`OUTPUTS`].
+    pub e: [f64; 7],
+    /// κ(M) at this state.
+    pub kappa: f64,
+    /// The reference found M singular here (forward dynamics not compared).
+    pub singular: bool,
+}
+
+impl Errors {
+    /// The first failing output, as a message.
+    pub fn failure(&self) -> Option<String> {
+        OUTPUTS.iter().zip(self.e).find_map(|(name, e)| {
+            let bound = if name.ends_with("/tol") { 1.0 } else { TOL };
+            // NaN fails too.
+            (e.is_nan() || e > bound).then(|| format!("{name} = {e:e} (bound {bound:e})"))
+        })
+    }
+}
+
+/// The worst errors over many states.
+#[derive(Clone, Debug, Default)]
+pub struct Worst {
+    /// Per output, [`OUTPUTS`] order.
+    pub e: [f64; 7],
+    /// The largest κ(M) met.
+    pub kappa: f64,
+    /// States compared.
+    pub states: usize,
+    /// States where the reference found M singular.
+    pub singular: usize,
+}
+
+impl Worst {
+    /// Takes one state's errors into account.
+    pub fn note(&mut self, e: &Errors) {
+        for (w, x) in self.e.iter_mut().zip(e.e) {
+            *w = if x.is_nan() { f64::INFINITY } else { w.max(x) };
+        }
+        self.kappa = self.kappa.max(e.kappa);
+        self.states += 1;
+        self.singular += usize::from(e.singular);
+    }
+
+    /// One line: label, then each output's worst error.
+    pub fn line(&self, label: &str) -> String {
+        let mut s = format!("{label:<26} states={:<3}", self.states);
+        for (name, e) in OUTPUTS.iter().zip(self.e) {
+            s += &format!(" {name}={e:.1e}");
+        }
+        s += &format!(" max_kappa={:.1e}", self.kappa);
+        if self.singular > 0 {
+            s += &format!(" singular={}", self.singular);
+        }
+        s
+    }
+}
+
+/// Compares every output of the generated chain `C` (through the `_with` functions, parameters
+/// `p`) with the reference `r` (built for the same parameter values) at one state.
+pub fn compare_state<C, const NQ: usize, const NV: usize>(
+    r: &Reference,
+    p: &C::Params,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+) -> Errors
+where
+    C: MassMatrix<f64, NQ, NV>
+        + Bias<f64, NQ, NV>
+        + Gravity<f64, NQ, NV>
+        + InverseDynamics<f64, NQ, NV>
+        + ForwardDynamics<f64, NQ, NV>,
+{
+    assert_eq!((r.nq(), r.nv()), (NQ, NV), "the reference's sizes");
+    let (qs, vs, as_) = (
+        SVector::<f64, NQ>::from_column_slice(q),
+        SVector::<f64, NV>::from_column_slice(v),
+        SVector::<f64, NV>::from_column_slice(a),
+    );
+    let mut out = Errors::default();
+    let m_ref = r.mass_matrix(q).expect("reference mass matrix");
+    let m: SMatrix<f64, NV, NV> = C::mass_matrix_with(&qs, p);
+    // Both column-major.
+    out.e[0] = rel_err(m.as_slice(), m_ref.as_slice());
+    let b_ref = r.bias(q, v).expect("reference bias");
+    out.e[1] = rel_err(C::bias_with(&qs, &vs, p).as_slice(), b_ref.as_slice());
+    let g_ref = r.gravity(q).expect("reference gravity");
+    out.e[2] = rel_err(C::gravity_with(&qs, p).as_slice(), g_ref.as_slice());
+    let tau_ref = r
+        .inverse_dynamics(q, v, a)
+        .expect("reference inverse dynamics");
+    let tau = C::inverse_dynamics_with(&qs, &vs, &as_, p);
+    out.e[3] = rel_err(tau.as_slice(), tau_ref.as_slice());
+
+    out.kappa = condition(&m_ref);
+    let tol = fd_tol(out.kappa);
+    let h: Vec<f64> = b_ref.iter().zip(g_ref.iter()).map(|(b, g)| b + g).collect();
+    let taus = SVector::<f64, NV>::from_column_slice(tau_ref.as_slice());
+    let fd = C::forward_dynamics_with(&qs, &vs, &taus, p);
+    match (r.forward_dynamics(q, v, tau_ref.as_slice()), fd) {
+        (Ok(qdd_ref), Ok(qdd)) => {
+            out.e[4] = rel_err(qdd.as_slice(), qdd_ref.as_slice()) / tol;
+            out.e[5] = fd_residual(&m_ref, &h, tau_ref.as_slice(), qdd.as_slice());
+        }
+        (Ok(_), Err(e)) => {
+            // The reference solved it: generated code must not refuse.
+            out.e[4] = f64::INFINITY;
+            eprintln!(
+                "generated forward dynamics refused a regular M (κ = {:e}): {e}",
+                out.kappa
+            );
+        }
+        (Err(Error::Singular(_)), Ok(qdd)) => {
+            // Singular per the reference's eigenvalue test: the generated pivots may pass by
+            // rounding; then at least the equations of motion must hold.
+            out.singular = true;
+            out.e[5] = fd_residual(&m_ref, &h, tau_ref.as_slice(), qdd.as_slice());
+        }
+        (Err(Error::Singular(_)), Err(_)) => out.singular = true,
+        (Err(e), _) => panic!("reference forward dynamics: {e}"),
+    }
+    // Generated code alone: forward(inverse(a)) = a.
+    if !out.singular {
+        out.e[6] = match C::forward_dynamics_with(&qs, &vs, &tau, p) {
+            Ok(back) => rel_err(back.as_slice(), a) / tol,
+            Err(_) => f64::INFINITY,
+        };
+    }
+    out
+}
+
+/// Runs [`compare_state`] on `cases` random states drawn by proptest: a `u64` seed per case,
+/// turned into `(q, v, a)` by `state` (typically `articulated_dynamics::random::random_state`,
+/// which keeps Euler angles away from gimbal lock and quaternions unit). A failure shrinks the
+/// seed and reports it; `PROPTEST_RNG_SEED` fixes the run. Returns the worst errors.
+pub fn check_chain<C, const NQ: usize, const NV: usize>(
+    label: &str,
+    r: &Reference,
+    p: &C::Params,
+    cases: u32,
+    state: impl Fn(u64) -> (Vec<f64>, Vec<f64>, Vec<f64>),
+) -> Worst
+where
+    C: MassMatrix<f64, NQ, NV>
+        + Bias<f64, NQ, NV>
+        + Gravity<f64, NQ, NV>
+        + InverseDynamics<f64, NQ, NV>
+        + ForwardDynamics<f64, NQ, NV>,
+{
+    let mut runner = TestRunner::new(Config {
+        cases,
+        failure_persistence: None,
+        ..Config::default()
+    });
+    let worst = std::cell::RefCell::new(Worst::default());
+    let result = runner.run(&any::<u64>(), |seed| {
+        let (q, v, a) = state(seed);
+        let e = compare_state::<C, NQ, NV>(r, p, &q, &v, &a);
+        worst.borrow_mut().note(&e);
+        match e.failure() {
+            Some(msg) => Err(TestCaseError::fail(format!(
+                "{label}: {msg} (κ = {:.1e}) at q = {q:?}, v = {v:?}, a = {a:?}",
+                e.kappa
+            ))),
+            None => Ok(()),
+        }
+    });
+    let worst = worst.into_inner();
+    println!("{}", worst.line(label));
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+    worst
+}
