@@ -1,0 +1,113 @@
+//! A `#![no_std]` staticlib with no allocator that builds generated chains and calls every
+//! output: `cargo build --manifest-path no_std_check/Cargo.toml` (run by `.ci/run`).
+//!
+//! What makes it a check: a staticlib is linked, so every lang item must be resolved here.
+//! If `articulated` (without default features) or the generated code pulled in `std`, its
+//! `panic_impl` would clash with the `#[panic_handler]` below (E0152, duplicate lang item); if
+//! they pulled in `alloc`, the link would need a `#[global_allocator]`, and there is none.
+#![no_std]
+
+use articulated::nalgebra::{SMatrix, SVector};
+use articulated::prelude::*;
+
+articulated::chain! {
+    /// Hemami's two-link system (`models/two_link.chain`).
+    pub chain TwoLink {
+        gravity: [0.0, 0.0, -9.81];
+        body legs { mass: 22.0, com: [0.0, 0.0, 0.54], inertia: diag(1.46, 1.29, 0.24) }
+        body trunk { mass: 50.9, com: [0.0, 0.0, 0.32], inertia: diag(3.2, 2.8, 0.7) }
+        joint ankle: spherical(xyz) { parent: world, child: legs }
+        joint hip: spherical(xyz) { parent: legs, child: trunk, xyz: [0.0, 0.0, 0.86] }
+    }
+}
+
+/// The 7-DOF arm from its URDF.
+#[derive(articulated::Chain)]
+#[chain(urdf = "../models/arm7.urdf")]
+pub struct Arm7;
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    loop {}
+}
+
+/// Writes a vector to a C array of its length.
+fn write<const N: usize>(x: &SVector<f64, N>, out: &mut [f64; N]) {
+    out.copy_from_slice(x.as_slice());
+}
+
+/// Writes a matrix, column-major (symmetric here, so also row-major).
+fn write_m<const N: usize, const NN: usize>(m: &SMatrix<f64, N, N>, out: &mut [f64; NN]) {
+    out.copy_from_slice(m.as_slice());
+}
+
+macro_rules! exports {
+    ($chain:ty, $n:literal, $nn:literal, $m:ident, $b:ident, $g:ident, $id:ident, $fd:ident) => {
+        /// `M(q)`, column-major.
+        #[no_mangle]
+        pub extern "C" fn $m(q: &[f64; $n], out: &mut [f64; $nn]) {
+            write_m(&<$chain>::mass_matrix(&SVector::from(*q)), out);
+        }
+        /// `N(q, q̇)·q̇`.
+        #[no_mangle]
+        pub extern "C" fn $b(q: &[f64; $n], v: &[f64; $n], out: &mut [f64; $n]) {
+            write(&<$chain>::bias(&SVector::from(*q), &SVector::from(*v)), out);
+        }
+        /// `g(q)`.
+        #[no_mangle]
+        pub extern "C" fn $g(q: &[f64; $n], out: &mut [f64; $n]) {
+            write(&<$chain>::gravity(&SVector::from(*q)), out);
+        }
+        /// `τ = M·a + bias + gravity`.
+        #[no_mangle]
+        pub extern "C" fn $id(q: &[f64; $n], v: &[f64; $n], a: &[f64; $n], out: &mut [f64; $n]) {
+            let tau = <$chain>::inverse_dynamics(
+                &SVector::from(*q),
+                &SVector::from(*v),
+                &SVector::from(*a),
+            );
+            write(&tau, out);
+        }
+        /// `q̈`; returns 0 on success, 1 + the failing velocity index where `M(q)` is singular.
+        #[no_mangle]
+        pub extern "C" fn $fd(
+            q: &[f64; $n],
+            v: &[f64; $n],
+            tau: &[f64; $n],
+            out: &mut [f64; $n],
+        ) -> i32 {
+            match <$chain>::forward_dynamics(
+                &SVector::from(*q),
+                &SVector::from(*v),
+                &SVector::from(*tau),
+            ) {
+                Ok(qdd) => {
+                    write(&qdd, out);
+                    0
+                }
+                Err(e) => 1 + e.velocity as i32,
+            }
+        }
+    };
+}
+
+exports!(
+    TwoLink,
+    6,
+    36,
+    two_link_mass_matrix,
+    two_link_bias,
+    two_link_gravity,
+    two_link_inverse_dynamics,
+    two_link_forward_dynamics
+);
+exports!(
+    Arm7,
+    7,
+    49,
+    arm7_mass_matrix,
+    arm7_bias,
+    arm7_gravity,
+    arm7_inverse_dynamics,
+    arm7_forward_dynamics
+);
