@@ -4,7 +4,9 @@
 //!
 //! The reference is called through its `&[f64]` API, which checks the inputs and allocates its
 //! result (`DMatrix`/`DVector`); criterion drops each result inside the timed loop, so the
-//! allocation and the free are part of its figure.
+//! allocation and the free are part of its figure. `Reference::forward_dynamics` also checks
+//! that `M` is positive definite by its eigenvalues (CRBA plus an `O(n³)` eigen-solver), so the
+//! forward-dynamics groups have a third function, `reference_aba`: the bare ABA recursion.
 //!
 //! `cargo bench -p articulated-bench` runs all 50 functions in about three minutes on two cores;
 //! `cargo bench -p articulated-bench -- arm7/` runs one model, `-- /mass_matrix` one output.
@@ -22,9 +24,10 @@ impl Visit for Groups<'_> {
         &mut self,
         model: &'static str,
         output: Output,
-        _ops: usize,
+        _ops: articulated::OpCounts,
         mut generated: G,
         mut reference: R,
+        bare: Option<&mut dyn FnMut(usize)>,
     ) {
         let mut group = self.0.benchmark_group(format!("{model}/{}", output.name()));
         group.bench_function("generated", |b| {
@@ -41,6 +44,15 @@ impl Visit for Groups<'_> {
                 reference(i)
             })
         });
+        if let Some(bare) = bare {
+            group.bench_function("reference_aba", |b| {
+                let mut i = 0;
+                b.iter(|| {
+                    i = (i + 1) % STATES;
+                    bare(i)
+                })
+            });
+        }
         group.finish();
     }
 }

@@ -93,6 +93,8 @@ pub enum Engine {
     Generated,
     /// The interpreted [`Reference`], through its `&[f64]` API.
     Reference,
+    /// Forward dynamics only: the reference's bare ABA recursion (see [`Visit::visit`]).
+    ReferenceAba,
 }
 
 impl Engine {
@@ -101,12 +103,13 @@ impl Engine {
         match self {
             Engine::Generated => "generated",
             Engine::Reference => "reference",
+            Engine::ReferenceAba => "reference_aba",
         }
     }
 
     /// The engine called `name`, if any.
     pub fn from_name(name: &str) -> Option<Engine> {
-        [Engine::Generated, Engine::Reference]
+        [Engine::Generated, Engine::Reference, Engine::ReferenceAba]
             .into_iter()
             .find(|e| e.name() == name)
     }
@@ -122,21 +125,21 @@ pub trait Model<const NQ: usize, const NV: usize>:
 {
     /// Its files in `articulated-models` (the generated type comes from `FILES.chain`).
     const FILES: ModelFiles;
-    /// The generator's operation count of `output` (`C::<OUTPUT>_OPS.total()`).
-    fn ops(output: Output) -> usize;
+    /// The generator's operation counts of `output` (`C::<OUTPUT>_OPS`).
+    fn ops(output: Output) -> OpCounts;
 }
 
 macro_rules! model {
     ($ty:ident, $files:expr) => {
         impl Model<{ $ty::NQ }, { $ty::NV }> for $ty {
             const FILES: ModelFiles = $files;
-            fn ops(output: Output) -> usize {
+            fn ops(output: Output) -> OpCounts {
                 match output {
-                    Output::MassMatrix => $ty::MASS_MATRIX_OPS.total(),
-                    Output::Bias => $ty::BIAS_OPS.total(),
-                    Output::Gravity => $ty::GRAVITY_OPS.total(),
-                    Output::InverseDynamics => $ty::INVERSE_DYNAMICS_OPS.total(),
-                    Output::ForwardDynamics => $ty::FORWARD_DYNAMICS_OPS.total(),
+                    Output::MassMatrix => $ty::MASS_MATRIX_OPS,
+                    Output::Bias => $ty::BIAS_OPS,
+                    Output::Gravity => $ty::GRAVITY_OPS,
+                    Output::InverseDynamics => $ty::INVERSE_DYNAMICS_OPS,
+                    Output::ForwardDynamics => $ty::FORWARD_DYNAMICS_OPS,
                 }
             }
         }
@@ -228,13 +231,19 @@ pub fn reference(files: ModelFiles) -> Reference {
 /// call on state `i % STATES`, its inputs and its result through [`black_box`].
 pub trait Visit {
     /// Called once per output, in the order of [`Output::ALL`].
+    ///
+    /// `bare` is given for forward dynamics only: the reference's recursion alone
+    /// ([`articulated::reference::aba`] on its tree), without what [`Reference::forward_dynamics`]
+    /// adds around it (input checks, pivot checks, and an `O(n³)` eigenvalue check of `M` built
+    /// by CRBA), so the algorithms can be compared like for like.
     fn visit<G: FnMut(usize), R: FnMut(usize)>(
         &mut self,
         model: &'static str,
         output: Output,
-        ops: usize,
+        ops: OpCounts,
         generated: G,
         reference: R,
+        bare: Option<&mut dyn FnMut(usize)>,
     );
 }
 
@@ -251,6 +260,16 @@ pub fn each_kernel<M, V, const NQ: usize, const NV: usize>(
     assert_eq!(states.len(), STATES);
     let s = |i: usize| &states[i % STATES];
     let name = M::FILES.name;
+    let mut bare_aba = |i: usize| {
+        let x = s(i);
+        black_box(articulated::reference::aba(
+            r.tree(),
+            black_box(x.q.as_slice()),
+            black_box(x.v.as_slice()),
+            black_box(x.tau.as_slice()),
+            true,
+        ));
+    };
     visitor.visit(
         name,
         Output::MassMatrix,
@@ -261,6 +280,7 @@ pub fn each_kernel<M, V, const NQ: usize, const NV: usize>(
         |i| {
             let _ = black_box(r.mass_matrix(black_box(s(i).q.as_slice())));
         },
+        None,
     );
     visitor.visit(
         name,
@@ -274,6 +294,7 @@ pub fn each_kernel<M, V, const NQ: usize, const NV: usize>(
             let x = s(i);
             let _ = black_box(r.bias(black_box(x.q.as_slice()), black_box(x.v.as_slice())));
         },
+        None,
     );
     visitor.visit(
         name,
@@ -285,6 +306,7 @@ pub fn each_kernel<M, V, const NQ: usize, const NV: usize>(
         |i| {
             let _ = black_box(r.gravity(black_box(s(i).q.as_slice())));
         },
+        None,
     );
     visitor.visit(
         name,
@@ -306,6 +328,7 @@ pub fn each_kernel<M, V, const NQ: usize, const NV: usize>(
                 black_box(x.a.as_slice()),
             ));
         },
+        None,
     );
     visitor.visit(
         name,
@@ -327,6 +350,7 @@ pub fn each_kernel<M, V, const NQ: usize, const NV: usize>(
                 black_box(x.tau.as_slice()),
             ));
         },
+        Some(&mut bare_aba),
     );
 }
 
@@ -379,6 +403,8 @@ mod tests {
             assert!(max_diff(qdd.as_slice(), a) < 1e-8);
             let qdd_ref = r.forward_dynamics(q, v, tau).unwrap();
             assert!(max_diff(qdd_ref.as_slice(), a) < 1e-8);
+            let bare = articulated::reference::aba(r.tree(), q, v, tau, true);
+            assert!(max_diff(&bare.qdd, a) < 1e-8);
         }
     }
 

@@ -1,0 +1,377 @@
+//! The README's table: per shipped model and output, ns/call of the generated code and of the
+//! reference, their ratio, and the generator's operation count, measured side by side in one
+//! run. Criterion (`cargo bench -p articulated-bench`) stays the authoritative harness; this is
+//! a plain loop timing: batches of N calls (N calibrated to about 5 ms), generated and reference
+//! batches alternating, the median batch over 31 repeats (`--min`: the fastest batch, robust on a
+//! loaded machine).
+//!
+//! ```text
+//! cargo run --release -p articulated-bench --bin bench_table                  # timing table
+//! cargo run --release -p articulated-bench --bin bench_table -- --min          # fastest batch
+//! cargo run --release -p articulated-bench --bin bench_table -- --instructions  # callgrind
+//! bench_table --calls K MODEL OUTPUT ENGINE   # exactly K calls of one kernel, then exit
+//! ```
+//!
+//! `--instructions` runs this binary under `valgrind --tool=callgrind` twice per kernel, with
+//! `--calls 0` and `--calls K`, and reports (Ir(K) − Ir(0)) / K: the instructions of one call
+//! (plus the few of the loop and `black_box`), independent of the machine's load.
+
+use std::hint::black_box;
+use std::process::{Command, ExitCode};
+use std::time::{Duration, Instant};
+
+use articulated::OpCounts;
+use articulated_bench::{each_model, Engine, Output, Visit, STATES};
+
+const USAGE: &str = "usage: bench_table [--repeats R] [--batch-ms T] [--min]
+       bench_table --instructions [--calls K]
+       bench_table --calls K MODEL OUTPUT ENGINE   (ENGINE: generated, reference, reference_aba)";
+
+/// Runs `f` on states `0..n` (cycled) and returns the time taken.
+#[inline(never)]
+fn batch<F: FnMut(usize)>(f: &mut F, n: usize) -> Duration {
+    let start = Instant::now();
+    for i in 0..n {
+        f(black_box(i % STATES));
+    }
+    start.elapsed()
+}
+
+/// How many calls of `f` take about `target`.
+fn calibrate<F: FnMut(usize)>(f: &mut F, target: Duration) -> usize {
+    let mut n = STATES;
+    loop {
+        let t = batch(f, n);
+        if t >= target / 4 || n >= 1 << 30 {
+            let per = t.as_secs_f64() / n as f64;
+            return ((target.as_secs_f64() / per) as usize).max(STATES);
+        }
+        n *= 2;
+    }
+}
+
+fn median(mut xs: Vec<f64>) -> f64 {
+    xs.sort_by(f64::total_cmp);
+    xs[xs.len() / 2]
+}
+
+/// One row of the timing table.
+struct Row {
+    model: &'static str,
+    output: Output,
+    ops: OpCounts,
+    generated_ns: f64,
+    reference_ns: f64,
+    /// Forward dynamics only: the bare ABA recursion of the reference.
+    bare_ns: Option<f64>,
+}
+
+/// Times every kernel: `repeats` alternating batches of each engine, each about `batch_time`;
+/// keeps the median batch (or the fastest, with `min`).
+struct Timer {
+    repeats: usize,
+    min: bool,
+    batch_time: Duration,
+    rows: Vec<Row>,
+}
+
+impl Timer {
+    fn pick(&self, xs: Vec<f64>) -> f64 {
+        if self.min {
+            xs.into_iter().fold(f64::INFINITY, f64::min)
+        } else {
+            median(xs)
+        }
+    }
+}
+
+impl Visit for Timer {
+    fn visit<G: FnMut(usize), R: FnMut(usize)>(
+        &mut self,
+        model: &'static str,
+        output: Output,
+        ops: OpCounts,
+        mut generated: G,
+        mut reference: R,
+        mut bare: Option<&mut dyn FnMut(usize)>,
+    ) {
+        let ng = calibrate(&mut generated, self.batch_time);
+        let nr = calibrate(&mut reference, self.batch_time);
+        let nb = bare.as_mut().map(|f| calibrate(f, self.batch_time));
+        let (mut tg, mut tr, mut tb) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..self.repeats {
+            tg.push(batch(&mut generated, ng).as_secs_f64() * 1e9 / ng as f64);
+            tr.push(batch(&mut reference, nr).as_secs_f64() * 1e9 / nr as f64);
+            if let (Some(f), Some(n)) = (bare.as_mut(), nb) {
+                tb.push(batch(f, n).as_secs_f64() * 1e9 / n as f64);
+            }
+        }
+        let row = Row {
+            model,
+            output,
+            ops,
+            generated_ns: self.pick(tg),
+            reference_ns: self.pick(tr),
+            bare_ns: (!tb.is_empty()).then(|| self.pick(tb)),
+        };
+        eprintln!(
+            "{model}/{}: {:.1} ns vs {:.1} ns",
+            output.name(),
+            row.generated_ns,
+            row.reference_ns
+        );
+        self.rows.push(row);
+    }
+}
+
+/// Runs exactly `calls` calls of one kernel (for callgrind).
+struct Only {
+    model: String,
+    output: Output,
+    engine: Engine,
+    calls: usize,
+    found: bool,
+}
+
+impl Visit for Only {
+    fn visit<G: FnMut(usize), R: FnMut(usize)>(
+        &mut self,
+        model: &'static str,
+        output: Output,
+        _ops: OpCounts,
+        mut generated: G,
+        mut reference: R,
+        bare: Option<&mut dyn FnMut(usize)>,
+    ) {
+        if model != self.model || output != self.output {
+            return;
+        }
+        match (self.engine, bare) {
+            (Engine::Generated, _) => black_box(batch(&mut generated, self.calls)),
+            (Engine::Reference, _) => black_box(batch(&mut reference, self.calls)),
+            (Engine::ReferenceAba, Some(mut f)) => black_box(batch(&mut f, self.calls)),
+            (Engine::ReferenceAba, None) => return,
+        };
+        self.found = true;
+    }
+}
+
+/// Collects the (model, output, ops) of every kernel without running any.
+struct List(Vec<(&'static str, Output, OpCounts)>);
+
+impl Visit for List {
+    fn visit<G: FnMut(usize), R: FnMut(usize)>(
+        &mut self,
+        model: &'static str,
+        output: Output,
+        ops: OpCounts,
+        _: G,
+        _: R,
+        _: Option<&mut dyn FnMut(usize)>,
+    ) {
+        self.0.push((model, output, ops));
+    }
+}
+
+fn print_timing(rows: &[Row], stat: &str) {
+    println!("| model | output | ops | sin/cos | generated (ns/call, {stat}) | reference (ns/call, {stat}) | reference / generated | ns/op (generated) |");
+    println!("|---|---|---:|---:|---:|---:|---:|---:|");
+    for r in rows {
+        println!(
+            "| {} | {} | {} | {} | {:.1} | {:.0} | {:.1}× | {:.2} |",
+            r.model,
+            r.output.name(),
+            r.ops.total(),
+            r.ops.sin_cos,
+            r.generated_ns,
+            r.reference_ns,
+            r.reference_ns / r.generated_ns,
+            r.generated_ns / r.ops.total() as f64
+        );
+    }
+    println!();
+    println!("Forward dynamics against the reference's bare ABA recursion (no input, pivot or eigenvalue checks):");
+    println!();
+    println!("| model | generated (ns/call) | bare `aba()` (ns/call) | `aba()` / generated |");
+    println!("|---|---:|---:|---:|");
+    for r in rows {
+        if let Some(b) = r.bare_ns {
+            println!(
+                "| {} | {:.1} | {:.0} | {:.1}× |",
+                r.model,
+                r.generated_ns,
+                b,
+                b / r.generated_ns
+            );
+        }
+    }
+}
+
+/// What one sine/cosine pair costs, as the generated code computes it (`libm::sincos`, no_std)
+/// and as `std` does (`f64::sin_cos`, the platform's libm): the floor under outputs with few
+/// operations but several angles.
+fn print_sincos(timer: &Timer) {
+    let angles: Vec<f64> = (0..STATES).map(|i| -1.0 + 0.13 * i as f64).collect();
+    let mut libm = |i: usize| {
+        black_box(articulated::libm::sincos(black_box(angles[i])));
+    };
+    let mut std = |i: usize| {
+        black_box(black_box(angles[i]).sin_cos());
+    };
+    let nl = calibrate(&mut libm, timer.batch_time);
+    let ns = calibrate(&mut std, timer.batch_time);
+    let (mut tl, mut ts) = (Vec::new(), Vec::new());
+    for _ in 0..timer.repeats {
+        tl.push(batch(&mut libm, nl).as_secs_f64() * 1e9 / nl as f64);
+        ts.push(batch(&mut std, ns).as_secs_f64() * 1e9 / ns as f64);
+    }
+    println!();
+    println!(
+        "One sine/cosine pair: `libm::sincos` (what generated code calls) {:.1} ns, `f64::sin_cos` (std) {:.1} ns.",
+        timer.pick(tl),
+        timer.pick(ts)
+    );
+}
+
+/// Instructions callgrind counts for `--calls calls model output engine`.
+fn callgrind(model: &str, output: Output, engine: Engine, calls: usize) -> Result<u64, String> {
+    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+    let out = Command::new("valgrind")
+        .args(["--tool=callgrind", "--callgrind-out-file=/dev/null"])
+        .arg(exe)
+        .args(["--calls", &calls.to_string(), model, output.name()])
+        .arg(engine.name())
+        .output()
+        .map_err(|e| format!("cannot run valgrind: {e}"))?;
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    if !out.status.success() {
+        return Err(format!("valgrind failed: {stderr}"));
+    }
+    stderr
+        .lines()
+        .find_map(|l| l.split("Collected :").nth(1))
+        .and_then(|n| n.trim().parse().ok())
+        .ok_or_else(|| format!("no `Collected :` line in valgrind's output: {stderr}"))
+}
+
+fn instructions(calls: usize) -> Result<(), String> {
+    let mut list = List(Vec::new());
+    each_model(&mut list);
+    println!("| model | output | ops | sin/cos | generated (instr/call) | reference (instr/call) | reference / generated | instr/op (generated) |");
+    println!("|---|---|---:|---:|---:|---:|---:|---:|");
+    let mut bare = Vec::new();
+    for (model, output, ops) in list.0 {
+        let mut per_call = [0.0; 2];
+        for (k, engine) in [Engine::Generated, Engine::Reference]
+            .into_iter()
+            .enumerate()
+        {
+            let base = callgrind(model, output, engine, 0)?;
+            let full = callgrind(model, output, engine, calls)?;
+            per_call[k] = full.saturating_sub(base) as f64 / calls as f64;
+        }
+        if output == Output::ForwardDynamics {
+            let base = callgrind(model, output, Engine::ReferenceAba, 0)?;
+            let full = callgrind(model, output, Engine::ReferenceAba, calls)?;
+            bare.push((
+                model,
+                per_call[0],
+                full.saturating_sub(base) as f64 / calls as f64,
+            ));
+        }
+        println!(
+            "| {model} | {} | {} | {} | {:.0} | {:.0} | {:.1}× | {:.2} |",
+            output.name(),
+            ops.total(),
+            ops.sin_cos,
+            per_call[0],
+            per_call[1],
+            per_call[1] / per_call[0],
+            per_call[0] / ops.total() as f64
+        );
+    }
+    println!();
+    println!("| model | forward_dynamics generated (instr/call) | bare `aba()` (instr/call) | `aba()` / generated |");
+    println!("|---|---:|---:|---:|");
+    for (model, g, b) in bare {
+        println!("| {model} | {g:.0} | {b:.0} | {:.1}× |", b / g);
+    }
+    Ok(())
+}
+
+fn run(args: &[String]) -> Result<(), String> {
+    let mut repeats = 31;
+    let mut batch_ms = 5u64;
+    let mut calls: Option<usize> = None;
+    let mut instr = false;
+    let mut min = false;
+    let mut rest = Vec::new();
+    let mut it = args.iter();
+    let num = |x: Option<&String>, what: &str| -> Result<usize, String> {
+        x.and_then(|s| s.parse().ok())
+            .ok_or_else(|| format!("{what} needs a number\n{USAGE}"))
+    };
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--repeats" => repeats = num(it.next(), "--repeats")?.max(1),
+            "--batch-ms" => batch_ms = num(it.next(), "--batch-ms")? as u64,
+            "--calls" => calls = Some(num(it.next(), "--calls")?),
+            "--instructions" => instr = true,
+            "--min" => min = true,
+            "-h" | "--help" => {
+                println!("{USAGE}");
+                return Ok(());
+            }
+            _ => rest.push(a.clone()),
+        }
+    }
+    if instr {
+        return instructions(calls.unwrap_or(STATES * 64).max(1));
+    }
+    if let Some(calls) = calls {
+        let [model, output, engine] = rest.as_slice() else {
+            return Err(USAGE.to_string());
+        };
+        let output =
+            Output::from_name(output).ok_or_else(|| format!("unknown output `{output}`"))?;
+        let engine =
+            Engine::from_name(engine).ok_or_else(|| format!("unknown engine `{engine}`"))?;
+        let mut only = Only {
+            model: model.clone(),
+            output,
+            engine,
+            calls,
+            found: false,
+        };
+        each_model(&mut only);
+        return if only.found {
+            Ok(())
+        } else {
+            Err(format!("unknown model `{model}`"))
+        };
+    }
+    if !rest.is_empty() {
+        return Err(USAGE.to_string());
+    }
+    let mut timer = Timer {
+        repeats,
+        min,
+        batch_time: Duration::from_millis(batch_ms),
+        rows: Vec::new(),
+    };
+    each_model(&mut timer);
+    print_timing(&timer.rows, if min { "min" } else { "median" });
+    print_sincos(&timer);
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    match run(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("bench_table: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
