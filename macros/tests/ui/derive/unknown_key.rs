@@ -1,0 +1,7 @@
+use articulated::Chain;
+
+#[derive(Chain)]
+#[chain(path = "tests/ui/fixtures/pendulum.chain")]
+struct Arm;
+
+fn main() {}

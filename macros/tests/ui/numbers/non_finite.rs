@@ -1,0 +1,8 @@
+articulated::chain! {
+    chain Bad {
+        body a { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }
+        joint j: revolute(z) { parent: world, child: a, xyz: [1.0 / 0.0, 0.0, 0.0] }
+    }
+}
+
+fn main() {}

@@ -1,0 +1,11 @@
+articulated::chain! {
+    chain Bad {
+        body a { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }
+        body b { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }
+        joint j: revolute(z) { parent: world, child: a }
+        joint k: revolute(z) { parent: a, child: b }
+        joint l: revolute(z) { parent: world, child: b }
+    }
+}
+
+fn main() {}
