@@ -332,14 +332,11 @@ fn symbolic_engine_agrees_with_the_reference() {
 
 /// Where the reference finds M(q) singular, the generated forward dynamics must refuse too.
 ///
-/// Ignored: it fails on `double_pendulum.urdf --floating` (a massless URDF root under the free
-/// base, so M(q) is singular everywhere), where the generated CRBA + LᵀDL lets a pivot of
-/// rounding size pass its test (relative to the unreduced `M_kk` only) and returns q̈ ≈ 1e16;
-/// the reference also compares each pivot with the largest diagonal entry and checks M's
-/// eigenvalues. A generator problem (`codegen/src/generate.rs`), reported; run with
-/// `--ignored` once it is fixed.
+/// Regression: on `double_pendulum.urdf --floating` (a massless URDF root under the free base,
+/// so M(q) is singular everywhere) the generated CRBA + LᵀDL used to let a pivot of rounding
+/// size pass its test (it was compared with its own unreduced `M_kk` only) and returned
+/// q̈ ≈ 1e16. Every pivot is now also compared with the trace of M.
 #[test]
-#[ignore = "generated forward dynamics misses some singular M(q): see the doc comment"]
 fn symbolic_engine_refuses_where_the_reference_does() {
     let mut missed = Vec::new();
     for args in shipped_states() {

@@ -223,7 +223,17 @@ fn emit(
         }
     };
 
-    let mut statements = TokenStream::new();
+    // Each statement: its pattern, its value, and its level in the DAG (1 + the highest level of
+    // the statements it reads; inputs and constants are level 0).
+    let mut stmts: Vec<(TokenStream, TokenStream, usize)> = Vec::new();
+    let mut level: HashMap<Sym, usize> = HashMap::new();
+    let level_of = |level: &HashMap<Sym, usize>, args: &[Sym]| -> usize {
+        1 + args
+            .iter()
+            .map(|a| level.get(a).copied().unwrap_or(0))
+            .max()
+            .unwrap_or(0)
+    };
     let mut done = HashSet::new();
     for &s in &live {
         let node = graph.node(s);
@@ -231,15 +241,15 @@ fn emit(
             continue;
         }
         let n = &name[&s];
-        let value = match node {
+        let (value, args) = match node {
             Node::Const(_) | Node::Input(_) => continue,
             Node::Add(a, b) => {
-                let (a, b) = (term(a)?, term(b)?);
-                quote!(#a + #b)
+                let (ta, tb) = (term(a)?, term(b)?);
+                (quote!(#ta + #tb), vec![a, b])
             }
             Node::Sub(a, b) => {
-                let (a, b) = (term(a)?, term(b)?);
-                quote!(#a - #b)
+                let (ta, tb) = (term(a)?, term(b)?);
+                (quote!(#ta - #tb), vec![a, b])
             }
             Node::Mul(a, b) => {
                 // A constant factor first: `2.0_f64 * x` reads as the math does.
@@ -248,16 +258,16 @@ fn emit(
                 } else {
                     (a, b)
                 };
-                let (a, b) = (term(a)?, term(b)?);
-                quote!(#a * #b)
+                let (ta, tb) = (term(a)?, term(b)?);
+                (quote!(#ta * #tb), vec![a, b])
             }
             Node::Div(a, b) => {
-                let (a, b) = (term(a)?, term(b)?);
-                quote!(#a / #b)
+                let (ta, tb) = (term(a)?, term(b)?);
+                (quote!(#ta / #tb), vec![a, b])
             }
             Node::Neg(a) => {
-                let a = operand(a)?;
-                quote!(-#a)
+                let ta = operand(a)?;
+                (quote!(-#ta), vec![a])
             }
             Node::Sin(a) | Node::Cos(a) => {
                 if let (Some(&sin), Some(&cos)) = (sin_of.get(&a), cos_of.get(&a)) {
@@ -265,7 +275,10 @@ fn emit(
                     done.insert(cos);
                     let (ns, nc) = (&name[&sin], &name[&cos]);
                     let call = fns.call(MathFn::SinCos, operand(a)?);
-                    statements.extend(quote!(let (#ns, #nc) = #call;));
+                    let l = level_of(&level, &[a]);
+                    level.insert(sin, l);
+                    level.insert(cos, l);
+                    stmts.push((quote!((#ns, #nc)), call, l));
                     continue;
                 }
                 let f = if matches!(node, Node::Sin(_)) {
@@ -273,12 +286,15 @@ fn emit(
                 } else {
                     MathFn::Cos
                 };
-                fns.call(f, operand(a)?)
+                (fns.call(f, operand(a)?), vec![a])
             }
-            Node::Sqrt(a) => fns.call(MathFn::Sqrt, operand(a)?),
+            Node::Sqrt(a) => (fns.call(MathFn::Sqrt, operand(a)?), vec![a]),
         };
-        statements.extend(quote!(let #n = #value;));
+        let l = level_of(&level, &args);
+        level.insert(s, l);
+        stmts.push((quote!(#n), value, l));
     }
+    let statements = bind(stmts);
 
     Ok(Emitted {
         statements,
@@ -288,6 +304,42 @@ fn emit(
             .collect::<Result<_, _>>()?,
         ops: graph.op_counts(outputs),
     })
+}
+
+/// Up to this many statements a function binds one value per `let`, which reads best. rustc
+/// (1.95, with debug info) overflows its stack on a function with about 2,500 `let`s or more,
+/// because each `let` opens a lexical scope nested in the previous one (LLVM's
+/// `DwarfCompileUnit::createAndAddScopeChildren` recurses through them). Past this many, the
+/// values of each level of the graph are bound together in one tuple `let`, so the nesting is
+/// the graph's depth instead of its size.
+const MAX_LETS: usize = 1000;
+
+/// The statements as `let`s: one each, or (past [`MAX_LETS`]) one per level of the graph.
+fn bind(stmts: Vec<(TokenStream, TokenStream, usize)>) -> TokenStream {
+    if stmts.len() <= MAX_LETS {
+        return stmts
+            .into_iter()
+            .map(|(pattern, value, _)| quote!(let #pattern = #value;))
+            .collect();
+    }
+    let depth = stmts.iter().map(|s| s.2).max().unwrap_or(0);
+    let mut by_level: Vec<Vec<(TokenStream, TokenStream)>> = vec![Vec::new(); depth + 1];
+    for (pattern, value, l) in stmts {
+        by_level[l].push((pattern, value));
+    }
+    by_level
+        .into_iter()
+        .filter(|level| !level.is_empty())
+        .map(|level| {
+            if level.len() == 1 {
+                let (pattern, value) = &level[0];
+                quote!(let #pattern = #value;)
+            } else {
+                let (patterns, values): (Vec<_>, Vec<_>) = level.into_iter().unzip();
+                quote!(let (#(#patterns),*) = (#(#values),*);)
+            }
+        })
+        .collect()
 }
 
 /// Pretty-prints a list of items (a whole file's worth) with `prettyplease`.

@@ -28,6 +28,14 @@ use crate::sym::{self, Graph, OpCounts, Sym, Var};
 const PIVOT_TOL_F64: f64 = 1e-13;
 /// The same for `f32` (its epsilon is 1.2e-7).
 const PIVOT_TOL_F32: f64 = 1e-6;
+/// Every pivot must also exceed this fraction of the sum of all unreduced pivots (for CRBA +
+/// LᵀDL, the trace of `M`). A pivot of an exactly singular `M` comes out as rounding noise, about
+/// ε·trace(M) times some growth, which can pass the test against its own unreduced value (a
+/// massless root under a free base: the pivot of 1e-16 against `M_kk` of 1e-3); against the
+/// trace it cannot. Legitimate pivots of ill-conditioned chains (κ up to 1e11) pass.
+const PIVOT_TOL_GLOBAL_F64: f64 = 1e-12;
+/// The same for `f32`.
+const PIVOT_TOL_GLOBAL_F32: f64 = 1e-5;
 
 /// How forward dynamics is computed in generated code.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,6 +67,9 @@ pub struct Traced {
     pub values: Vec<Sym>,
     /// Forward dynamics only: each pivot with the unreduced value it is compared to.
     pub pivots: Vec<(Sym, Sym)>,
+    /// Forward dynamics only: the sum of the unreduced values, which every pivot is compared
+    /// to as well.
+    pub scale: Option<Sym>,
     /// Forward dynamics only: the method kept.
     pub method: Option<FdMethod>,
     /// Forward dynamics only: the operation counts of both methods (ABA, CRBA + LᵀDL).
@@ -77,6 +88,7 @@ impl Traced {
             all.push(*p);
             all.push(*d);
         }
+        all.extend(self.scale);
         all
     }
 
@@ -84,10 +96,14 @@ impl Traced {
     /// forward dynamics, whether every pivot passed.
     pub fn eval(&self, input: impl Fn(Var) -> f64) -> (Vec<f64>, bool) {
         let all = self.graph.eval(&self.all_outputs(), input);
-        let (values, pivots) = all.split_at(self.values.len());
-        let ok = pivots
-            .chunks(2)
-            .all(|pd| pd[0] > PIVOT_TOL_F64 * pd[1] && pd[0].is_finite());
+        let (values, rest) = all.split_at(self.values.len());
+        let (pivots, scale) = rest.split_at(2 * self.pivots.len());
+        let scale = scale.first().copied().unwrap_or(0.0);
+        let ok = pivots.chunks(2).all(|pd| {
+            pd[0] > PIVOT_TOL_F64 * pd[1]
+                && pd[0] > PIVOT_TOL_GLOBAL_F64 * scale
+                && pd[0].is_finite()
+        });
         (values.to_vec(), ok)
     }
 }
@@ -130,6 +146,7 @@ pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
             graph,
             values,
             pivots: Vec::new(),
+            scale: None,
             method: None,
             candidates: Vec::new(),
         }
@@ -203,6 +220,7 @@ fn trace_fd(model: &Model, method: FdMethod) -> Traced {
         output: Output::ForwardDynamics,
         graph,
         values,
+        scale: pivots.iter().map(|p| p.1).reduce(|a, b| a + b),
         pivots,
         method: Some(method),
         candidates: Vec::new(),
@@ -407,7 +425,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
     let params_ty = match (param_idents.is_empty(), generic) {
         (true, _) => quote!(()),
         (false, true) => quote!(#params_name<T>),
-        (false, false) => quote!(#params_name<#scalar>),
+        (false, false) => quote!(#params_name),
     };
     let impl_generics = if generic {
         quote!(<T: ::articulated::nalgebra::RealField + Copy>)
@@ -432,7 +450,15 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
     };
 
     // Docs of the type: the user's, then what was generated.
-    let user_doc = model.doc.iter().map(|d| quote!(#[doc = #d]));
+    // Doc lines as `///` writes them, with a leading space (a URDF's or a program's may lack it).
+    let user_doc = model.doc.iter().map(|d| {
+        let d = if d.is_empty() || d.starts_with(' ') {
+            d.clone()
+        } else {
+            format!(" {d}")
+        };
+        quote!(#[doc = #d])
+    });
     let mut items = Vec::new();
     let mut consts = Vec::new();
     let mut functions = Vec::new();
@@ -541,16 +567,22 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
             Output::ForwardDynamics => {
                 let dv = destructure(&v_id, nv_n, &used.v);
                 let dt = destructure(&tau_id, nv_n, &used.tau);
-                let tol = lit(if model.scalar == ScalarKind::F32 {
-                    PIVOT_TOL_F32
+                let f32 = model.scalar == ScalarKind::F32;
+                let tol = lit(if f32 { PIVOT_TOL_F32 } else { PIVOT_TOL_F64 });
+                let tol_global = lit(if f32 {
+                    PIVOT_TOL_GLOBAL_F32
                 } else {
-                    PIVOT_TOL_F64
+                    PIVOT_TOL_GLOBAL_F64
                 });
-                let checks = pivot_exprs.chunks(2).enumerate().map(|(k, pd)| {
+                let (pairs, scale) = pivot_exprs.split_at(2 * traced.pivots.len());
+                let scale = scale.first().cloned().unwrap_or_else(|| lit(0.0));
+                let checks = pairs.chunks(2).enumerate().map(|(k, pd)| {
                     let (p, d) = (&pd[0], &pd[1]);
                     let k = proc_macro2::Literal::usize_unsuffixed(k);
                     quote! {
-                        if !::articulated::__private::positive_pivot(#p, #d, #tol) {
+                        if !(::articulated::__private::positive_pivot(#p, #d, #tol)
+                            && ::articulated::__private::positive_pivot(#p, #scale, #tol_global))
+                        {
                             return Err(::articulated::SingularMassMatrix { velocity: #k });
                         }
                     }
@@ -626,16 +658,12 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
             quote!(#id: #v)
         });
         let doc = format!(" The runtime parameters of [`{name_str}`], in declaration order.");
-        let struct_generics = if generic {
-            quote!(<T>)
-        } else {
-            quote!(<T = #scalar>)
-        };
+        let struct_generics = if generic { quote!(<T>) } else { quote!() };
         quote! {
             #[doc = #doc]
             #[derive(Clone, Copy, Debug, PartialEq)]
             #vis struct #params_name #struct_generics { #(#fields)* }
-            impl #impl_generics #params_name<#scalar> {
+            impl #impl_generics #params_ty {
                 /// The values the description gives.
                 pub fn defaults() -> Self { Self { #(#defaults),* } }
             }
