@@ -1,9 +1,9 @@
 //! The README's table: per shipped model and output, ns/call of the generated code and of the
 //! reference, their ratio, and the generator's operation count, measured side by side in one
 //! run. Criterion (`cargo bench -p articulated-bench`) stays the authoritative harness; this is
-//! a plain loop timing: batches of N calls (N calibrated to about 5 ms), generated and reference
-//! batches alternating, the median batch over 31 repeats (`--min`: the fastest batch, robust on a
-//! loaded machine).
+//! a plain loop timing: batches of N calls (N calibrated to about 1 ms), generated and reference
+//! batches alternating, the median batch over 201 repeats (`--min`: the fastest batch, which
+//! stays reproducible to a few per cent on a loaded machine where the median does not).
 //!
 //! ```text
 //! cargo run --release -p articulated-bench --bin bench_table                  # timing table
@@ -300,8 +300,8 @@ fn instructions(calls: usize) -> Result<(), String> {
 }
 
 fn run(args: &[String]) -> Result<(), String> {
-    let mut repeats = 31;
-    let mut batch_ms = 5u64;
+    let mut repeats = 201;
+    let mut batch_ms = 1u64;
     let mut calls: Option<usize> = None;
     let mut instr = false;
     let mut min = false;
