@@ -616,7 +616,7 @@ impl Graph {
     }
 
     fn sin(&mut self, a: u32) -> u32 {
-        if let Some(r) = self.fold1(a, |x| Scalar::sin_cos(x).0) {
+        if let Some(r) = self.fold1(a, |x| snap_unit(Scalar::sin_cos(x).0)) {
             return r;
         }
         if let Key::Neg(x) = self.nodes[a as usize] {
@@ -627,7 +627,7 @@ impl Graph {
     }
 
     fn cos(&mut self, a: u32) -> u32 {
-        if let Some(r) = self.fold1(a, |x| Scalar::sin_cos(x).1) {
+        if let Some(r) = self.fold1(a, |x| snap_unit(Scalar::sin_cos(x).1)) {
             return r;
         }
         if let Key::Neg(x) = self.nodes[a as usize] {
@@ -651,6 +651,24 @@ fn binary(a: Sym, b: Sym, op: fn(&mut Graph, u32, u32) -> u32) -> Sym {
         let r = op(g, a, b);
         g.sym(r)
     })
+}
+
+/// The sine or cosine of a constant angle, with values within 1e-15 of 0 or ±1 made exact.
+/// Constant angles come from placements written in decimal (`rpy="1.5707963267948966 0 0"`),
+/// where a quarter turn is meant: `cos(fl(π/2)) = 6.1e-17` kept as it is makes every rotation
+/// through such a frame dense, while an exact 0 lets the products with it fold away. The change
+/// (≤ 1e-15) is far below every tolerance the outputs are held to.
+fn snap_unit(x: f64) -> f64 {
+    const EPS: f64 = 1e-15;
+    if x.abs() < EPS {
+        0.0
+    } else if (x - 1.0).abs() < EPS {
+        1.0
+    } else if (x + 1.0).abs() < EPS {
+        -1.0
+    } else {
+        x
+    }
 }
 
 fn unary(a: Sym, op: fn(&mut Graph, u32) -> u32) -> Sym {
