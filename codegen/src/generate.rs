@@ -195,12 +195,12 @@ pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
 /// Forward dynamics traced by `method`.
 fn trace_fd(model: &Model, method: FdMethod) -> Traced {
     let (nq, nv, np) = (model.nq(), model.nv(), model.params.len());
-    let (graph, (values, pivots)) = sym::trace(|| {
+    let (graph, (values, pivots, scale)) = sym::trace(|| {
         let params = inputs(np, Var::Param);
         let tree = Tree::new(model, &params);
         let (q, v, tau) = (inputs(nq, Var::Q), inputs(nv, Var::V), inputs(nv, Var::Tau));
         name_bodies(model, &tree, &q);
-        match method {
+        let (values, pivots) = match method {
             FdMethod::Aba => {
                 let out = aba(&tree, &q, &v, &tau, true);
                 (
@@ -214,13 +214,16 @@ fn trace_fd(model: &Model, method: FdMethod) -> Traced {
                 let b: Vec<Sym> = tau.iter().zip(&h).map(|(&t, &h)| t - h).collect();
                 ltdl_solve(m, b, nv)
             }
-        }
+        };
+        // Inside the trace: the sum is recorded in this graph.
+        let scale = pivots.iter().map(|p| p.1).reduce(|a, b| a + b);
+        (values, pivots, scale)
     });
     Traced {
         output: Output::ForwardDynamics,
         graph,
         values,
-        scale: pivots.iter().map(|p| p.1).reduce(|a, b| a + b),
+        scale,
         pivots,
         method: Some(method),
         candidates: Vec::new(),
@@ -307,6 +310,8 @@ fn ops_tokens(ops: &OpCounts) -> TokenStream {
         sin_cos,
         sqrts,
     } = *ops;
+    let [adds, muls, divs, negs, sin_cos, sqrts] =
+        [adds, muls, divs, negs, sin_cos, sqrts].map(proc_macro2::Literal::usize_unsuffixed);
     quote! {
         ::articulated::OpCounts {
             adds: #adds, muls: #muls, divs: #divs, negs: #negs, sin_cos: #sin_cos, sqrts: #sqrts,
@@ -432,18 +437,19 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
     } else {
         quote!()
     };
+    // A literal as a person writes it: `1e-13_f64`, `2.5_f32` (the shortest digits that read
+    // back exactly, which is what `{:?}` prints); tolerances and parameter defaults only, all
+    // finite (the model was checked).
     let lit = |x: f64| -> TokenStream {
+        let suffixed = |text: String| -> TokenStream {
+            text.parse()
+                .unwrap_or_else(|_| quote!(compile_error!("articulated: bad literal")))
+        };
         match model.scalar {
-            ScalarKind::F64 => {
-                let l = proc_macro2::Literal::f64_suffixed(x);
-                quote!(#l)
-            }
-            ScalarKind::F32 => {
-                let l = proc_macro2::Literal::f32_suffixed(x as f32);
-                quote!(#l)
-            }
+            ScalarKind::F64 => suffixed(format!("{x:?}_f64")),
+            ScalarKind::F32 => suffixed(format!("{:?}_f32", x as f32)),
             ScalarKind::Generic => {
-                let l = proc_macro2::Literal::f64_suffixed(x);
+                let l = suffixed(format!("{x:?}_f64"));
                 quote!(::articulated::nalgebra::convert::<f64, T>(#l))
             }
         }
