@@ -16,10 +16,12 @@ use articulated_dynamics::random::random_model;
 
 /// `(type name, seed, bodies)`. Sizes from 2 to 30 bodies; the 30-body tree dominates the
 /// compile time (see the test's docs for the measurement).
-const TREES: [(&str, u64, usize); 3] = [
+const TREES: [(&str, u64, usize); 5] = [
     ("RandomFreeQuat2", 0, 2),
     ("RandomFreeEuler3", 3, 3),
     ("RandomFreeQuat4", 7, 4),
+    ("Random8", 11, 8),
+    ("Random30", 5, 30),
 ];
 
 fn main() {
