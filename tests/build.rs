@@ -11,7 +11,6 @@
 
 use std::fmt::Write as _;
 
-use articulated_dynamics::model::Output;
 use articulated_dynamics::random::random_model;
 
 /// `(type name, seed, bodies)`. Sizes from 2 to 30 bodies; the 30-body tree dominates the
@@ -34,11 +33,7 @@ fn main() {
          macro_rules! for_each_random_tree {\n    ($m:ident) => {\n",
     );
     for (name, seed, n) in TREES {
-        let mut model = random_model(seed, n);
-        // random_model leaves both empty: no outputs would mean a bare struct, and a private
-        // struct could not be named from the test outside `mod trees`.
-        model.outputs = Output::DEFAULT.to_vec();
-        model.visibility = String::from("pub");
+        let model = random_model(seed, n);
         writeln!(
             list,
             "        $m!({name}, {seed}, {n}, {}, {});",

@@ -354,6 +354,23 @@ pub struct Model {
 pub const DEFAULT_GRAVITY: [Value; 3] = [Value::Const(0.0), Value::Const(0.0), Value::Const(-9.81)];
 
 impl Model {
+    /// A public chain named `name` with the default gravity, no parameters, the default scalar
+    /// and the default outputs ([`Output::DEFAULT`]): what a program that builds models (random
+    /// trees, tests) needs before it sets anything else.
+    pub fn new(name: &str, bodies: Vec<Body>, joints: Vec<Joint>) -> Model {
+        Model {
+            name: String::from(name),
+            visibility: String::from("pub"),
+            doc: Vec::new(),
+            gravity: Some(DEFAULT_GRAVITY),
+            params: Vec::new(),
+            bodies,
+            joints,
+            scalar: ScalarKind::default(),
+            outputs: Output::DEFAULT.to_vec(),
+        }
+    }
+
     /// Number of bodies (= number of joints).
     pub fn nb(&self) -> usize {
         self.bodies.len()

@@ -13,13 +13,10 @@
 #![allow(clippy::needless_range_loop)]
 
 use alloc::format;
-use alloc::string::String;
 use alloc::vec::Vec;
 use core::f64::consts::PI;
 
-use crate::model::{
-    Axis, Body, EulerSeq, Joint, JointKind, Model, Placement, Value, DEFAULT_GRAVITY,
-};
+use crate::model::{Axis, Body, EulerSeq, Joint, JointKind, Model, Placement, Value};
 
 /// splitmix64 (Steele, Lea, Flood 2014).
 struct Rng(u64);
@@ -202,17 +199,7 @@ pub fn random_model(seed: u64, n_bodies: usize) -> Model {
             placement,
         });
     }
-    Model {
-        name: String::from("Random"),
-        visibility: String::new(),
-        doc: Vec::new(),
-        gravity: Some(DEFAULT_GRAVITY),
-        params: Vec::new(),
-        bodies,
-        joints,
-        scalar: Default::default(),
-        outputs: Vec::new(),
-    }
+    Model::new("Random", bodies, joints)
 }
 
 /// Whether an Euler sequence is proper (`zxz`-like: first and last axes equal).

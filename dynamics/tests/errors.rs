@@ -273,35 +273,26 @@ fn one_body(
     kind: articulated_dynamics::model::JointKind,
     d: [f64; 3],
 ) -> articulated_dynamics::model::Model {
-    use articulated_dynamics::model::{
-        Body, Joint, Model, Output, Placement, ScalarKind, Value, DEFAULT_GRAVITY,
-    };
+    use articulated_dynamics::model::{Body, Joint, Model, Placement, Value};
     let c = Value::Const;
-    Model {
-        name: "One".into(),
-        visibility: String::new(),
-        doc: Vec::new(),
-        gravity: Some(DEFAULT_GRAVITY),
-        params: Vec::new(),
-        bodies: vec![Body {
-            name: "b".into(),
-            mass: c(1.0),
-            com: [c(0.0); 3],
-            inertia: [
-                [c(d[0]), c(0.0), c(0.0)],
-                [c(0.0), c(d[1]), c(0.0)],
-                [c(0.0), c(0.0), c(d[2])],
-            ],
-        }],
-        joints: vec![Joint {
-            name: "j".into(),
-            kind,
-            parent: None,
-            placement: Placement::IDENTITY,
-        }],
-        scalar: ScalarKind::F64,
-        outputs: Output::DEFAULT.to_vec(),
-    }
+    let inertia = [
+        [c(d[0]), c(0.0), c(0.0)],
+        [c(0.0), c(d[1]), c(0.0)],
+        [c(0.0), c(0.0), c(d[2])],
+    ];
+    let body = Body {
+        name: "b".into(),
+        mass: c(1.0),
+        com: [c(0.0); 3],
+        inertia,
+    };
+    let joint = Joint {
+        name: "j".into(),
+        kind,
+        parent: None,
+        placement: Placement::IDENTITY,
+    };
+    Model::new("One", vec![body], vec![joint])
 }
 
 /// An inertia that is not positive definite, or nearly singular (a model built by hand, past the

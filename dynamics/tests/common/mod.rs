@@ -15,9 +15,7 @@ pub fn rel_err_vec(a: &DVector<f64>, b: &DVector<f64>, floor: f64) -> f64 {
     (a - b).amax() / scale
 }
 
-use articulated_dynamics::model::{
-    Body, Joint, JointKind, Model, Placement, Value, DEFAULT_GRAVITY,
-};
+use articulated_dynamics::model::{Body, Joint, JointKind, Model, Placement, Value};
 
 /// A body with constant mass properties.
 pub fn body(name: &str, mass: f64, com: [f64; 3], inertia: [[f64; 3]; 3]) -> Body {
@@ -50,17 +48,7 @@ pub fn joint(
 
 /// A model with default gravity `[0, 0, −9.81]` and no parameters.
 pub fn model(bodies: Vec<Body>, joints: Vec<Joint>) -> Model {
-    Model {
-        name: "Test".into(),
-        visibility: String::new(),
-        doc: Vec::new(),
-        gravity: Some(DEFAULT_GRAVITY),
-        params: Vec::new(),
-        bodies,
-        joints,
-        scalar: Default::default(),
-        outputs: Vec::new(),
-    }
+    Model::new("Test", bodies, joints)
 }
 
 /// `diag(a, b, c)`.
