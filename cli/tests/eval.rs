@@ -1,31 +1,16 @@
 //! `articulated eval` end to end: the binary's JSON against Pinocchio's values (an independent
 //! library), and its error paths.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
+
+use common::repo;
+use std::path::Path;
 
 use serde_json::Value;
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
-/// Runs the binary; (exit success, stdout, stderr).
+/// Runs `articulated eval`; (exit success, stdout, stderr).
 fn eval(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_articulated"))
-        .arg("eval")
-        .args(args)
-        .current_dir(repo())
-        .output()
-        .expect("the binary runs");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    common::run("eval", args)
 }
 
 fn csv(v: &Value) -> String {

@@ -1,29 +1,11 @@
 //! `articulated expand` end to end: the printed Rust parses, says what it costs, names the type;
 //! a bad file is an error on stderr with a non-zero exit.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
+mod common;
 
 /// Runs `articulated expand`; (exit success, stdout, stderr).
 fn expand(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_articulated"))
-        .arg("expand")
-        .args(args)
-        .current_dir(repo())
-        .output()
-        .expect("the binary runs");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    common::run("expand", args)
 }
 
 /// The names of the top-level structs and the traits implemented, from the parsed file.

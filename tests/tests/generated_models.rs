@@ -10,7 +10,7 @@
 //! `cargo test -p articulated-tests --test generated_models -- --nocapture` prints the worst error
 //! per model and output.
 
-mod generated_common;
+mod common;
 
 use std::path::Path;
 
@@ -18,7 +18,7 @@ use articulated::prelude::*;
 use articulated::reference::Reference;
 use articulated_codegen::load::load_model;
 use articulated_dynamics::random::random_state;
-use generated_common::{check_chain, rel_err, Worst};
+use common::{check_chain, rel_err, Worst};
 
 /// Random states per chain: 10 chains × this many, in well under a second at `opt-level = 1`.
 const CASES: u32 = 64;

@@ -14,13 +14,13 @@
 //! errors. Conventions as in `tests/pinocchio.rs` (bias without gravity on both sides, free base
 //! = translation then Euler `zyx`, `v = q̇`).
 
-mod generated_common;
+mod common;
 
 use std::path::Path;
 
 use articulated::nalgebra::{DMatrix, SVector};
 use articulated::prelude::*;
-use generated_common::rel_err;
+use common::rel_err;
 use serde_json::Value as Json;
 
 const TOL: f64 = 1e-10;

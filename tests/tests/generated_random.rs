@@ -12,14 +12,14 @@
 //! Builder file does not. A 5-body tree's forward dynamics is already ~3,300 statements and a
 //! 30-body tree's ~31,000, so larger trees wait for the generator to emit fewer nested scopes.
 
-mod generated_common;
+mod common;
 
 use std::collections::BTreeSet;
 
 use articulated::model::JointKind;
 use articulated::reference::Reference;
 use articulated_dynamics::random::{random_model, random_state};
-use generated_common::check_chain;
+use common::check_chain;
 
 /// The generated trees, exactly as the Builder wrote them.
 mod trees {

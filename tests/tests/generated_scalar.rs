@@ -6,7 +6,7 @@
 //! `INSTA_UPDATE=always cargo test -p articulated-tests --test generated_scalar` rewrites it (or
 //! `cargo insta review` with cargo-insta installed); commit the new file with the change.
 
-mod generated_common;
+mod common;
 
 use std::path::Path;
 
@@ -15,7 +15,7 @@ use articulated::prelude::*;
 use articulated::reference::Reference;
 use articulated_codegen::load::load_model;
 use articulated_dynamics::random::random_state;
-use generated_common::{check_chain, rel_err};
+use common::{check_chain, rel_err};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRunner};
 
@@ -92,7 +92,7 @@ fn f32_two_link_against_the_f64_reference() {
         let tauf = f32s::<6>(tau_ref.as_slice());
         let tau_in = f64s(tauf.as_slice());
         let qdd_ref = r.forward_dynamics(&q, &v, &tau_in).unwrap();
-        let kappa = generated_common::condition(&m_ref);
+        let kappa = common::condition(&m_ref);
         let qdd = TwoLinkF32::forward_dynamics(&qf, &vf, &tauf)
             .map_err(|e| TestCaseError::fail(format!("f32 forward dynamics refused: {e}")))?;
         let e = [
@@ -184,7 +184,7 @@ fn generic_two_link_with_f64() {
                     .to_vec(),
             ),
         ];
-        let kappa = generated_common::condition(&r.mass_matrix(q.as_slice()).unwrap());
+        let kappa = common::condition(&r.mass_matrix(q.as_slice()).unwrap());
         for (k, (g, f)) in pairs.iter().enumerate() {
             let e = rel_err(g, f);
             // Forward dynamics amplifies a last-bit difference (the generic code's sin/cos go

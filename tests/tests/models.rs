@@ -3,8 +3,11 @@
 //! random states check both: frames, Euler sequences written as revolute chains, fixed joints
 //! merged by the importer and kept by the grammar.
 
+mod common;
+
 use articulated::reference::Reference;
 use articulated_codegen::load::load_model;
+use common::rel_err;
 use std::path::Path;
 
 /// splitmix64: a seeded stream of uniform numbers in [-1, 1).
@@ -21,15 +24,6 @@ impl Rng {
     fn vec(&mut self, n: usize, scale: f64) -> Vec<f64> {
         (0..n).map(|_| scale * self.next()).collect()
     }
-}
-
-fn rel_err(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let scale = b.iter().fold(1e-300_f64, |m, x| m.max(x.abs()));
-    a.iter()
-        .zip(b)
-        .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()))
-        / scale
 }
 
 #[test]

@@ -13,6 +13,9 @@
 //! is Pinocchio's `JointModelComposite(Translation, SphericalZYX)`. Pinocchio's spatial forces are
 //! linear first, ours angular first: the wrenches are swapped before comparing.
 
+mod common;
+
+use common::rel_err;
 use std::path::{Path, PathBuf};
 
 use articulated::model::Model;
@@ -42,23 +45,6 @@ fn read_json(path: &Path) -> Json {
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
     serde_json::from_str(&text.replace("NaN", "null"))
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
-
-/// Largest |ours − theirs| relative to the largest |theirs| (absolute if that is 0); a NaN on
-/// either side makes it infinite, so it cannot hide (`f64::max` would drop it).
-fn rel_err(ours: &[f64], theirs: &[f64]) -> f64 {
-    assert_eq!(ours.len(), theirs.len(), "lengths differ");
-    let scale = theirs.iter().fold(0.0f64, |s, x| s.max(x.abs()));
-    let scale = if scale > 0.0 { scale } else { 1.0 };
-    let worst = ours.iter().zip(theirs).fold(0.0f64, |e, (a, b)| {
-        let d = (a - b).abs();
-        if d.is_nan() {
-            f64::INFINITY
-        } else {
-            e.max(d)
-        }
-    });
-    worst / scale
 }
 
 /// The quantities compared, in print order.

@@ -1,4 +1,5 @@
-//! Shared by the `generated_*` tests: how generated code is compared with the reference.
+//! Shared by the tests of this crate: how generated code and imported models are compared with
+//! the reference and with Pinocchio.
 //!
 //! Every comparison is against an independent value (the interpreted reference
 //! `articulated::reference::Reference`, Pinocchio, a closed form); the only check of generated
