@@ -2,8 +2,8 @@
 //! engine: the interpreted reference, or the generator's own expression graphs
 //! (`--engine symbolic`), which checks the generator without compiling what it emits.
 
-use articulated::model::{JointKind, Model, Output};
-use articulated::reference::{Error, Reference};
+use articulated::model::{Model, Output};
+use articulated::reference::{check_q, Error, Reference};
 use articulated_codegen::generate::trace;
 use articulated_codegen::load::load_model;
 use articulated_codegen::sym::Var;
@@ -153,24 +153,7 @@ fn joint_of_v(model: &Model, k: usize) -> &str {
 fn by_graph(model: &Model, s: &State) -> Result<Dynamics, String> {
     let fail = |e: Error| format!("error: {e}");
     // As the reference: a zero quaternion names no rotation (the graph would give NaN).
-    let mut at = 0;
-    for j in &model.joints {
-        let w = match j.kind {
-            JointKind::SphericalQuaternion => Some(at),
-            JointKind::FreeQuaternion => Some(at + 3),
-            _ => None,
-        };
-        if let Some(index) = w {
-            let n2: f64 = s.q[index..index + 4].iter().map(|x| x * x).sum();
-            if !(n2 > 0.0 && n2.is_finite()) {
-                return Err(fail(Error::Quaternion {
-                    joint: j.name.clone(),
-                    index,
-                }));
-            }
-        }
-        at += j.kind.nq();
-    }
+    check_q(model, &s.q).map_err(fail)?;
     let nv = model.nv();
     let values = |output: Output| -> Result<Vec<f64>, String> {
         let traced = trace(model, output).map_err(|e| format!("error: {e}"))?;

@@ -187,8 +187,13 @@ pub(crate) fn check_vector(vector: &'static str, x: &[f64], expected: usize) -> 
     }
 }
 
-/// Checks `q` (length, finite, every quaternion non-zero).
-pub(crate) fn check_q(model: &Model, q: &[f64]) -> Result<(), Error> {
+/// Checks `q` for `model` as every [`Reference`] function does (length, finite entries, every
+/// quaternion non-zero); public so that other evaluators of a model (the CLI's symbolic engine)
+/// refuse exactly the same states.
+///
+/// # Errors
+/// [`Error::Length`], [`Error::NonFinite`] or [`Error::Quaternion`].
+pub fn check_q(model: &Model, q: &[f64]) -> Result<(), Error> {
     check_vector("q", q, model.nq())?;
     let mut at = 0;
     for j in &model.joints {
