@@ -16,11 +16,9 @@
 
 mod common;
 
-use std::path::Path;
-
 use articulated::nalgebra::{DMatrix, SVector};
 use articulated::prelude::*;
-use common::rel_err;
+use common::{read_json, rel_err, vec_of};
 use serde_json::Value as Json;
 
 const TOL: f64 = 1e-10;
@@ -49,23 +47,6 @@ struct TreeTwoArms;
 #[derive(articulated::Chain)]
 #[chain(urdf = "data/pinocchio/double_pendulum.urdf")]
 struct DoublePendulum;
-
-/// The numbers of a JSON array; `null` (Pinocchio's NaN) reads as NaN.
-fn vec_of(j: &Json) -> Vec<f64> {
-    j.as_array()
-        .expect("an array")
-        .iter()
-        .map(|x| x.as_f64().unwrap_or(f64::NAN))
-        .collect()
-}
-
-/// Python's `json.dump` writes NaN bare; read it as `null`.
-fn read_json(rel: &str) -> Json {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(rel);
-    let text = std::fs::read_to_string(&path)
-        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    serde_json::from_str(&text.replace("NaN", "null")).unwrap()
-}
 
 const NAMES: [&str; 5] = ["mass_matrix", "bias", "gravity", "tau", "qdd"];
 

@@ -15,7 +15,7 @@
 
 mod common;
 
-use common::rel_err;
+use common::{read_json, rel_err, vec_of};
 use std::path::{Path, PathBuf};
 
 use articulated::model::Model;
@@ -27,24 +27,6 @@ const TOL: f64 = 1e-10;
 
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-/// The numbers of a JSON array; `null` (Pinocchio's NaN, see [`read_json`]) reads as NaN.
-fn vec_of(j: &Json) -> Vec<f64> {
-    j.as_array()
-        .expect("an array")
-        .iter()
-        .map(|x| x.as_f64().unwrap_or(f64::NAN))
-        .collect()
-}
-
-/// Reads a JSON file written by Python's `json.dump`, which writes NaN as a bare `NaN` (not
-/// JSON): it is read as `null`. Pinocchio gives NaN accelerations where `M(q)` is singular.
-fn read_json(path: &Path) -> Json {
-    let text = std::fs::read_to_string(path)
-        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    serde_json::from_str(&text.replace("NaN", "null"))
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
 /// The quantities compared, in print order.
@@ -167,7 +149,7 @@ fn report(label: &str, worst: &[Option<f64>; 6]) -> Vec<String> {
 #[test]
 fn shared_models_match_pinocchio() {
     let data = repo().join("tests/data/pinocchio");
-    let json = read_json(&data.join("pinocchio-values.json"));
+    let json = read_json("data/pinocchio/pinocchio-values.json");
     let mut failures = Vec::new();
     let models = json["models"].as_object().unwrap();
     assert_eq!(models.len(), 4);
@@ -187,7 +169,7 @@ fn shared_models_match_pinocchio() {
 
 #[test]
 fn arm7_matches_pinocchio_including_joint_wrenches() {
-    let json = read_json(&repo().join("tests/data/pinocchio-arm7.json"));
+    let json = read_json("data/pinocchio-arm7.json");
     let entry = &json["models"]["arm7"];
     let path = repo().join("models/arm7.urdf");
     let mut failures = Vec::new();

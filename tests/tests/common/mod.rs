@@ -16,6 +16,27 @@ use articulated::prelude::*;
 use articulated::reference::{Error, Reference};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
+use serde_json::Value as Json;
+
+/// Reads one of this crate's JSON data files (`rel` from the crate's directory, e.g.
+/// `data/pinocchio-arm7.json`). Python's `json.dump` writes NaN as a bare `NaN`, which is not
+/// JSON: it is read as `null`. Pinocchio gives NaN accelerations where `M(q)` is singular.
+pub fn read_json(rel: &str) -> Json {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(rel);
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    serde_json::from_str(&text.replace("NaN", "null"))
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// The numbers of a JSON array; `null` (Pinocchio's NaN, see [`read_json`]) reads as NaN.
+pub fn vec_of(j: &Json) -> Vec<f64> {
+    j.as_array()
+        .expect("an array")
+        .iter()
+        .map(|x| x.as_f64().unwrap_or(f64::NAN))
+        .collect()
+}
 
 /// Tolerance of M, bias, gravity and inverse dynamics against the reference (relative to the
 /// largest entry).
