@@ -21,6 +21,7 @@ use proc_macro2::{Ident, Span, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::emit::{self, Emitted};
+use crate::regroup::regroup;
 use crate::sym::{self, Graph, OpCounts, Sym, Var};
 
 /// Relative pivot tolerance of generated forward dynamics: a pivot must exceed this fraction of
@@ -74,6 +75,8 @@ pub struct Traced {
     pub method: Option<FdMethod>,
     /// Forward dynamics only: the operation counts of both methods (ABA, CRBA + LᵀDL).
     pub candidates: Vec<(FdMethod, OpCounts)>,
+    /// Whether the inertias were regrouped first ([`crate::regroup`]).
+    pub regrouped: bool,
 }
 
 impl Traced {
@@ -134,21 +137,35 @@ fn inputs(n: usize, var: fn(usize) -> Var) -> Vec<Sym> {
 /// An output the generator does not produce yet.
 pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
     let (nq, nv, np) = (model.nq(), model.nv(), model.params.len());
+    // Traced on the tree as described and on the regrouped tree; the one with fewer operations
+    // is kept.
     let simple = |f: &dyn Fn(&Tree<Sym>) -> Vec<Sym>| {
-        let (graph, values) = sym::trace(|| {
-            let params = inputs(np, Var::Param);
-            let tree = Tree::new(model, &params);
-            name_bodies(model, &tree, &inputs(nq, Var::Q));
-            f(&tree)
-        });
-        Traced {
-            output,
-            graph,
-            values,
-            pivots: Vec::new(),
-            scale: None,
-            method: None,
-            candidates: Vec::new(),
+        let one = |regrouped: bool| {
+            let (graph, values) = sym::trace(|| {
+                let params = inputs(np, Var::Param);
+                let mut tree = Tree::new(model, &params);
+                name_bodies(model, &tree, &inputs(nq, Var::Q));
+                if regrouped {
+                    regroup(&mut tree);
+                }
+                f(&tree)
+            });
+            Traced {
+                output,
+                graph,
+                values,
+                pivots: Vec::new(),
+                scale: None,
+                method: None,
+                candidates: Vec::new(),
+                regrouped,
+            }
+        };
+        let (plain, regrouped) = (one(false), one(true));
+        if regrouped.ops().total() < plain.ops().total() {
+            regrouped
+        } else {
+            plain
         }
     };
     let zeros = || vec![Sym::zero(); nv];
@@ -168,8 +185,22 @@ pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
             )
         }),
         Output::ForwardDynamics => {
-            let by_aba = trace_fd(model, FdMethod::Aba);
-            let by_ltdl = trace_fd(model, FdMethod::CrbaLtdl);
+            // Each method on the tree as described and regrouped, the fewer operations kept.
+            let fewer = |a: Traced, b: Traced| {
+                if b.ops().total() < a.ops().total() {
+                    b
+                } else {
+                    a
+                }
+            };
+            let by = |method| {
+                fewer(
+                    trace_fd(model, method, false),
+                    trace_fd(model, method, true),
+                )
+            };
+            let by_aba = by(FdMethod::Aba);
+            let by_ltdl = by(FdMethod::CrbaLtdl);
             let candidates = vec![
                 (FdMethod::Aba, by_aba.ops()),
                 (FdMethod::CrbaLtdl, by_ltdl.ops()),
@@ -192,14 +223,19 @@ pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
     })
 }
 
-/// Forward dynamics traced by `method`.
-fn trace_fd(model: &Model, method: FdMethod) -> Traced {
+/// Forward dynamics traced by `method`, on the regrouped tree if `regrouped`. Regrouping
+/// changes neither `M` nor ABA's pivots: every moved part `I_s` has `I_s·S = 0`, so each
+/// `D_i = Sᵢᵀ·I^A_i·S_i` and `U_i = I^A_i·S_i` is the same.
+fn trace_fd(model: &Model, method: FdMethod, regrouped: bool) -> Traced {
     let (nq, nv, np) = (model.nq(), model.nv(), model.params.len());
     let (graph, (values, pivots, scale)) = sym::trace(|| {
         let params = inputs(np, Var::Param);
-        let tree = Tree::new(model, &params);
+        let mut tree = Tree::new(model, &params);
         let (q, v, tau) = (inputs(nq, Var::Q), inputs(nv, Var::V), inputs(nv, Var::Tau));
         name_bodies(model, &tree, &q);
+        if regrouped {
+            regroup(&mut tree);
+        }
         let (values, pivots) = match method {
             FdMethod::Aba => {
                 let out = aba(&tree, &q, &v, &tau, true);
@@ -227,6 +263,7 @@ fn trace_fd(model: &Model, method: FdMethod) -> Traced {
         pivots,
         method: Some(method),
         candidates: Vec::new(),
+        regrouped,
     }
 }
 
@@ -493,7 +530,15 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
                 )
             }
         };
-        let ops_doc = format!(" Operations: {ops}.");
+        let ops_doc = if traced.regrouped {
+            format!(
+                " Operations: {ops}. Inertial parameters regrouped first (each body's mass, and \
+                 the inertia its joint cannot move, carried by its parent; exactly the same \
+                 result, fewer terms: `articulated_codegen::regroup`)."
+            )
+        } else {
+            format!(" Operations: {ops}.")
+        };
         let const_name = format_ident!("{}_OPS", output.name().to_uppercase());
         let const_doc = format!(" Operation count of `{}`: {ops}.", output.name());
         let ops_value = ops_tokens(&ops);

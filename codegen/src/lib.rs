@@ -15,6 +15,7 @@ pub mod generate;
 pub mod load;
 pub mod lower;
 pub mod parse;
+pub mod regroup;
 pub mod sym;
 pub mod urdf;
 

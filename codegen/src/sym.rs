@@ -252,6 +252,17 @@ impl Sym {
         self
     }
 
+    /// The value of this node if it is a constant of the current trace.
+    ///
+    /// # Panics
+    /// Outside [`trace`], or with a `Sym` of another trace.
+    pub fn constant(self) -> Option<f64> {
+        with_graph(|g| match g.nodes[g.idx(self) as usize] {
+            Key::Const(bits) => Some(f64::from_bits(bits)),
+            _ => None,
+        })
+    }
+
     fn tag(self) -> u8 {
         (self.0 >> INDEX_BITS) as u8
     }
