@@ -21,6 +21,7 @@ use proc_macro2::{Ident, Span, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::emit::{self, Emitted};
+use crate::newton_euler::classical_rnea;
 use crate::regroup::regroup;
 use crate::sym::{self, Graph, OpCounts, Sym, Var};
 
@@ -77,6 +78,8 @@ pub struct Traced {
     pub candidates: Vec<(FdMethod, OpCounts)>,
     /// Whether the inertias were regrouped first ([`crate::regroup`]).
     pub regrouped: bool,
+    /// The Newton–Euler formulation used for `τ`, bias, gravity (and `h` in CRBA + LᵀDL).
+    pub rnea: Option<Rnea>,
 }
 
 impl Traced {
@@ -131,16 +134,19 @@ fn inputs(n: usize, var: fn(usize) -> Var) -> Vec<Sym> {
     (0..n).map(|i| Sym::input(var(i))).collect()
 }
 
+/// A recursion to trace on a tree, by a Newton–Euler formulation where that applies.
+type TraceFn<'a> = dyn Fn(&Tree<Sym>, Option<Rnea>) -> Vec<Sym> + 'a;
+
 /// Traces `output` of `model` (one of the five core outputs) into a graph.
 ///
 /// # Errors
 /// An output the generator does not produce yet.
 pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
     let (nq, nv, np) = (model.nq(), model.nv(), model.params.len());
-    // Traced on the tree as described and on the regrouped tree; the one with fewer operations
-    // is kept.
-    let simple = |f: &dyn Fn(&Tree<Sym>) -> Vec<Sym>| {
-        let one = |regrouped: bool| {
+    // Traced on the tree as described and on the regrouped tree, and for the outputs of
+    // inverse dynamics by both Newton–Euler formulations; the one with fewer operations is kept.
+    let simple = |forms: &[Option<Rnea>], f: &TraceFn| {
+        let one = |regrouped: bool, form: Option<Rnea>| {
             let (graph, values) = sym::trace(|| {
                 let params = inputs(np, Var::Param);
                 let mut tree = Tree::new(model, &params);
@@ -148,7 +154,7 @@ pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
                 if regrouped {
                     regroup(&mut tree);
                 }
-                f(&tree)
+                f(&tree, form)
             });
             Traced {
                 output,
@@ -159,48 +165,35 @@ pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
                 method: None,
                 candidates: Vec::new(),
                 regrouped,
+                rnea: form,
             }
         };
-        let (plain, regrouped) = (one(false), one(true));
-        if regrouped.ops().total() < plain.ops().total() {
-            regrouped
-        } else {
-            plain
-        }
+        let all = forms
+            .iter()
+            .flat_map(|&form| [one(false, form), one(true, form)]);
+        fewest(all)
     };
     let zeros = || vec![Sym::zero(); nv];
+    let both = [Some(Rnea::Spatial), Some(Rnea::Classical)];
+    let (q, v, a) = (
+        || inputs(nq, Var::Q),
+        || inputs(nv, Var::V),
+        || inputs(nv, Var::A),
+    );
     Ok(match output {
-        Output::MassMatrix => simple(&|t| crba(t, &inputs(nq, Var::Q))),
-        Output::Bias => {
-            simple(&|t| rnea(t, &inputs(nq, Var::Q), &inputs(nv, Var::V), &zeros(), false))
-        }
-        Output::Gravity => simple(&|t| rnea(t, &inputs(nq, Var::Q), &zeros(), &zeros(), true)),
-        Output::InverseDynamics => simple(&|t| {
-            rnea(
-                t,
-                &inputs(nq, Var::Q),
-                &inputs(nv, Var::V),
-                &inputs(nv, Var::A),
-                true,
-            )
-        }),
+        Output::MassMatrix => simple(&[None], &|t, _| crba(t, &q())),
+        Output::Bias => simple(&both, &|t, f| rnea_by(f, t, &q(), &v(), &zeros(), false)),
+        Output::Gravity => simple(&both, &|t, f| rnea_by(f, t, &q(), &zeros(), &zeros(), true)),
+        Output::InverseDynamics => simple(&both, &|t, f| rnea_by(f, t, &q(), &v(), &a(), true)),
         Output::ForwardDynamics => {
-            // Each method on the tree as described and regrouped, the fewer operations kept.
-            let fewer = |a: Traced, b: Traced| {
-                if b.ops().total() < a.ops().total() {
-                    b
-                } else {
-                    a
-                }
-            };
-            let by = |method| {
-                fewer(
-                    trace_fd(model, method, false),
-                    trace_fd(model, method, true),
-                )
-            };
-            let by_aba = by(FdMethod::Aba);
-            let by_ltdl = by(FdMethod::CrbaLtdl);
+            // Each method on the tree as described and regrouped (and CRBA + LᵀDL with `h` by
+            // both Newton–Euler formulations), the fewest operations kept.
+            let by_aba = fewest([false, true].map(|g| trace_fd(model, FdMethod::Aba, g, None)));
+            let by_ltdl = fewest(
+                [false, true]
+                    .into_iter()
+                    .flat_map(|g| both.map(|f| trace_fd(model, FdMethod::CrbaLtdl, g, f))),
+            );
             let candidates = vec![
                 (FdMethod::Aba, by_aba.ops()),
                 (FdMethod::CrbaLtdl, by_ltdl.ops()),
@@ -223,10 +216,61 @@ pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
     })
 }
 
-/// Forward dynamics traced by `method`, on the regrouped tree if `regrouped`. Regrouping
+/// The candidate with the fewest operations (the first of equals).
+fn fewest(candidates: impl IntoIterator<Item = Traced>) -> Traced {
+    candidates
+        .into_iter()
+        .reduce(|best, t| {
+            if t.ops().total() < best.ops().total() {
+                t
+            } else {
+                best
+            }
+        })
+        .expect("at least one candidate")
+}
+
+/// Which Newton–Euler formulation computes an output of inverse dynamics.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rnea {
+    /// The reference's spatial RNEA (Featherstone 2008, RBDA §5.3).
+    Spatial,
+    /// Newton–Euler on classical accelerations ([`crate::newton_euler`]).
+    Classical,
+}
+
+impl Rnea {
+    /// A short name for docs and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Rnea::Spatial => "the spatial RNEA (RBDA §5.3)",
+            Rnea::Classical => {
+                "Newton–Euler on classical accelerations (Khalil & Kleinfinger 1987)"
+            }
+        }
+    }
+}
+
+/// Inverse dynamics by `form` (spatial when `None`).
+fn rnea_by(
+    form: Option<Rnea>,
+    tree: &Tree<Sym>,
+    q: &[Sym],
+    v: &[Sym],
+    a: &[Sym],
+    g: bool,
+) -> Vec<Sym> {
+    match form {
+        Some(Rnea::Classical) => classical_rnea(tree, q, v, a, g),
+        Some(Rnea::Spatial) | None => rnea(tree, q, v, a, g),
+    }
+}
+
+/// Forward dynamics traced by `method`, on the regrouped tree if `regrouped`, with `h` (for
+/// CRBA + LᵀDL) by the Newton–Euler formulation `form`. Regrouping
 /// changes neither `M` nor ABA's pivots: every moved part `I_s` has `I_s·S = 0`, so each
 /// `D_i = Sᵢᵀ·I^A_i·S_i` and `U_i = I^A_i·S_i` is the same.
-fn trace_fd(model: &Model, method: FdMethod, regrouped: bool) -> Traced {
+fn trace_fd(model: &Model, method: FdMethod, regrouped: bool, form: Option<Rnea>) -> Traced {
     let (nq, nv, np) = (model.nq(), model.nv(), model.params.len());
     let (graph, (values, pivots, scale)) = sym::trace(|| {
         let params = inputs(np, Var::Param);
@@ -246,7 +290,7 @@ fn trace_fd(model: &Model, method: FdMethod, regrouped: bool) -> Traced {
             }
             FdMethod::CrbaLtdl => {
                 let m = crba(&tree, &q);
-                let h = rnea(&tree, &q, &v, &vec![Sym::zero(); nv], true);
+                let h = rnea_by(form, &tree, &q, &v, &vec![Sym::zero(); nv], true);
                 let b: Vec<Sym> = tau.iter().zip(&h).map(|(&t, &h)| t - h).collect();
                 ltdl_solve(m, b, nv)
             }
@@ -264,6 +308,7 @@ fn trace_fd(model: &Model, method: FdMethod, regrouped: bool) -> Traced {
         method: Some(method),
         candidates: Vec::new(),
         regrouped,
+        rnea: form,
     }
 }
 
@@ -530,15 +575,17 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
                 )
             }
         };
-        let ops_doc = if traced.regrouped {
-            format!(
-                " Operations: {ops}. Inertial parameters regrouped first (each body's mass, and \
-                 the inertia its joint cannot move, carried by its parent; exactly the same \
-                 result, fewer terms: `articulated_codegen::regroup`)."
-            )
-        } else {
-            format!(" Operations: {ops}.")
-        };
+        let mut ops_doc = format!(" Operations: {ops}.");
+        if let Some(Rnea::Classical) = traced.rnea {
+            ops_doc += " By Newton–Euler on classical accelerations (Khalil & Kleinfinger \
+                        1987; `articulated_codegen::newton_euler`), which gave fewer operations \
+                        than the spatial RNEA.";
+        }
+        if traced.regrouped {
+            ops_doc += " Inertial parameters regrouped first (each body's mass, and the inertia \
+                        its joint cannot move, carried by its parent; the same result with fewer \
+                        terms: `articulated_codegen::regroup`).";
+        }
         let const_name = format_ident!("{}_OPS", output.name().to_uppercase());
         let const_doc = format!(" Operation count of `{}`: {ops}.", output.name());
         let ops_value = ops_tokens(&ops);

@@ -13,6 +13,7 @@ pub mod emit;
 pub mod expand;
 pub mod generate;
 pub mod load;
+pub mod newton_euler;
 pub mod lower;
 pub mod parse;
 pub mod regroup;

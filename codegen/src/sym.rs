@@ -565,6 +565,11 @@ impl Graph {
             let y = self.strip_negation(b);
             return self.add(a, y);
         }
+        // `(−x) − y = −(x + y)`: one negation, which an enclosing sum can absorb.
+        if let Key::Neg(x) = self.nodes[a as usize] {
+            let t = self.add(x, b);
+            return self.neg(t);
+        }
         self.intern(Key::Sub(a, b))
     }
 
@@ -590,6 +595,16 @@ impl Graph {
         if self.is_negation(a) && self.is_negation(b) {
             let (x, y) = (self.strip_negation(a), self.strip_negation(b));
             return self.mul(x, y);
+        }
+        // The sign of a negated (non-constant) factor moves out, where a sum or difference
+        // absorbs it: `x·(−y) = −(x·y)`.
+        if let Key::Neg(y) = self.nodes[b as usize] {
+            let p = self.mul(a, y);
+            return self.neg(p);
+        }
+        if let Key::Neg(x) = self.nodes[a as usize] {
+            let p = self.mul(x, b);
+            return self.neg(p);
         }
         self.intern(Key::Mul(a.min(b), a.max(b)))
     }

@@ -79,6 +79,11 @@ fn every_folding_rule() {
         assert_eq!(c(-2.0) * -y, c(2.0) * y);
         assert_eq!(-x / -y, x / y);
         assert_eq!(-(x - y), y - x);
+        // negations moved out of products and differences, where a sum absorbs them
+        assert_eq!(x * -y, -(x * y));
+        assert_eq!(-x * y, -(x * y));
+        assert_eq!(-x - y, -(x + y));
+        assert_eq!(c(3.0) + x * -y, c(3.0) - x * y);
         let (s, co) = x.sin_cos();
         let (sn, cn) = neg_x.sin_cos();
         assert_eq!(sn, -s);
@@ -138,6 +143,7 @@ fn assert_no_foldable_pattern(graph: &Graph) {
                         assert!(va != Some(0.0) && vb != Some(0.0), "x−0 or 0−x in {node:?}");
                         assert!(a != b, "x−x in {node:?}");
                         assert!(!is_neg(b), "x−(−y) in {node:?}");
+                        assert!(!matches!(graph.node(a), Node::Neg(_)), "(−x)−y in {node:?}");
                     }
                     Node::Mul(..) => {
                         for v in [va, vb] {
@@ -147,6 +153,9 @@ fn assert_no_foldable_pattern(graph: &Graph) {
                             );
                         }
                         assert!(!(is_neg(a) && is_neg(b)), "(−x)·(−y) in {node:?}");
+                        for f in [a, b] {
+                            assert!(!matches!(graph.node(f), Node::Neg(_)), "x·(−y) in {node:?}");
+                        }
                         assert!(order[&a] <= order[&b], "unordered {node:?}");
                     }
                     _ => {
