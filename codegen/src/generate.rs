@@ -22,7 +22,7 @@ use quote::{format_ident, quote};
 
 use crate::emit::{self, Emitted};
 use crate::newton_euler::classical_rnea;
-use crate::regroup::regroup;
+use crate::regroup::{coordinate_axis, regroup};
 use crate::sym::{self, Graph, OpCounts, Sym, Var};
 
 /// Relative pivot tolerance of generated forward dynamics: a pivot must exceed this fraction of
@@ -78,8 +78,8 @@ pub struct Traced {
     pub candidates: Vec<(FdMethod, OpCounts)>,
     /// Whether the inertias were regrouped first ([`crate::regroup`]).
     pub regrouped: bool,
-    /// The Newton–Euler formulation used for `τ`, bias, gravity (and `h` in CRBA + LᵀDL).
-    pub rnea: Option<Rnea>,
+    /// The recursion traced.
+    pub formulation: Formulation,
 }
 
 impl Traced {
@@ -135,7 +135,7 @@ fn inputs(n: usize, var: fn(usize) -> Var) -> Vec<Sym> {
 }
 
 /// A recursion to trace on a tree, by a Newton–Euler formulation where that applies.
-type TraceFn<'a> = dyn Fn(&Tree<Sym>, Option<Rnea>) -> Vec<Sym> + 'a;
+type TraceFn<'a> = dyn Fn(&Tree<Sym>, Formulation) -> Vec<Sym> + 'a;
 
 /// Traces `output` of `model` (one of the five core outputs) into a graph.
 ///
@@ -145,8 +145,8 @@ pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
     let (nq, nv, np) = (model.nq(), model.nv(), model.params.len());
     // Traced on the tree as described and on the regrouped tree, and for the outputs of
     // inverse dynamics by both Newton–Euler formulations; the one with fewer operations is kept.
-    let simple = |forms: &[Option<Rnea>], f: &TraceFn| {
-        let one = |regrouped: bool, form: Option<Rnea>| {
+    let simple = |forms: &[Formulation], f: &TraceFn| {
+        let one = |regrouped: bool, form: Formulation| {
             let (graph, values) = sym::trace(|| {
                 let params = inputs(np, Var::Param);
                 let mut tree = Tree::new(model, &params);
@@ -165,7 +165,7 @@ pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
                 method: None,
                 candidates: Vec::new(),
                 regrouped,
-                rnea: form,
+                formulation: form,
             }
         };
         let all = forms
@@ -174,21 +174,23 @@ pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
         fewest(all)
     };
     let zeros = || vec![Sym::zero(); nv];
-    let both = [Some(Rnea::Spatial), Some(Rnea::Classical)];
+    let both = [Formulation::Reference, Formulation::Specialized];
     let (q, v, a) = (
         || inputs(nq, Var::Q),
         || inputs(nv, Var::V),
         || inputs(nv, Var::A),
     );
     Ok(match output {
-        Output::MassMatrix => simple(&[None], &|t, _| crba(t, &q())),
+        Output::MassMatrix => simple(&both, &|t, f| crba_by(f, t, &q())),
         Output::Bias => simple(&both, &|t, f| rnea_by(f, t, &q(), &v(), &zeros(), false)),
         Output::Gravity => simple(&both, &|t, f| rnea_by(f, t, &q(), &zeros(), &zeros(), true)),
         Output::InverseDynamics => simple(&both, &|t, f| rnea_by(f, t, &q(), &v(), &a(), true)),
         Output::ForwardDynamics => {
             // Each method on the tree as described and regrouped (and CRBA + LᵀDL with `h` by
             // both Newton–Euler formulations), the fewest operations kept.
-            let by_aba = fewest([false, true].map(|g| trace_fd(model, FdMethod::Aba, g, None)));
+            let by_aba = fewest(
+                [false, true].map(|g| trace_fd(model, FdMethod::Aba, g, Formulation::Reference)),
+            );
             let by_ltdl = fewest(
                 [false, true]
                     .into_iter()
@@ -230,30 +232,22 @@ fn fewest(candidates: impl IntoIterator<Item = Traced>) -> Traced {
         .expect("at least one candidate")
 }
 
-/// Which Newton–Euler formulation computes an output of inverse dynamics.
+/// Which code the generator traces for an output: the reference's recursion, or the one
+/// written for the generator that computes the same values in fewer operations (each output
+/// keeps whichever of the two gives fewer).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Rnea {
-    /// The reference's spatial RNEA (Featherstone 2008, RBDA §5.3).
-    Spatial,
-    /// Newton–Euler on classical accelerations ([`crate::newton_euler`]).
-    Classical,
+pub enum Formulation {
+    /// The reference's own recursion (spatial RNEA, CRBA, ABA).
+    Reference,
+    /// For `M`: [`crate::crba`] (symmetric composite inertias, double angles); for bias,
+    /// gravity and inverse dynamics (and `h` in forward dynamics):
+    /// [`crate::newton_euler`] (classical accelerations).
+    Specialized,
 }
 
-impl Rnea {
-    /// A short name for docs and reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            Rnea::Spatial => "the spatial RNEA (RBDA §5.3)",
-            Rnea::Classical => {
-                "Newton–Euler on classical accelerations (Khalil & Kleinfinger 1987)"
-            }
-        }
-    }
-}
-
-/// Inverse dynamics by `form` (spatial when `None`).
+/// Inverse dynamics by `form`.
 fn rnea_by(
-    form: Option<Rnea>,
+    form: Formulation,
     tree: &Tree<Sym>,
     q: &[Sym],
     v: &[Sym],
@@ -261,8 +255,16 @@ fn rnea_by(
     g: bool,
 ) -> Vec<Sym> {
     match form {
-        Some(Rnea::Classical) => classical_rnea(tree, q, v, a, g),
-        Some(Rnea::Spatial) | None => rnea(tree, q, v, a, g),
+        Formulation::Specialized => classical_rnea(tree, q, v, a, g),
+        Formulation::Reference => rnea(tree, q, v, a, g),
+    }
+}
+
+/// `M(q)` by `form`.
+fn crba_by(form: Formulation, tree: &Tree<Sym>, q: &[Sym]) -> Vec<Sym> {
+    match form {
+        Formulation::Specialized => crate::crba::crba(tree, q, coordinate_axis),
+        Formulation::Reference => crba(tree, q),
     }
 }
 
@@ -270,7 +272,7 @@ fn rnea_by(
 /// CRBA + LᵀDL) by the Newton–Euler formulation `form`. Regrouping
 /// changes neither `M` nor ABA's pivots: every moved part `I_s` has `I_s·S = 0`, so each
 /// `D_i = Sᵢᵀ·I^A_i·S_i` and `U_i = I^A_i·S_i` is the same.
-fn trace_fd(model: &Model, method: FdMethod, regrouped: bool, form: Option<Rnea>) -> Traced {
+fn trace_fd(model: &Model, method: FdMethod, regrouped: bool, form: Formulation) -> Traced {
     let (nq, nv, np) = (model.nq(), model.nv(), model.params.len());
     let (graph, (values, pivots, scale)) = sym::trace(|| {
         let params = inputs(np, Var::Param);
@@ -289,7 +291,7 @@ fn trace_fd(model: &Model, method: FdMethod, regrouped: bool, form: Option<Rnea>
                 )
             }
             FdMethod::CrbaLtdl => {
-                let m = crba(&tree, &q);
+                let m = crba_by(form, &tree, &q);
                 let h = rnea_by(form, &tree, &q, &v, &vec![Sym::zero(); nv], true);
                 let b: Vec<Sym> = tau.iter().zip(&h).map(|(&t, &h)| t - h).collect();
                 ltdl_solve(m, b, nv)
@@ -308,7 +310,7 @@ fn trace_fd(model: &Model, method: FdMethod, regrouped: bool, form: Option<Rnea>
         method: Some(method),
         candidates: Vec::new(),
         regrouped,
-        rnea: form,
+        formulation: form,
     }
 }
 
@@ -576,10 +578,17 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
             }
         };
         let mut ops_doc = format!(" Operations: {ops}.");
-        if let Some(Rnea::Classical) = traced.rnea {
-            ops_doc += " By Newton–Euler on classical accelerations (Khalil & Kleinfinger \
-                        1987; `articulated_codegen::newton_euler`), which gave fewer operations \
-                        than the spatial RNEA.";
+        if traced.formulation == Formulation::Specialized {
+            if matches!(output, Output::MassMatrix | Output::ForwardDynamics) {
+                ops_doc += " `M` by CRBA with the composite inertias carried up by their upper \
+                            triangle and, through revolute joints about a coordinate axis, by \
+                            double angles (`articulated_codegen::crba`).";
+            }
+            if output != Output::MassMatrix {
+                ops_doc += " By Newton–Euler on classical accelerations (Khalil & Kleinfinger \
+                            1987; `articulated_codegen::newton_euler`).";
+            }
+            ops_doc += " Fewer operations than the reference's recursion, the same values.";
         }
         if traced.regrouped {
             ops_doc += " Inertial parameters regrouped first (each body's mass, and the inertia \

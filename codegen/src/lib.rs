@@ -9,12 +9,13 @@
 //! expansions and [`Builder`] writes the same code from a `build.rs`.
 
 pub mod build;
+pub mod crba;
 pub mod emit;
 pub mod expand;
 pub mod generate;
 pub mod load;
-pub mod newton_euler;
 pub mod lower;
+pub mod newton_euler;
 pub mod parse;
 pub mod regroup;
 pub mod sym;

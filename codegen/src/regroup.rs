@@ -65,7 +65,7 @@ fn movable(joint: NodeJoint<Sym>, inertia: &Inertia<Sym>) -> Option<Inertia<Sym>
     match joint {
         NodeJoint::Revolute(u) => {
             let h = u.scale(u.dot(inertia.h));
-            let i = match coordinate_axis(u) {
+            let i = match coordinate_axis(&u) {
                 Some(k) => {
                     let j = (k + 1) % 3;
                     let a = inertia.i.0[j][j];
@@ -97,7 +97,7 @@ fn movable(joint: NodeJoint<Sym>, inertia: &Inertia<Sym>) -> Option<Inertia<Sym>
 }
 
 /// `k` when `u` is the constant `±e_k`.
-fn coordinate_axis(u: Vec3<Sym>) -> Option<usize> {
+pub(crate) fn coordinate_axis(u: &Vec3<Sym>) -> Option<usize> {
     let c = u.0.map(Sym::constant);
     let is = |x: Option<f64>, v: f64| x.is_some_and(|x| x.abs() == v);
     (0..3).find(|&k| (0..3).all(|j| is(c[j], if j == k { 1.0 } else { 0.0 })))
