@@ -15,6 +15,10 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 
 mod generated;
+/// Sine and cosine together for generated code, branch-free and inlinable, with libm's kernels
+/// and accuracy: [`math::sincos_array`] (several angles, faster than [`libm::sincos`]),
+/// [`math::sincos`] and [`math::sincosf`] (one angle, slower than libm).
+pub mod math;
 
 pub use articulated_dynamics::scalar::{self, Scalar};
 #[cfg(feature = "alloc")]
