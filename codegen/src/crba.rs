@@ -18,9 +18,10 @@
 //!   coupling the plane to the axis rotate as a 2-vector. That is a dozen operations where
 //!   `E_Jᵀ·Ī·E_J` takes about forty.
 //!
-//! The rest (each `F = I_c·S_i`, carried up by `X_upᵀ`, `M_ji = S_jᵀ·F`) is the reference's.
+//! The rest (each `F = I_c·S_i`, carried up by `X_upᵀ`, `M_ji = S_jᵀ·F`) is the reference's
+//! own code ([`articulated_dynamics::reference::crba_with`]).
 
-use articulated_dynamics::reference::{NodeJoint, Tree};
+use articulated_dynamics::reference::{crba_with, NodeJoint, Tree};
 use articulated_dynamics::spatial::{Inertia, Mat3, Transform, Vec3};
 use articulated_dynamics::Scalar;
 
@@ -32,47 +33,19 @@ pub fn crba<T: Scalar>(
     q: &[T],
     axis: impl Fn(&Vec3<T>) -> Option<usize>,
 ) -> Vec<T> {
-    let nv = tree.nv;
-    let x_up = tree.x_up(q);
-    let mut ic: Vec<_> = tree.nodes.iter().map(|n| n.inertia).collect();
-    for (i, node) in tree.nodes.iter().enumerate().rev() {
-        if let Some(p) = node.parent {
-            let up = match node.joint {
-                NodeJoint::Revolute(u) => match axis(&u) {
-                    Some(k) => {
-                        let e = node.joint_transform(q).e;
-                        to_parent(&rotate_about(&ic[i], &e, k), &node.x_tree)
-                    }
-                    None => to_parent(&ic[i], &x_up[i]),
-                },
-                _ => to_parent(&ic[i], &x_up[i]),
-            };
-            ic[p] = ic[p].add(&up);
-        }
-    }
-    let mut m = vec![T::zero(); nv * nv];
-    for (i, node) in tree.nodes.iter().enumerate() {
-        for k in 0..node.nv() {
-            let col = node.v_at + k;
-            let mut f = ic[i].mul_motion(node.s_col(k));
-            for l in 0..node.nv() {
-                m[(node.v_at + l) * nv + col] = node.s_col(l).dot(f);
-            }
-            let mut j = i;
-            while let Some(p) = tree.nodes[j].parent {
-                f = x_up[j].inv_apply_force(f);
-                j = p;
-                let nj = &tree.nodes[j];
-                for l in 0..nj.nv() {
-                    let row = nj.v_at + l;
-                    let x = nj.s_col(l).dot(f);
-                    m[row * nv + col] = x;
-                    m[col * nv + row] = x;
+    crba_with(tree, q, |ic, i, x_up| {
+        let node = &tree.nodes[i];
+        match node.joint {
+            NodeJoint::Revolute(u) => match axis(&u) {
+                Some(k) => {
+                    let e = node.joint_transform(q).e;
+                    to_parent(&rotate_about(ic, &e, k), &node.x_tree)
                 }
-            }
+                None => to_parent(ic, x_up),
+            },
+            _ => to_parent(ic, x_up),
         }
-    }
-    m
+    })
 }
 
 /// `Xᵀ·I·X` for `x` from A to B (`I` in B coordinates, the result in A coordinates), the upper

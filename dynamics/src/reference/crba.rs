@@ -5,6 +5,7 @@ use alloc::vec::Vec;
 
 use super::tree::Tree;
 use crate::scalar::Scalar;
+use crate::spatial::{Inertia, Transform};
 
 /// `M(q)`, row-major `nv × nv`.
 ///
@@ -12,12 +13,23 @@ use crate::scalar::Scalar;
 /// `F = I_c[i]·S_i`, `M_ii = S_iᵀ·F`, and `F` is carried to each ancestor `j` (`F = X_upᵀ·F`)
 /// giving `M_ji = S_jᵀ·F` and its mirror `M_ij`.
 pub fn crba<T: Scalar>(tree: &Tree<T>, q: &[T]) -> Vec<T> {
+    crba_with(tree, q, |ic, _, x_up| ic.to_parent(x_up))
+}
+
+/// [`crba`] with the composite inertias carried to the parent by `to_parent(I_c[i], i, X_up[i])`,
+/// which must return `X_upᵀ·I_c[i]·X_up` (in the parent's frame): the generator passes one that
+/// costs fewer operations symbolically (`articulated_codegen::crba`).
+pub fn crba_with<T: Scalar>(
+    tree: &Tree<T>,
+    q: &[T],
+    to_parent: impl Fn(&Inertia<T>, usize, &Transform<T>) -> Inertia<T>,
+) -> Vec<T> {
     let nv = tree.nv;
     let x_up = tree.x_up(q);
     let mut ic: Vec<_> = tree.nodes.iter().map(|n| n.inertia).collect();
     for (i, node) in tree.nodes.iter().enumerate().rev() {
         if let Some(p) = node.parent {
-            ic[p] = ic[p].add(&ic[i].to_parent(&x_up[i]));
+            ic[p] = ic[p].add(&to_parent(&ic[i], i, &x_up[i]));
         }
     }
     let mut m = alloc::vec![T::zero(); nv * nv];

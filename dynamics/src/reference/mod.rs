@@ -35,7 +35,7 @@ use core::fmt;
 use nalgebra::{DMatrix, DVector};
 
 pub use aba::{aba, AbaOutput};
-pub use crba::crba;
+pub use crba::{crba, crba_with};
 pub use rnea::{joint_forces, node_forces, rnea};
 pub use tree::{Node, NodeJoint, Tree};
 
