@@ -226,7 +226,7 @@ fn near_multiples_of_pi_over_2_agree_with_libm_and_std() {
     stats.report(0.995);
 
     // The double nearest to k·π/2 (the hardest cancellation), ± 2 ulps, for every k up to
-    // 2^20 (the whole fast range).
+    // 2^20 (the fast range ends near k = 2^15; beyond, this checks the switch to libm).
     let mut stats = Stats::new("nearest k*pi/2 +-2ulp, k<=2^20");
     for k in 1i64..=1 << 20 {
         let x = nearest_k_pio2(k as f64);
@@ -698,48 +698,63 @@ fn within_one_ulp_of_a_double_double_reference() {
         ("|x| < LIMIT", SINCOS_FAST_LIMIT),
     ] {
         let mut stats = new(name);
-        for _ in 0..3_000 {
+        for _ in 0..20_000 {
             stats.check(rng.symmetric(r));
         }
         stats.report();
     }
-    // The hardest arguments of the fast range: of the doubles nearest to k·π/2 and their
-    // neighbours, for every k ≤ 2^20, the 500 closest to their multiple of π/2 (the most
-    // cancellation in the reduction, the smallest results).
+
+    // The hardest arguments of the fast range, among the doubles nearest to k·π/2 and their
+    // neighbours for every k below the limit (k ≤ 2^15): the 500 closest to their multiple of
+    // π/2 (the most cancellation in the reduction, the smallest results), and the 500 with the
+    // least |x − k·π/2| / k (the error of the reduction's last part grows with k: these have
+    // the least margin).
+    let k_max = (SINCOS_FAST_LIMIT / FRAC_PI_2) as u32 + 1;
     let mut closest: Vec<(f64, f64)> = Vec::new();
-    for k in 1..=1u32 << 20 {
+    let mut least_ratio: Vec<(f64, f64)> = Vec::new();
+    for k in 1..=k_max {
         let x = nearest_k_pio2(f64::from(k));
         for x in [x.next_down(), x, x.next_up()] {
             if x < SINCOS_FAST_LIMIT {
-                closest.push((reduce_exactly(x).1.hi.abs(), x));
+                let (n, y) = reduce_exactly(x);
+                closest.push((y.hi.abs(), x));
+                least_ratio.push((y.hi.abs() / n as f64, x));
             }
-        }
-        if closest.len() > 100_000 {
-            closest.sort_by(|a, b| a.0.total_cmp(&b.0));
-            closest.truncate(500);
         }
     }
     closest.sort_by(|a, b| a.0.total_cmp(&b.0));
     closest.truncate(500);
+    least_ratio.sort_by(|a, b| a.0.total_cmp(&b.0));
+    least_ratio.truncate(500);
     println!(
         "sincos  closest double below LIMIT to a multiple of pi/2: x = {:e}, |x - n*pi/2| = {:e} = 2^{:.1}",
         closest[0].1,
         closest[0].0,
         closest[0].0.log2()
     );
-    let mut stats = new("500 closest to k*pi/2");
-    for &(_, x) in &closest {
-        stats.check(x);
-        stats.check(-x);
+    println!(
+        "sincos  least |x - n*pi/2| / n below LIMIT: x = {:e}, 2^{:.1}",
+        least_ratio[0].1,
+        least_ratio[0].0.log2()
+    );
+    for (name, set) in [
+        ("500 closest to k*pi/2", &closest),
+        ("500 least |x - k*pi/2| / k", &least_ratio),
+    ] {
+        let mut stats = new(name);
+        for &(_, x) in set {
+            stats.check(x);
+            stats.check(-x);
+        }
+        stats.report();
     }
-    stats.report();
 
     let mut stats = new("nearest k*pi/2 +-2ulp");
-    for i in 0..1_000 {
+    for i in 0..2_000 {
         let k = if i < 200 {
             f64::from(i + 1)
         } else {
-            (rng.next_u64() % (1 << 20) + 1) as f64
+            f64::from(rng.next_u64() as u32 % k_max + 1)
         };
         let x = nearest_k_pio2(k);
         for d in -2..=2 {
@@ -748,6 +763,16 @@ fn within_one_ulp_of_a_double_double_reference() {
                 stats.check(y);
             }
         }
+    }
+    stats.report();
+
+    // The top of the fast range (the largest n, the largest parts of the reduction).
+    let mut stats = new("2000 ulps below LIMIT");
+    let mut x = SINCOS_FAST_LIMIT;
+    for _ in 0..2_000 {
+        x = x.next_down();
+        stats.check(x);
+        stats.check(-x);
     }
     stats.report();
 }
