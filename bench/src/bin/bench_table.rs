@@ -207,27 +207,36 @@ fn print_timing(rows: &[Row], stat: &str) {
     }
 }
 
-/// What one sine/cosine pair costs, as the generated code computes it (`libm::sincos`, no_std)
-/// and as `std` does (`f64::sin_cos`, the platform's libm): the floor under outputs with few
-/// operations but several angles.
+/// What a sine/cosine pair costs: per angle of six, as the generated `f64` code computes them
+/// (`articulated::math::sincos_array`), and one at a time by `libm::sincos` (no_std) and
+/// `f64::sin_cos` (std, the platform's libm): the floor under outputs with few operations but
+/// several angles.
 fn print_sincos(timer: &Timer) {
     let angles: Vec<f64> = (0..STATES).map(|i| -1.0 + 0.13 * i as f64).collect();
+    let six = |i: usize| core::array::from_fn::<f64, 6, _>(|k| angles[(i + k) % STATES]);
+    let mut array = |i: usize| {
+        black_box(articulated::math::sincos_array(black_box(six(i))));
+    };
     let mut libm = |i: usize| {
         black_box(articulated::libm::sincos(black_box(angles[i])));
     };
     let mut std = |i: usize| {
         black_box(black_box(angles[i]).sin_cos());
     };
+    let na = calibrate(&mut array, timer.batch_time);
     let nl = calibrate(&mut libm, timer.batch_time);
     let ns = calibrate(&mut std, timer.batch_time);
-    let (mut tl, mut ts) = (Vec::new(), Vec::new());
+    let (mut ta, mut tl, mut ts) = (Vec::new(), Vec::new(), Vec::new());
     for _ in 0..timer.repeats {
+        ta.push(batch(&mut array, na).as_secs_f64() * 1e9 / na as f64 / 6.0);
         tl.push(batch(&mut libm, nl).as_secs_f64() * 1e9 / nl as f64);
         ts.push(batch(&mut std, ns).as_secs_f64() * 1e9 / ns as f64);
     }
     println!();
     println!(
-        "One sine/cosine pair: `libm::sincos` (what generated code calls) {:.1} ns, `f64::sin_cos` (std) {:.1} ns.",
+        "One sine/cosine pair: `math::sincos_array` of six angles (what generated f64 code calls) \
+         {:.1} ns per angle, `libm::sincos` {:.1} ns, `f64::sin_cos` (std) {:.1} ns.",
+        timer.pick(ta),
         timer.pick(tl),
         timer.pick(ts)
     );
