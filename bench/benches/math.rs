@@ -17,7 +17,6 @@
 //! `cargo bench -p articulated-bench --bench math` runs it all in about 70 s. Figures are per
 //! iteration: divide the `seven_*` ones by 7 for one angle.
 
-use std::f64::consts::PI;
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -25,19 +24,9 @@ use criterion::{criterion_group, criterion_main, Criterion};
 
 const ANGLES: usize = 1024;
 
-/// 1024 angles in [−π, π], from a seeded SplitMix64.
+/// 1024 angles in [−π, π), the same on every run.
 fn angles() -> Vec<f64> {
-    let mut state = 0x5EED_u64;
-    (0..ANGLES)
-        .map(|_| {
-            state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^= z >> 31;
-            ((z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0) * PI
-        })
-        .collect()
+    articulated_bench::angles(ANGLES)
 }
 
 /// Calls `$body(name, f, args…)` for the three implementations. Each `f` is a function item
@@ -136,21 +125,26 @@ fn sincos(c: &mut Criterion) {
     });
     group.finish();
 
-    fn seven_random<F: Fn(f64) -> (f64, f64)>(
+    /// Seven consecutive angles of `table` per iteration (a different seven each time), each
+    /// through `f`, summed; for `f64` and `f32` alike.
+    fn seven_random<T, F>(
         name: &str,
         f: F,
         g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
-        table: &[f64],
-    ) {
+        table: &[T],
+    ) where
+        T: Copy + Default + core::ops::Add<Output = T>,
+        F: Fn(T) -> (T, T),
+    {
         g.bench_function(name, |b| {
             let mut i = 0;
             b.iter(|| {
                 i = (i + 7) % (ANGLES - 7);
-                let q: &[f64; 7] = black_box(table[i..i + 7].try_into().unwrap());
-                let mut sum = 0.0;
+                let q: &[T; 7] = black_box(table[i..i + 7].try_into().unwrap());
+                let mut sum = T::default();
                 for &x in q {
                     let (s, c) = f(x);
-                    sum += s + c;
+                    sum = sum + (s + c);
                 }
                 sum
             })
@@ -171,30 +165,10 @@ fn sincos(c: &mut Criterion) {
 
     // f32.
     let table32: Vec<f32> = table.iter().map(|&x| x as f32).collect();
-    fn seven_random32<F: Fn(f32) -> (f32, f32)>(
-        name: &str,
-        f: F,
-        g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
-        table: &[f32],
-    ) {
-        g.bench_function(name, |b| {
-            let mut i = 0;
-            b.iter(|| {
-                i = (i + 7) % (ANGLES - 7);
-                let q: &[f32; 7] = black_box(table[i..i + 7].try_into().unwrap());
-                let mut sum = 0.0;
-                for &x in q {
-                    let (s, c) = f(x);
-                    sum += s + c;
-                }
-                sum
-            })
-        });
-    }
     let mut group = c.benchmark_group("sincosf/seven_random");
-    seven_random32("libm", articulated::libm::sincosf, &mut group, &table32);
-    seven_random32("std", f32::sin_cos, &mut group, &table32);
-    seven_random32(
+    seven_random("libm", articulated::libm::sincosf, &mut group, &table32);
+    seven_random("std", f32::sin_cos, &mut group, &table32);
+    seven_random(
         "articulated",
         articulated::math::sincosf,
         &mut group,

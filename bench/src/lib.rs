@@ -171,30 +171,37 @@ pub struct State<const NQ: usize, const NV: usize> {
     pub tau: SVector<f64, NV>,
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014): enough randomness for inputs, no dependency.
-#[derive(Clone, Debug)]
-pub struct Rng(u64);
+pub use articulated_dynamics::random::Rng;
 
-impl Rng {
-    /// A generator started at `seed`.
-    pub fn new(seed: u64) -> Self {
-        Rng(seed)
-    }
+/// `n` angles uniform in `[−π, π)`, the same on every run: the inputs of the sine/cosine
+/// benchmarks (`benches/math.rs`, `sincos_table`).
+pub fn angles(n: usize) -> Vec<f64> {
+    let mut rng = Rng::new(0x5EED);
+    (0..n)
+        .map(|_| rng.symmetric(core::f64::consts::PI))
+        .collect()
+}
 
-    /// The next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+/// Instructions callgrind counts for this very executable run with `args`: the `Collected :`
+/// line of `valgrind --tool=callgrind`. The binaries run themselves this way with `--calls 0`
+/// and `--calls K` and take the difference.
+pub fn callgrind(args: &[&str]) -> Result<u64, String> {
+    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+    let out = std::process::Command::new("valgrind")
+        .args(["--tool=callgrind", "--callgrind-out-file=/dev/null"])
+        .arg(exe)
+        .args(args)
+        .output()
+        .map_err(|e| format!("cannot run valgrind: {e}"))?;
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    if !out.status.success() {
+        return Err(format!("valgrind failed: {stderr}"));
     }
-
-    /// Uniform in `[-r, r)`.
-    pub fn symmetric(&mut self, r: f64) -> f64 {
-        let unit = (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-        r * (2.0 * unit - 1.0)
-    }
+    stderr
+        .lines()
+        .find_map(|l| l.split("Collected :").nth(1))
+        .and_then(|n| n.trim().parse().ok())
+        .ok_or_else(|| format!("no `Collected :` line in valgrind's output: {stderr}"))
 }
 
 /// [`STATES`] random states of model `M`, the same for every run (seeded by [`SEED`] and the

@@ -18,22 +18,35 @@ use core::f64::consts::PI;
 
 use crate::model::{Axis, Body, EulerSeq, Joint, JointKind, Model, Placement, Value};
 
-/// splitmix64 (Steele, Lea, Flood 2014).
-struct Rng(u64);
+/// SplitMix64 (Steele, Lea & Flood 2014): a seeded, reproducible stream, enough randomness for
+/// test and benchmark inputs without a dependency. The trees and states here, the benchmarks'
+/// inputs and the sine/cosine tests all draw from it.
+#[derive(Clone, Debug)]
+pub struct Rng(u64);
 
 impl Rng {
-    fn next_u64(&mut self) -> u64 {
+    /// A generator started at `seed`.
+    pub fn new(seed: u64) -> Self {
+        Rng(seed)
+    }
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)
     }
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
+    /// Uniform in `[0, 1)`.
+    pub fn unit(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+    /// Uniform in `[-r, r)`.
+    pub fn symmetric(&mut self, r: f64) -> f64 {
+        r * (2.0 * self.unit() - 1.0)
+    }
+    /// Uniform in `[lo, hi)`.
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.unit()
     }
     fn below(&mut self, n: usize) -> usize {

@@ -8,72 +8,35 @@
 use std::f64::consts::FRAC_PI_2;
 
 use articulated::math::{sincos, sincos_array, sincosf, SINCOS_FAST_LIMIT};
-
-/// SplitMix64: a seeded, reproducible stream of `u64`.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`.
-    fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-
-    /// Uniform in `(-r, r)`.
-    fn symmetric(&mut self, r: f64) -> f64 {
-        (2.0 * self.unit() - 1.0) * r
-    }
-}
+use articulated_dynamics::random::Rng;
 
 /// Distance in ulps between two `f64`: the difference of their bit patterns mapped to a
 /// monotonic integer line (±0 are the same point). Two NaN are 0 apart, NaN and a number
 /// `u64::MAX`.
 fn ulps(a: f64, b: f64) -> u64 {
-    if a.is_nan() || b.is_nan() {
-        return if a.is_nan() && b.is_nan() {
-            0
-        } else {
-            u64::MAX
-        };
-    }
-    fn key(x: f64) -> i128 {
-        let bits = x.to_bits();
-        let mag = i128::from(bits & !(1 << 63));
-        if bits >> 63 == 1 {
-            -mag
-        } else {
-            mag
-        }
-    }
-    (key(a) - key(b)).unsigned_abs() as u64
+    ulp_distance(a.to_bits(), b.to_bits(), 1 << 63, a.is_nan(), b.is_nan())
 }
 
 /// [`ulps`] for `f32`.
 fn ulps32(a: f32, b: f32) -> u64 {
-    if a.is_nan() || b.is_nan() {
-        return if a.is_nan() && b.is_nan() {
-            0
-        } else {
-            u64::MAX
-        };
+    let bits = |x: f32| u64::from(x.to_bits());
+    ulp_distance(bits(a), bits(b), 1 << 31, a.is_nan(), b.is_nan())
+}
+
+/// The distance of two floats' bit patterns (`sign`: the sign bit) on the monotonic line.
+fn ulp_distance(a: u64, b: u64, sign: u64, a_nan: bool, b_nan: bool) -> u64 {
+    if a_nan || b_nan {
+        return if a_nan && b_nan { 0 } else { u64::MAX };
     }
-    fn key(x: f32) -> i64 {
-        let bits = x.to_bits();
-        let mag = i64::from(bits & !(1 << 31));
-        if bits >> 31 == 1 {
+    let key = |bits: u64| {
+        let mag = i128::from(bits & !sign);
+        if bits & sign != 0 {
             -mag
         } else {
             mag
         }
-    }
-    (key(a) - key(b)).unsigned_abs()
+    };
+    (key(a) - key(b)).unsigned_abs() as u64
 }
 
 fn same_bits(a: f64, b: f64) -> bool {
@@ -147,7 +110,7 @@ impl Stats {
 }
 
 /// A random finite `f64` with a biased exponent in `exp_lo..=exp_hi` and a random sign.
-fn random_with_exponent(rng: &mut SplitMix64, exp_lo: u64, exp_hi: u64) -> f64 {
+fn random_with_exponent(rng: &mut Rng, exp_lo: u64, exp_hi: u64) -> f64 {
     let bits = rng.next_u64();
     let exp = exp_lo + bits % (exp_hi - exp_lo + 1);
     f64::from_bits((bits & (1 << 63)) | (exp << 52) | (rng.next_u64() >> 12))
@@ -157,7 +120,7 @@ const RANDOM_POINTS: usize = 200_000;
 
 #[test]
 fn random_points_agree_with_libm_and_std() {
-    let mut rng = SplitMix64(0x5EED_0001);
+    let mut rng = Rng::new(0x5EED_0001);
     for (name, r) in [
         ("|x| < 1", 1.0),
         ("|x| < 10", 10.0),
@@ -319,7 +282,7 @@ fn sin_squared_plus_cos_squared_is_one() {
         let e = s.mul(s).add(c.mul(c)).add(Dd::from(-1.0));
         (e.hi + e.lo).abs()
     };
-    let mut rng = SplitMix64(0x5EED_0002);
+    let mut rng = Rng::new(0x5EED_0002);
     let (mut worst, mut worst_libm) = (0.0f64, 0.0f64);
     for _ in 0..100_000 {
         let x = rng.symmetric(1e3);
@@ -387,7 +350,7 @@ impl Stats32 {
 
 #[test]
 fn sincosf_agrees_with_libm() {
-    let mut rng = SplitMix64(0x5EED_0003);
+    let mut rng = Rng::new(0x5EED_0003);
     for (name, r) in [
         ("|x| < 1", 1.0),
         ("|x| < 10", 10.0),
@@ -681,7 +644,7 @@ fn reference_constant_is_pi_over_2() {
 
 #[test]
 fn within_one_ulp_of_a_double_double_reference() {
-    let mut rng = SplitMix64(0x5EED_0004);
+    let mut rng = Rng::new(0x5EED_0004);
     let new = |name| RefStats {
         name,
         points: 0,
@@ -781,7 +744,7 @@ fn within_one_ulp_of_a_double_double_reference() {
 
 /// `sincos_array::<N>` against `sincos` of each lane, bit for bit, on `rounds` random arrays
 /// whose lanes mix ordinary angles with the fallback's cases.
-fn check_array<const N: usize>(rng: &mut SplitMix64, rounds: usize) {
+fn check_array<const N: usize>(rng: &mut Rng, rounds: usize) {
     let specials = [
         0.0,
         -0.0,
@@ -822,7 +785,7 @@ fn check_array<const N: usize>(rng: &mut SplitMix64, rounds: usize) {
 
 #[test]
 fn arrays_equal_the_scalar_function_lane_by_lane() {
-    let mut rng = SplitMix64(0x5EED_0005);
+    let mut rng = Rng::new(0x5EED_0005);
     assert_eq!(sincos_array([]), ([], []));
     check_array::<1>(&mut rng, 2_000);
     check_array::<2>(&mut rng, 2_000);

@@ -17,7 +17,7 @@
 //! (plus the few of the loop and `black_box`), independent of the machine's load.
 
 use std::hint::black_box;
-use std::process::{Command, ExitCode};
+use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use articulated::OpCounts;
@@ -244,23 +244,8 @@ fn print_sincos(timer: &Timer) {
 
 /// Instructions callgrind counts for `--calls calls model output engine`.
 fn callgrind(model: &str, output: Output, engine: Engine, calls: usize) -> Result<u64, String> {
-    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
-    let out = Command::new("valgrind")
-        .args(["--tool=callgrind", "--callgrind-out-file=/dev/null"])
-        .arg(exe)
-        .args(["--calls", &calls.to_string(), model, output.name()])
-        .arg(engine.name())
-        .output()
-        .map_err(|e| format!("cannot run valgrind: {e}"))?;
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    if !out.status.success() {
-        return Err(format!("valgrind failed: {stderr}"));
-    }
-    stderr
-        .lines()
-        .find_map(|l| l.split("Collected :").nth(1))
-        .and_then(|n| n.trim().parse().ok())
-        .ok_or_else(|| format!("no `Collected :` line in valgrind's output: {stderr}"))
+    let calls = calls.to_string();
+    articulated_bench::callgrind(&["--calls", &calls, model, output.name(), engine.name()])
 }
 
 fn instructions(calls: usize) -> Result<(), String> {

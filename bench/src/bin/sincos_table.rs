@@ -21,9 +21,8 @@
 //! (a few instructions per angle). `objdump -d target/release/sincos_table` shows
 //! `articulated::math::sincos` on its own (what `one_sincos` calls).
 
-use std::f64::consts::PI;
 use std::hint::black_box;
-use std::process::{Command, ExitCode};
+use std::process::ExitCode;
 use std::time::Instant;
 
 const USAGE: &str = "usage: sincos_table [--instructions]
@@ -42,17 +41,7 @@ const IMPLS: [&str; 5] = [
 const CASES: [(&str, f64); 3] = [("one", 1.0), ("chained", 1.0), ("seven", 7.0)];
 
 fn angles() -> Vec<f64> {
-    let mut state = 0x5EED_u64;
-    (0..ANGLES)
-        .map(|_| {
-            state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^= z >> 31;
-            ((z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0) * PI
-        })
-        .collect()
+    articulated_bench::angles(ANGLES)
 }
 
 /// `articulated::math::sincos`, out of line.
@@ -131,22 +120,7 @@ fn run_impl(imp: &str, case: &str, calls: usize, table: &[f64]) -> Option<f64> {
 }
 
 fn callgrind(calls: usize, imp: &str, case: &str) -> Result<u64, String> {
-    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
-    let out = Command::new("valgrind")
-        .args(["--tool=callgrind", "--callgrind-out-file=/dev/null"])
-        .arg(exe)
-        .args(["--calls", &calls.to_string(), imp, case])
-        .output()
-        .map_err(|e| format!("cannot run valgrind: {e}"))?;
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    if !out.status.success() {
-        return Err(format!("valgrind failed: {stderr}"));
-    }
-    stderr
-        .lines()
-        .find_map(|l| l.split("Collected :").nth(1))
-        .and_then(|n| n.trim().parse().ok())
-        .ok_or_else(|| format!("no instruction count in valgrind's output: {stderr}"))
+    articulated_bench::callgrind(&["--calls", &calls.to_string(), imp, case])
 }
 
 fn instructions() -> Result<(), String> {
