@@ -179,6 +179,15 @@ pub fn sincos_array<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
     let mut sin = [0.0; N];
     let mut cos = [0.0; N];
     let mut i = 0;
+    // With AVX2 (`-C target-cpu=x86-64-v3` or newer) the compiler runs four lanes in one ymm
+    // register: four angles at a time, then pairs.
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    while i + 4 <= N {
+        let (s, c) = lanes([x[i], x[i + 1], x[i + 2], x[i + 3]]);
+        sin[i..i + 4].copy_from_slice(&s);
+        cos[i..i + 4].copy_from_slice(&c);
+        i += 4;
+    }
     while i + 2 <= N {
         let (s, c) = lanes([x[i], x[i + 1]]);
         sin[i..i + 2].copy_from_slice(&s);
@@ -198,6 +207,54 @@ pub fn sincos_array<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
         sincos_array_libm(&x, &mut sin, &mut cos);
     }
     (sin, cos)
+}
+
+/// `a·b + c`, rounded once (a fused multiply–add) when the build targets a processor with FMA,
+/// and as `a * b + c` (rounded twice) otherwise; what generated `f64` code computes its sums of
+/// products with.
+///
+/// "Targets a processor with FMA" means `cfg(target_feature = "fma")` on x86-64: built with
+/// `-C target-cpu=x86-64-v3` (Haswell, Zen and later), `-C target-cpu=native` on such a
+/// processor, or `-C target-feature=+fma`. The instruction then replaces a product and a sum,
+/// and its latency (4 cycles on Zen 4) is shorter than theirs (3 + 3). Elsewhere (the default
+/// x86-64 target, other architectures) it is exactly `a * b + c`: no call to a software `fma`,
+/// which would be far slower than the two operations it replaces.
+///
+/// Rust does not contract `a * b + c` into an FMA by itself (that would change results from
+/// one target to another), so the generated code asks for it here, where both roundings are
+/// acceptable: the generated dynamics are held to the reference at 1e-12, the difference is
+/// a few units in the last place.
+#[inline(always)]
+#[allow(unsafe_code)] // The one `unsafe` of the workspace: see the SAFETY note.
+pub fn mul_add(a: f64, b: f64, c: f64) -> f64 {
+    #[cfg(all(target_arch = "x86_64", target_feature = "fma"))]
+    {
+        use core::arch::x86_64::{_mm_cvtsd_f64, _mm_fmadd_sd, _mm_set_sd};
+        // SAFETY: the intrinsics need SSE2 and FMA, and this block is compiled only when the
+        // build enables both for every function (`target_feature = "fma"` implies SSE2 on
+        // x86-64), the same guarantee under which the compiler emits FMA instructions itself.
+        unsafe { _mm_cvtsd_f64(_mm_fmadd_sd(_mm_set_sd(a), _mm_set_sd(b), _mm_set_sd(c))) }
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "fma")))]
+    {
+        a * b + c
+    }
+}
+
+/// [`mul_add`] in `f32`.
+#[inline(always)]
+#[allow(unsafe_code)] // As in `mul_add`.
+pub fn mul_addf(a: f32, b: f32, c: f32) -> f32 {
+    #[cfg(all(target_arch = "x86_64", target_feature = "fma"))]
+    {
+        use core::arch::x86_64::{_mm_cvtss_f32, _mm_fmadd_ss, _mm_set_ss};
+        // SAFETY: as in `mul_add`.
+        unsafe { _mm_cvtss_f32(_mm_fmadd_ss(_mm_set_ss(a), _mm_set_ss(b), _mm_set_ss(c))) }
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "fma")))]
+    {
+        a * b + c
+    }
 }
 
 /// `(sin x, cos x)` in `f32`: [`sincos`] of `x as f64`, rounded to `f32`.
@@ -238,7 +295,7 @@ fn sincos_array_libm(x: &[f64], sin: &mut [f64], cos: &mut [f64]) {
     }
 }
 
-/// The fast path for `N` (1 or 2) angles, lane by lane, with no branch: correct for
+/// The fast path for `N` (1, 2 or 4) angles, lane by lane, with no branch: correct for
 /// `|x| <` [`SINCOS_FAST_LIMIT`], meaningless (but harmless) beyond.
 #[inline(always)]
 fn lanes<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
@@ -311,10 +368,16 @@ fn kernels(x: f64, yn: f64) -> (f64, f64) {
     let hz = 0.5 * z;
     let w = 1.0 - hz;
 
-    let r = S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)));
+    // In `mul_add`: fused where the target has FMA (shorter latency, one rounding per
+    // coefficient instead of two), the same operations in the same order otherwise.
+    let r = mul_add(z, mul_add(z, mul_add(z, mul_add(z, S6, S5), S4), S3), S2);
     let sin = x - ((w * yn - v * S1) - (v * z) * r);
 
-    let rc = (C1 + z * C2) + z2 * ((C3 + z * C4) + z2 * (C5 + z * C6));
+    let rc = mul_add(
+        z2,
+        mul_add(z2, mul_add(z, C6, C5), mul_add(z, C4, C3)),
+        mul_add(z, C2, C1),
+    );
     let cos = w + ((((1.0 - w) - hz) + x * yn) + z2 * rc);
     (sin, cos)
 }
