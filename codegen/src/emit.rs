@@ -145,6 +145,8 @@ fn emit(
 
     let mut inputs = HashMap::new();
     let mut names = Names::default();
+    // The fused multiply–add is called by its short name (see `fused` below).
+    names.reserve_idents(quote!(mul_add mul_addf));
     for &s in &live {
         if let Node::Input(var) = graph.node(s) {
             let tokens = input(var);
@@ -202,6 +204,47 @@ fn emit(
         };
         name.insert(s, ident);
     }
+
+    // Products fused into the one sum that uses them, as `math::mul_add(x, y, c)` (f64 and f32:
+    // one FMA instruction where the target has it, `x * y + c` otherwise). When both operands
+    // of a sum qualify, the deeper product is fused: the other one is ready earlier and waits
+    // as the addend.
+    let mut fused: HashMap<Sym, Sym> = HashMap::new();
+    let mut in_fma: HashSet<Sym> = HashSet::new();
+    if scalar != ScalarKind::Generic {
+        let mut uses: HashMap<Sym, usize> = HashMap::new();
+        let mut depth: HashMap<Sym, usize> = HashMap::new();
+        for &s in &live {
+            let args = operands(graph.node(s));
+            let d = args.iter().map(|a| depth[a]).max().map_or(0, |d| d + 1);
+            depth.insert(s, d);
+            for a in args {
+                *uses.entry(a).or_default() += 1;
+            }
+        }
+        for s in outputs {
+            *uses.entry(*s).or_default() += 1;
+        }
+        for &s in &live {
+            if let Node::Add(a, b) | Node::Sub(a, b) = graph.node(s) {
+                let product = |x: Sym| matches!(graph.node(x), Node::Mul(..)) && uses[&x] == 1;
+                let pick = match (product(a), product(b)) {
+                    (true, true) if depth[&b] > depth[&a] => Some(b),
+                    (true, _) => Some(a),
+                    (false, true) => Some(b),
+                    (false, false) => None,
+                };
+                if let Some(p) = pick {
+                    fused.insert(s, p);
+                    in_fma.insert(p);
+                }
+            }
+        }
+    }
+    let (fma_fn, fma_path) = match scalar {
+        ScalarKind::F32 => (quote!(mul_addf), quote!(::articulated::math::mul_addf)),
+        _ => (quote!(mul_add), quote!(::articulated::math::mul_add)),
+    };
 
     let fns = Math::new(scalar);
     // An operand as a function argument or an output: a name, an input, or a constant.
@@ -279,14 +322,51 @@ fn emit(
             ));
         }
     }
+    // `−x` as an argument: a constant negated, anything else with a minus sign.
+    let negated = |s: Sym| -> Result<TokenStream, EmitError> {
+        match graph.node(s) {
+            Node::Const(x) => Ok(constant(-x, scalar)?.0),
+            _ => {
+                let t = operand(s)?;
+                Ok(quote!(-#t))
+            }
+        }
+    };
     for &s in &live {
         let node = graph.node(s);
-        if matches!(node, Node::Const(_) | Node::Input(_)) || done.contains(&s) {
+        if matches!(node, Node::Const(_) | Node::Input(_))
+            || done.contains(&s)
+            || in_fma.contains(&s)
+        {
             continue;
         }
         let n = &name[&s];
         let (value, args) = match node {
             Node::Const(_) | Node::Input(_) => continue,
+            Node::Add(a, b) | Node::Sub(a, b) if fused.contains_key(&s) => {
+                let p = fused[&s];
+                let Node::Mul(x, y) = graph.node(p) else {
+                    unreachable!("only products are fused")
+                };
+                // The constant factor first, as in a product.
+                let (x, y) = if matches!(graph.node(y), Node::Const(_)) {
+                    (y, x)
+                } else {
+                    (x, y)
+                };
+                let c = if p == a { b } else { a };
+                let subtract = matches!(node, Node::Sub(..));
+                let (tx, ty, tc) = if subtract && p == b {
+                    // c − x·y = (−x)·y + c
+                    (negated(x)?, operand(y)?, operand(c)?)
+                } else if subtract {
+                    // x·y − c
+                    (operand(x)?, operand(y)?, negated(c)?)
+                } else {
+                    (operand(x)?, operand(y)?, operand(c)?)
+                };
+                (quote!(#fma_fn(#tx, #ty, #tc)), vec![x, y, c])
+            }
             Node::Add(a, b) => {
                 let (ta, tb) = (term(a)?, term(b)?);
                 (quote!(#ta + #tb), vec![a, b])
@@ -338,7 +418,10 @@ fn emit(
         level.insert(s, l);
         stmts.push((quote!(#n), value, l));
     }
-    let statements = bind(stmts);
+    let mut statements = bind(stmts);
+    if !fused.is_empty() {
+        statements = quote!(use #fma_path; #statements);
+    }
 
     Ok(Emitted {
         statements,
@@ -348,6 +431,15 @@ fn emit(
             .collect::<Result<_, _>>()?,
         ops: graph.op_counts(outputs),
     })
+}
+
+/// The operands of a node.
+fn operands(node: Node) -> Vec<Sym> {
+    match node {
+        Node::Const(_) | Node::Input(_) => Vec::new(),
+        Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => vec![a, b],
+        Node::Neg(a) | Node::Sin(a) | Node::Cos(a) | Node::Sqrt(a) => vec![a],
+    }
 }
 
 /// Up to this many statements a function binds one value per `let`, which reads best. rustc

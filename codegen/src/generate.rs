@@ -22,6 +22,7 @@ use quote::{format_ident, quote};
 
 use crate::emit::{self, Emitted};
 use crate::newton_euler::classical_rnea;
+use crate::reassociate::reassociate;
 use crate::regroup::{coordinate_axis, regroup};
 use crate::sym::{self, Graph, OpCounts, Sym, Var};
 
@@ -98,6 +99,22 @@ impl Traced {
         all
     }
 
+    /// The same values with every sum regrouped so that late terms are added last
+    /// ([`crate::reassociate`]): no more operations, a shorter critical path.
+    fn reassociated(self) -> Traced {
+        let all = self.all_outputs();
+        let (graph, mut new) = reassociate(&self.graph, &all);
+        let scale = self.scale.map(|_| new.pop().expect("the scale"));
+        let pivots = new.split_off(self.values.len());
+        Traced {
+            graph,
+            values: new,
+            pivots: pivots.chunks(2).map(|pd| (pd[0], pd[1])).collect(),
+            scale,
+            ..self
+        }
+    }
+
     /// Evaluates the graph in `f64` (the CLI's `--engine symbolic`): the values, then, for
     /// forward dynamics, whether every pivot passed.
     pub fn eval(&self, input: impl Fn(Var) -> f64) -> (Vec<f64>, bool) {
@@ -142,6 +159,11 @@ type TraceFn<'a> = dyn Fn(&Tree<Sym>, Formulation) -> Vec<Sym> + 'a;
 /// # Errors
 /// An output the generator does not produce yet.
 pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
+    Ok(trace_unordered(model, output)?.reassociated())
+}
+
+/// [`trace`] before the sums are regrouped by arrival time.
+fn trace_unordered(model: &Model, output: Output) -> Result<Traced, String> {
     let (nq, nv, np) = (model.nq(), model.nv(), model.params.len());
     // Traced on the tree as described and on the regrouped tree, and for the outputs of
     // inverse dynamics by both Newton–Euler formulations; the one with fewer operations is kept.
@@ -594,6 +616,13 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
             ops_doc += " Inertial parameters regrouped first (each body's mass, and the inertia \
                         its joint cannot move, carried by its parent; the same result with fewer \
                         terms: `articulated_codegen::regroup`).";
+        }
+        ops_doc += " Sums regrouped so that late terms are added last \
+                    (`articulated_codegen::reassociate`).";
+        if !generic {
+            ops_doc += " A product added once is fused into its sum with `math::mul_add`: one \
+                        FMA instruction where the target has it (`-C target-cpu=x86-64-v3` or \
+                        newer), the product and the sum otherwise.";
         }
         let const_name = format_ident!("{}_OPS", output.name().to_uppercase());
         let const_doc = format!(" Operation count of `{}`: {ops}.", output.name());

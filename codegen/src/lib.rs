@@ -17,6 +17,7 @@ pub mod load;
 pub mod lower;
 pub mod newton_euler;
 pub mod parse;
+pub mod reassociate;
 pub mod regroup;
 pub mod sym;
 pub mod urdf;

@@ -365,7 +365,12 @@ fn build_lint_run(dir: &str, lib: &str, main: &str, nalgebra: bool, args: &[Stri
     write(
         &root.join("articulated/src/lib.rs"),
         &format!(
-            "//! Stands in for the runtime's re-exports.\n#![no_std]\npub use libm;\n{shim_use}\n"
+            "//! Stands in for the runtime's re-exports.\n#![no_std]\npub use libm;\n{shim_use}\n\
+             /// Stands in for the runtime's `math`.\npub mod math {{\n\
+             /// `a·b + c`, unfused, as the runtime's without FMA.\n\
+             pub fn mul_add(a: f64, b: f64, c: f64) -> f64 {{ a * b + c }}\n\
+             /// `a·b + c` in `f32`.\n\
+             pub fn mul_addf(a: f32, b: f32, c: f32) -> f32 {{ a * b + c }}\n}}\n"
         ),
     );
     write(
