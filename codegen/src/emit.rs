@@ -212,18 +212,11 @@ fn emit(
     let mut fused: HashMap<Sym, Sym> = HashMap::new();
     let mut in_fma: HashSet<Sym> = HashSet::new();
     if scalar != ScalarKind::Generic {
-        let mut uses: HashMap<Sym, usize> = HashMap::new();
+        let uses = graph.use_counts(outputs);
         let mut depth: HashMap<Sym, usize> = HashMap::new();
         for &s in &live {
-            let args = operands(graph.node(s));
-            let d = args.iter().map(|a| depth[a]).max().map_or(0, |d| d + 1);
-            depth.insert(s, d);
-            for a in args {
-                *uses.entry(a).or_default() += 1;
-            }
-        }
-        for s in outputs {
-            *uses.entry(*s).or_default() += 1;
+            let d = graph.node(s).operands().map(|a| depth[&a] + 1).max();
+            depth.insert(s, d.unwrap_or(0));
         }
         for &s in &live {
             if let Node::Add(a, b) | Node::Sub(a, b) = graph.node(s) {
@@ -431,15 +424,6 @@ fn emit(
             .collect::<Result<_, _>>()?,
         ops: graph.op_counts(outputs),
     })
-}
-
-/// The operands of a node.
-fn operands(node: Node) -> Vec<Sym> {
-    match node {
-        Node::Const(_) | Node::Input(_) => Vec::new(),
-        Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => vec![a, b],
-        Node::Neg(a) | Node::Sin(a) | Node::Cos(a) | Node::Sqrt(a) => vec![a],
-    }
 }
 
 /// Up to this many statements a function binds one value per `let`, which reads best. rustc

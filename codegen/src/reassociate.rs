@@ -25,7 +25,7 @@
 //! never grows).
 
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::{BinaryHeap, HashMap, HashSet};
 
 use articulated_dynamics::Scalar;
 
@@ -53,26 +53,18 @@ impl Latency {
 /// If an output belongs to another graph.
 pub fn reassociate(graph: &Graph, outputs: &[Sym]) -> (Graph, Vec<Sym>) {
     let live = graph.live(outputs);
-    // Uses of each node by live nodes and by the outputs.
-    let mut uses: HashMap<Sym, usize> = HashMap::with_capacity(live.len());
-    for &s in &live {
-        for o in operands(graph.node(s)) {
-            *uses.entry(o).or_default() += 1;
-        }
-    }
-    for &s in outputs {
-        *uses.entry(s).or_default() += 1;
-    }
+    let uses = graph.use_counts(outputs);
     // A sum node whose one use is by another sum node is part of that sum, not a term.
     let is_sum = |s: Sym| matches!(graph.node(s), Node::Add(..) | Node::Sub(..) | Node::Neg(_));
-    let mut inner: HashMap<Sym, bool> = HashMap::new();
+    let mut inner: HashSet<Sym> = HashSet::new();
     for &s in &live {
         if is_sum(s) {
-            for o in operands(graph.node(s)) {
-                if is_sum(o) && uses[&o] == 1 {
-                    inner.insert(o, true);
-                }
-            }
+            inner.extend(
+                graph
+                    .node(s)
+                    .operands()
+                    .filter(|&o| is_sum(o) && uses[&o] == 1),
+            );
         }
     }
 
@@ -80,7 +72,7 @@ pub fn reassociate(graph: &Graph, outputs: &[Sym]) -> (Graph, Vec<Sym>) {
         let mut map: HashMap<Sym, Sym> = HashMap::with_capacity(live.len());
         let mut time: HashMap<Sym, u32> = HashMap::with_capacity(live.len());
         for &s in &live {
-            if inner.contains_key(&s) {
+            if inner.contains(&s) {
                 continue;
             }
             let node = graph.node(s);
@@ -117,27 +109,17 @@ pub fn reassociate(graph: &Graph, outputs: &[Sym]) -> (Graph, Vec<Sym>) {
     (new_graph, new_outputs)
 }
 
-/// The operands of a node.
-fn operands(node: Node) -> impl Iterator<Item = Sym> {
-    let (a, b) = match node {
-        Node::Const(_) | Node::Input(_) => (None, None),
-        Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => (Some(a), Some(b)),
-        Node::Neg(a) | Node::Sin(a) | Node::Cos(a) | Node::Sqrt(a) => (Some(a), None),
-    };
-    a.into_iter().chain(b)
-}
-
 /// The terms of the sum rooted at `s`, each with whether it is subtracted (`negative` flips
 /// the sign of the whole of `s`), through the inner sum nodes.
 fn collect_terms(
     graph: &Graph,
-    inner: &HashMap<Sym, bool>,
+    inner: &HashSet<Sym>,
     s: Sym,
     negative: bool,
     terms: &mut Vec<(Sym, bool)>,
 ) {
     let part = |x: Sym, negative: bool, terms: &mut Vec<(Sym, bool)>| {
-        if inner.contains_key(&x) {
+        if inner.contains(&x) {
             collect_terms(graph, inner, x, negative, terms);
         } else {
             terms.push((x, negative));
@@ -216,7 +198,7 @@ mod tests {
         for s in graph.live(outputs) {
             let node = graph.node(s);
             let own = usize::from(!matches!(node, Node::Const(_) | Node::Input(_)));
-            let deepest = operands(node).map(|o| d[&o]).max().unwrap_or(0);
+            let deepest = node.operands().map(|o| d[&o]).max().unwrap_or(0);
             d.insert(s, deepest + own);
         }
         outputs.iter().map(|s| d[s]).max().unwrap_or(0)

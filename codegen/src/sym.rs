@@ -102,6 +102,20 @@ pub enum Node {
     Sqrt(Sym),
 }
 
+impl Node {
+    /// The operands, in order.
+    pub fn operands(self) -> impl Iterator<Item = Sym> {
+        let (a, b) = match self {
+            Node::Const(_) | Node::Input(_) => (None, None),
+            Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => {
+                (Some(a), Some(b))
+            }
+            Node::Neg(a) | Node::Sin(a) | Node::Cos(a) | Node::Sqrt(a) => (Some(a), None),
+        };
+        a.into_iter().chain(b)
+    }
+}
+
 /// The hash-consing key of a node: operands are node indices, constants their bits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 enum Key {
@@ -356,6 +370,24 @@ impl Graph {
             .filter(|&i| needed[i as usize])
             .map(|i| self.sym(i))
             .collect()
+    }
+
+    /// How many times each node `outputs` need is read: by the live nodes, once per operand,
+    /// and once for each time it is among `outputs`.
+    ///
+    /// # Panics
+    /// If an output belongs to another graph.
+    pub fn use_counts(&self, outputs: &[Sym]) -> HashMap<Sym, usize> {
+        let mut uses: HashMap<Sym, usize> = HashMap::new();
+        for s in self.live(outputs) {
+            for o in self.node(s).operands() {
+                *uses.entry(o).or_default() += 1;
+            }
+        }
+        for &s in outputs {
+            *uses.entry(s).or_default() += 1;
+        }
+        uses
     }
 
     /// Evaluates `outputs` in `f64`, reading inputs from `inputs` (called once per live input).
