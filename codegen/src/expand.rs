@@ -82,6 +82,7 @@ fn fallback(name: &Ident) -> TokenStream {
         }
         impl<T> ::articulated::Chain<T> for #name {
             const NAME: &'static str = #name_str;
+            const COORDINATES: &'static [::articulated::Coordinates] = &[];
             type Params = ();
             fn default_params() {}
         }

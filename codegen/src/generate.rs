@@ -14,7 +14,7 @@
 //!   last coordinate to the first (RBDA §6.5, "LTDL"), which keeps the tree's sparsity: the
 //!   structural zeros of `M` are exact zeros in the graph, so every product with them folds away.
 
-use articulated_dynamics::model::{Model, Output, ScalarKind};
+use articulated_dynamics::model::{JointKind, Model, Output, ScalarKind};
 use articulated_dynamics::reference::{aba, crba, rnea, Tree};
 use articulated_dynamics::Scalar;
 use proc_macro2::{Ident, Span, TokenStream};
@@ -396,6 +396,19 @@ pub struct FunctionReport {
     pub method: Option<FdMethod>,
     /// Forward dynamics: both candidates' counts.
     pub candidates: Vec<(FdMethod, OpCounts)>,
+}
+
+/// The runtime's `Coordinates` of a joint kind; `None` for a fixed joint.
+fn coordinates_tokens(kind: JointKind) -> Option<TokenStream> {
+    Some(match kind {
+        JointKind::Fixed => return None,
+        JointKind::SphericalQuaternion => quote!(::articulated::Coordinates::Quaternion),
+        JointKind::FreeQuaternion => quote!(::articulated::Coordinates::FreeQuaternion),
+        other => {
+            let n = proc_macro2::Literal::usize_unsuffixed(other.nq());
+            quote!(::articulated::Coordinates::Vector(#n))
+        }
+    })
 }
 
 /// The scalar type's tokens.
@@ -824,6 +837,10 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
     } else {
         quote!()
     };
+    let coordinates = model
+        .joints
+        .iter()
+        .filter_map(|j| coordinates_tokens(j.kind));
     let tokens = quote! {
         #the_struct
 
@@ -839,6 +856,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
 
         impl #impl_generics ::articulated::Chain<#scalar> for #name {
             const NAME: &'static str = #name_str;
+            const COORDINATES: &'static [::articulated::Coordinates] = &[#(#coordinates),*];
             type Params = #params_ty;
             #default_fn
         }

@@ -43,10 +43,49 @@ impl fmt::Display for SingularMassMatrix {
 
 impl core::error::Error for SingularMassMatrix {}
 
+/// How one joint's coordinates sit in `q` and `v`: what an integrator needs to step a
+/// configuration on its manifold. A generated chain lists its joints' in joint order
+/// ([`Chain::COORDINATES`]); fixed joints, which have none, are left out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Coordinates {
+    /// `n` positions and `n` velocities with `v = q̇`: a revolute or prismatic joint (`n = 1`),
+    /// a spherical joint in Euler angles (`3`), a free base in Wieber's form (`6`).
+    Vector(usize),
+    /// A quaternion `[w, x, y, z]` (4 positions) and the child's angular velocity in the child
+    /// frame (3 velocities): `spherical(quaternion)`.
+    Quaternion,
+    /// The child origin's position in the joint frame, then a quaternion (7 positions); the
+    /// child origin's linear velocity and the angular velocity, both in the child frame
+    /// (6 velocities): `free(quaternion)`, Pinocchio's free flyer.
+    FreeQuaternion,
+}
+
+impl Coordinates {
+    /// Number of positions.
+    pub const fn nq(self) -> usize {
+        match self {
+            Coordinates::Vector(n) => n,
+            Coordinates::Quaternion => 4,
+            Coordinates::FreeQuaternion => 7,
+        }
+    }
+    /// Number of velocities.
+    pub const fn nv(self) -> usize {
+        match self {
+            Coordinates::Vector(n) => n,
+            Coordinates::Quaternion => 3,
+            Coordinates::FreeQuaternion => 6,
+        }
+    }
+}
+
 /// A generated chain, in the scalar `T`.
 pub trait Chain<T> {
     /// The chain's name in its description.
     const NAME: &'static str;
+    /// Its joints' coordinates, in joint order, fixed joints left out: `Σ nq = NQ`,
+    /// `Σ nv = NV`.
+    const COORDINATES: &'static [Coordinates];
     /// Its runtime parameters: `()` when it has none, else a generated struct with one public
     /// field per parameter.
     type Params: Copy;

@@ -33,7 +33,7 @@ pub use nalgebra;
 /// `use articulated::prelude::*;` brings the traits of generated chains into scope.
 pub mod prelude {
     pub use crate::{
-        Bias, Chain, ForwardDynamics, Gravity, InverseDynamics, MassMatrix, OpCounts,
+        Bias, Chain, Coordinates, ForwardDynamics, Gravity, InverseDynamics, MassMatrix, OpCounts,
         SingularMassMatrix,
     };
 }

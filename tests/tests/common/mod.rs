@@ -286,6 +286,31 @@ where
     out
 }
 
+/// The generated `C::COORDINATES` against the model's joints, read independently: one entry per
+/// joint with coordinates, in joint order, of the kind its joint needs.
+pub fn check_coordinates<C: Chain<f64>>(label: &str, r: &Reference) {
+    use articulated::model::JointKind;
+    let expected: Vec<Coordinates> = r
+        .model()
+        .joints
+        .iter()
+        .filter_map(|j| match j.kind {
+            JointKind::Fixed => None,
+            JointKind::SphericalQuaternion => Some(Coordinates::Quaternion),
+            JointKind::FreeQuaternion => Some(Coordinates::FreeQuaternion),
+            JointKind::Revolute { .. } | JointKind::Prismatic { .. } => {
+                Some(Coordinates::Vector(1))
+            }
+            JointKind::SphericalEuler { .. } => Some(Coordinates::Vector(3)),
+            JointKind::FreeEuler { .. } => Some(Coordinates::Vector(6)),
+        })
+        .collect();
+    assert_eq!(C::COORDINATES, expected.as_slice(), "{label}: COORDINATES");
+    let nq: usize = C::COORDINATES.iter().map(|c| c.nq()).sum();
+    let nv: usize = C::COORDINATES.iter().map(|c| c.nv()).sum();
+    assert_eq!((nq, nv), (r.nq(), r.nv()), "{label}: COORDINATES sizes");
+}
+
 /// Runs [`compare_state`] on `cases` random states drawn by proptest: a `u64` seed per case,
 /// turned into `(q, v, a)` by `state` (typically `articulated_dynamics::random::random_state`,
 /// which keeps Euler angles away from gimbal lock and quaternions unit). A failure shrinks the
@@ -304,6 +329,7 @@ where
         + InverseDynamics<f64, NQ, NV>
         + ForwardDynamics<f64, NQ, NV>,
 {
+    check_coordinates::<C>(label, r);
     // A fixed seed: the same states on every run, so a failure reproduces.
     let mut runner = TestRunner::new_with_rng(
         Config {
