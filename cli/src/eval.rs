@@ -2,10 +2,11 @@
 //! engine: the interpreted reference, or the generator's own expression graphs
 //! (`--engine symbolic`), which checks the generator without compiling what it emits.
 
-use articulated::model::{Model, Output};
-use articulated::reference::{check_q, Error, Reference};
+use articulated::model::Model;
+use articulated::reference::{check_q, Error, Reference, Singularity};
 use articulated_codegen::generate::trace;
 use articulated_codegen::load::load_model;
+use articulated_codegen::options::Output;
 use articulated_codegen::sym::Var;
 use nalgebra::{DMatrix, DVector};
 use serde_json::Value;
@@ -136,15 +137,10 @@ fn by_reference(r: &Reference, s: &State) -> Result<Dynamics, Error> {
 }
 
 /// The name of the joint that velocity `k` belongs to.
-fn joint_of_v(model: &Model, k: usize) -> &str {
-    let mut at = 0;
-    for j in &model.joints {
-        at += j.kind.nv();
-        if k < at {
-            return &j.name;
-        }
-    }
-    "?"
+fn joint_of_v(model: &Model, k: usize) -> String {
+    model
+        .joint_of_velocity(k)
+        .map_or_else(String::new, |j| j.name.clone())
 }
 
 /// The generator's expression graphs (`articulated_codegen::generate::trace`), evaluated in
@@ -156,7 +152,7 @@ fn by_graph(model: &Model, s: &State) -> Result<Dynamics, String> {
     check_q(model, &s.q).map_err(fail)?;
     let nv = model.nv();
     let values = |output: Output| -> Result<Vec<f64>, String> {
-        let traced = trace(model, output).map_err(|e| format!("error: {e}"))?;
+        let traced = trace(model, output);
         let (values, pivots_ok) = traced.eval(|var| s.input(var));
         if !pivots_ok {
             // The generator's test failed; name the pivot that came out worst, relative to its
@@ -181,18 +177,19 @@ fn by_graph(model: &Model, s: &State) -> Result<Dynamics, String> {
                 .min_by(|&i, &j| ratio(&pd[i]).total_cmp(&ratio(&pd[j])))
                 .unwrap_or(0);
             let (p, d) = pd.get(k).copied().unwrap_or((f64::NAN, f64::NAN));
-            return Err(fail(Error::Singular(format!(
-                "joint `{}` (velocity {k}): pivot {p:e} of the generated forward dynamics is \
-                 not positive (unreduced {d:e}); the mass matrix is singular here",
-                joint_of_v(model, k)
-            ))));
+            return Err(fail(Error::Singular(Singularity::Pivot {
+                joint: joint_of_v(model, k),
+                velocity: k,
+                pivot: p,
+                unreduced: d,
+            })));
         }
         if let Some(k) = values.iter().position(|x| !x.is_finite()) {
             return Err(fail(if output == Output::ForwardDynamics {
-                Error::Singular(format!(
-                    "joint `{}` (velocity {k}): the acceleration is not finite",
-                    joint_of_v(model, k)
-                ))
+                Error::Singular(Singularity::NonFiniteAcceleration {
+                    joint: joint_of_v(model, k),
+                    velocity: k,
+                })
             } else {
                 Error::NonFiniteResult {
                     output: output.name(),

@@ -2,17 +2,40 @@
 //! §6), so users can read generated code without `cargo expand` or a nightly toolchain.
 
 use articulated_codegen::generate::generate_file;
-use articulated_codegen::load::load_model;
+use articulated_codegen::load::load;
+use articulated_codegen::options::{Output, ScalarKind};
 
 use crate::ExpandArgs;
 
 /// Runs `expand`; the Rust source, or the error message for stderr.
 pub fn run(args: &ExpandArgs) -> Result<String, String> {
-    let model = load_model(&args.model, args.floating).map_err(|e| e.to_string())?;
-    // The header names the command that regenerates the file, so it carries the flag too.
+    let mut chain = load(&args.model, args.floating).map_err(|e| e.to_string())?;
+    // The header names the command that regenerates the file, so it carries the flags too.
     let mut source = args.model.display().to_string();
     if args.floating {
         source.push_str(" --floating");
     }
-    generate_file(&model, &source).map_err(|e| format!("{}: error: {e}", args.model.display()))
+    if let Some(name) = &args.scalar {
+        chain.options.scalar = ScalarKind::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = ScalarKind::ALL.iter().map(|(_, n)| *n).collect();
+            format!("error: --scalar `{name}`: expected {}", names.join(", "))
+        })?;
+        source.push_str(&format!(" --scalar {name}"));
+    }
+    if let Some(list) = &args.outputs {
+        let outputs = list
+            .split(',')
+            .map(str::trim)
+            .map(|name| {
+                Output::from_name(name).ok_or_else(|| {
+                    let names: Vec<&str> = Output::ALL.iter().map(|(_, n)| *n).collect();
+                    format!("error: --outputs `{name}`: expected {}", names.join(", "))
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        chain.options.set_outputs(outputs);
+        source.push_str(&format!(" --outputs {list}"));
+    }
+    generate_file(&chain.model, &chain.options, &source)
+        .map_err(|e| format!("{}: error: {e}", args.model.display()))
 }

@@ -81,6 +81,14 @@ pub struct ExpandArgs {
     /// Put a free base (translation, then Euler angles zyx) under a URDF root.
     #[arg(long)]
     pub floating: bool,
+    /// The scalar of the generated code, in place of the description's: `f64`, `f32` or
+    /// `generic`.
+    #[arg(long)]
+    pub scalar: Option<String>,
+    /// The outputs to generate, comma-separated, in place of the description's (e.g.
+    /// `mass_matrix,inverse_dynamics`).
+    #[arg(long)]
+    pub outputs: Option<String>,
 }
 
 fn main() -> ExitCode {

@@ -4,34 +4,88 @@
 //! In `build.rs`:
 //!
 //! ```no_run
-//! articulated_codegen::Builder::new()
-//!     .file("models/arm.chain")
-//!     .urdf("models/robot.urdf", false)
-//!     .write("chains.rs")
-//!     .unwrap();
+//! use articulated_codegen::options::{Output, ScalarKind};
+//!
+//! fn main() -> Result<(), articulated_codegen::build::BuildError> {
+//!     articulated_codegen::Builder::new()
+//!         .file("models/arm.chain")
+//!         .urdf("models/robot.urdf", false)
+//!         .scalar(ScalarKind::F32)
+//!         .outputs([Output::MassMatrix, Output::InverseDynamics])
+//!         .write("chains.rs")?;
+//!     Ok(())
+//! }
 //! ```
 //!
-//! and in the crate: `include!(concat!(env!("OUT_DIR"), "/chains.rs"));`.
+//! and in the crate: `include!(concat!(env!("OUT_DIR"), "/chains.rs"));`. `name`, `scalar` and
+//! `outputs` apply to the source added last, as `#[chain(…)]` applies to its file.
 
+use std::fmt;
 use std::path::{Path, PathBuf};
 
 use articulated_dynamics::model::Model;
 
 use crate::emit;
 use crate::generate::generate;
-use crate::load::load_model;
+use crate::load::{load, LoadError};
+use crate::options::{Description, Output, ScalarKind};
 
 /// Collects descriptions and writes their generated code to one file.
 #[derive(Debug, Default)]
 pub struct Builder {
-    sources: Vec<(Source, Option<String>)>,
+    sources: Vec<Entry>,
+}
+
+/// One source and what the builder's methods changed about it.
+#[derive(Debug)]
+struct Entry {
+    source: Source,
+    name: Option<String>,
+    scalar: Option<ScalarKind>,
+    outputs: Option<Vec<Output>>,
 }
 
 #[derive(Debug)]
 enum Source {
     File(PathBuf, bool),
-    Model(Box<Model>),
+    Model(Box<Description>),
 }
+
+/// Why [`Builder::to_source`] or [`Builder::write`] failed.
+#[derive(Debug)]
+pub enum BuildError {
+    /// A description file does not load (its message names the file and line).
+    Load(LoadError),
+    /// The generator refused a description.
+    Generate {
+        /// The file, or the model's name.
+        source: String,
+        /// Why.
+        error: syn::Error,
+    },
+    /// `OUT_DIR` is not set: [`Builder::write`] is for `build.rs`.
+    NoOutDir,
+    /// The file cannot be written.
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        error: std::io::Error,
+    },
+}
+
+impl fmt::Display for BuildError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BuildError::Load(e) => write!(f, "{e}"),
+            BuildError::Generate { source, error } => write!(f, "{source}: {error}"),
+            BuildError::NoOutDir => write!(f, "OUT_DIR is not set: call this from build.rs"),
+            BuildError::Write { path, error } => write!(f, "{}: {error}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for BuildError {}
 
 impl Builder {
     /// An empty builder.
@@ -39,30 +93,60 @@ impl Builder {
         Self::default()
     }
 
-    /// Adds a `.chain` file (relative paths are relative to `CARGO_MANIFEST_DIR`).
-    pub fn file(mut self, path: impl AsRef<Path>) -> Self {
-        self.sources
-            .push((Source::File(path.as_ref().to_path_buf(), false), None));
+    fn push(mut self, source: Source) -> Self {
+        self.sources.push(Entry {
+            source,
+            name: None,
+            scalar: None,
+            outputs: None,
+        });
         self
+    }
+
+    /// Adds a `.chain` file (relative paths are relative to `CARGO_MANIFEST_DIR`).
+    pub fn file(self, path: impl AsRef<Path>) -> Self {
+        self.push(Source::File(path.as_ref().to_path_buf(), false))
     }
 
     /// Adds a URDF file; `floating` puts a free base under its root.
-    pub fn urdf(mut self, path: impl AsRef<Path>, floating: bool) -> Self {
-        self.sources
-            .push((Source::File(path.as_ref().to_path_buf(), floating), None));
-        self
+    pub fn urdf(self, path: impl AsRef<Path>, floating: bool) -> Self {
+        self.push(Source::File(path.as_ref().to_path_buf(), floating))
     }
 
-    /// Adds a model built by a program (for example a seeded random tree).
-    pub fn model(mut self, model: Model) -> Self {
-        self.sources.push((Source::Model(Box::new(model)), None));
-        self
+    /// Adds a model built by a program (for example a seeded random tree), with the default
+    /// options.
+    pub fn model(self, model: Model) -> Self {
+        self.push(Source::Model(Box::new(Description::new(model))))
+    }
+
+    /// Adds a description built by a program, with its own options.
+    pub fn description(self, description: Description) -> Self {
+        self.push(Source::Model(Box::new(description)))
     }
 
     /// Names the type generated for the source added last (instead of the description's name).
     pub fn name(mut self, name: &str) -> Self {
         if let Some(last) = self.sources.last_mut() {
-            last.1 = Some(name.to_string());
+            last.name = Some(name.to_string());
+        }
+        self
+    }
+
+    /// The scalar of the source added last (as `scalar = …` in `#[chain(…)]`).
+    pub fn scalar(mut self, scalar: ScalarKind) -> Self {
+        if let Some(last) = self.sources.last_mut() {
+            last.scalar = Some(scalar);
+        }
+        self
+    }
+
+    /// The outputs of the source added last (as `outputs = […]` in `#[chain(…)]`).
+    pub fn outputs(mut self, outputs: impl IntoIterator<Item = Output>) -> Self {
+        if let Some(last) = self.sources.last_mut() {
+            let mut outputs: Vec<Output> = outputs.into_iter().collect();
+            outputs.sort();
+            outputs.dedup();
+            last.outputs = Some(outputs);
         }
         self
     }
@@ -72,34 +156,43 @@ impl Builder {
     /// # Errors
     /// The first description that does not load or generate, with its message (file, line and
     /// column for a `.chain` file).
-    pub fn to_source(&self) -> Result<String, String> {
+    pub fn to_source(&self) -> Result<String, BuildError> {
         let manifest = std::env::var_os("CARGO_MANIFEST_DIR").map(PathBuf::from);
         let mut out = String::from(
             "// Generated by articulated-codegen (articulated_codegen::Builder) in build.rs.\n\
              // Do not edit: change the descriptions and rebuild.\n\n",
         );
-        for (source, name) in &self.sources {
-            let (mut model, label) = match source {
+        for entry in &self.sources {
+            let (mut chain, label) = match &entry.source {
                 Source::File(path, floating) => {
                     let full = match (&manifest, path.is_absolute()) {
                         (Some(dir), false) => dir.join(path),
                         _ => path.clone(),
                     };
-                    let m = load_model(&full, *floating).map_err(|e| e.to_string())?;
-                    (m, path.display().to_string())
+                    let chain = load(&full, *floating).map_err(BuildError::Load)?;
+                    (chain, path.display().to_string())
                 }
-                Source::Model(m) => ((**m).clone(), format!("the model `{}`", m.name)),
+                Source::Model(d) => ((**d).clone(), format!("the model `{}`", d.model.name)),
             };
-            if let Some(n) = name {
-                model.name = n.clone();
+            if let Some(n) = &entry.name {
+                chain.model.name = n.clone();
             }
-            let g = generate(&model).map_err(|e| format!("{label}: {e}"))?;
-            let mut header = format!("// {} from {label}\n", model.name);
+            if let Some(s) = entry.scalar {
+                chain.options.scalar = s;
+            }
+            if let Some(o) = &entry.outputs {
+                chain.options.outputs = o.clone();
+            }
+            let failed = |error| BuildError::Generate {
+                source: label.clone(),
+                error,
+            };
+            let g = generate(&chain.model, &chain.options).map_err(failed)?;
+            out.push_str(&format!("// {} from {label}\n", chain.model.name));
             for f in &g.functions {
-                header.push_str(&format!("//   {:<17} {}\n", f.output.name(), f.ops));
+                out.push_str(&format!("//   {:<17} {}\n", f.output.name(), f.ops));
             }
-            out.push_str(&header);
-            out.push_str(&emit::format(g.tokens).map_err(|e| format!("{label}: {e}"))?);
+            out.push_str(&emit::format(g.tokens).map_err(failed)?);
             out.push('\n');
         }
         Ok(out)
@@ -110,13 +203,16 @@ impl Builder {
     ///
     /// # Errors
     /// As [`Builder::to_source`], or `OUT_DIR` unset or not writable.
-    pub fn write(&self, file_name: &str) -> Result<PathBuf, String> {
-        let out_dir =
-            std::env::var_os("OUT_DIR").ok_or("OUT_DIR is not set: call this from build.rs")?;
+    pub fn write(&self, file_name: &str) -> Result<PathBuf, BuildError> {
+        let out_dir = std::env::var_os("OUT_DIR").ok_or(BuildError::NoOutDir)?;
         let path = Path::new(&out_dir).join(file_name);
-        std::fs::write(&path, self.to_source()?).map_err(|e| format!("{}: {e}", path.display()))?;
-        for (source, _) in &self.sources {
-            if let Source::File(p, _) = source {
+        let source = self.to_source()?;
+        std::fs::write(&path, source).map_err(|error| BuildError::Write {
+            path: path.clone(),
+            error,
+        })?;
+        for entry in &self.sources {
+            if let Source::File(p, _) = &entry.source {
                 println!("cargo:rerun-if-changed={}", p.display());
             }
         }

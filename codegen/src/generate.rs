@@ -14,7 +14,7 @@
 //!   last coordinate to the first (RBDA §6.5, "LTDL"), which keeps the tree's sparsity: the
 //!   structural zeros of `M` are exact zeros in the graph, so every product with them folds away.
 
-use articulated_dynamics::model::{JointKind, Model, Output, ScalarKind};
+use articulated_dynamics::model::{JointKind, Model};
 use articulated_dynamics::reference::{aba, crba, rnea, Tree};
 use articulated_dynamics::Scalar;
 use proc_macro2::{Ident, Span, TokenStream};
@@ -22,6 +22,7 @@ use quote::{format_ident, quote};
 
 use crate::emit::{self, Emitted};
 use crate::newton_euler::classical_rnea;
+use crate::options::{Options, Output, ScalarKind};
 use crate::reassociate::reassociate;
 use crate::regroup::{coordinate_axis, regroup};
 use crate::sym::{self, Graph, OpCounts, Sym, Var};
@@ -154,16 +155,13 @@ fn inputs(n: usize, var: fn(usize) -> Var) -> Vec<Sym> {
 /// A recursion to trace on a tree, by a Newton–Euler formulation where that applies.
 type TraceFn<'a> = dyn Fn(&Tree<Sym>, Formulation) -> Vec<Sym> + 'a;
 
-/// Traces `output` of `model` (one of the five core outputs) into a graph.
-///
-/// # Errors
-/// An output the generator does not produce yet.
-pub fn trace(model: &Model, output: Output) -> Result<Traced, String> {
-    Ok(trace_unordered(model, output)?.reassociated())
+/// Traces `output` of `model` into a graph.
+pub fn trace(model: &Model, output: Output) -> Traced {
+    trace_unordered(model, output).reassociated()
 }
 
 /// [`trace`] before the sums are regrouped by arrival time.
-fn trace_unordered(model: &Model, output: Output) -> Result<Traced, String> {
+fn trace_unordered(model: &Model, output: Output) -> Traced {
     let (nq, nv, np) = (model.nq(), model.nv(), model.params.len());
     // Traced on the tree as described and on the regrouped tree, and for the outputs of
     // inverse dynamics by both Newton–Euler formulations; the one with fewer operations is kept.
@@ -202,7 +200,7 @@ fn trace_unordered(model: &Model, output: Output) -> Result<Traced, String> {
         || inputs(nv, Var::V),
         || inputs(nv, Var::A),
     );
-    Ok(match output {
+    match output {
         Output::MassMatrix => simple(&both, &|t, f| crba_by(f, t, &q())),
         Output::Bias => simple(&both, &|t, f| rnea_by(f, t, &q(), &v(), &zeros(), false)),
         Output::Gravity => simple(&both, &|t, f| rnea_by(f, t, &q(), &zeros(), &zeros(), true)),
@@ -230,14 +228,7 @@ fn trace_unordered(model: &Model, output: Output) -> Result<Traced, String> {
             best.candidates = candidates;
             best
         }
-        other => {
-            return Err(format!(
-                "the output `{}` is not generated yet: the generator emits `mass_matrix`, `bias`, \
-                 `gravity`, `inverse_dynamics` and `forward_dynamics`",
-                other.name()
-            ))
-        }
-    })
+    }
 }
 
 /// The candidate with the fewest operations (the first of equals).
@@ -513,33 +504,29 @@ fn used_inputs(t: &Traced, nq: usize, nv: usize) -> Used {
 /// # Errors
 /// A `syn::Error` at the call site for an output the generator does not produce yet, or a
 /// constant that cannot be emitted.
-pub fn generate(model: &Model) -> syn::Result<Generated> {
-    generate_with(model, true)
+pub fn generate(model: &Model, options: &Options) -> syn::Result<Generated> {
+    generate_with(model, options, true)
 }
 
 /// [`generate`] without the struct itself, for `#[derive(Chain)]`, where the user wrote it.
 ///
 /// # Errors
 /// As [`generate`].
-pub fn generate_impls(model: &Model) -> syn::Result<Generated> {
-    generate_with(model, false)
+pub fn generate_impls(model: &Model, options: &Options) -> syn::Result<Generated> {
+    generate_with(model, options, false)
 }
 
-fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
-    let err = |m: String| syn::Error::new(Span::call_site(), m);
+fn generate_with(model: &Model, options: &Options, with_struct: bool) -> syn::Result<Generated> {
     let name = Ident::new(&model.name, Span::call_site());
     let name_str = &model.name;
-    let vis: TokenStream = model
-        .visibility
-        .parse()
-        .map_err(|e| err(format!("visibility: {e}")))?;
+    let vis = options.visibility.to_tokens();
     let (nq_n, nv_n) = (model.nq(), model.nv());
     let (nq, nv) = (
         proc_macro2::Literal::usize_unsuffixed(nq_n),
         proc_macro2::Literal::usize_unsuffixed(nv_n),
     );
-    let scalar = scalar_tokens(model.scalar);
-    let generic = model.scalar == ScalarKind::Generic;
+    let scalar = scalar_tokens(options.scalar);
+    let generic = options.scalar == ScalarKind::Generic;
     let param_idents: Vec<Ident> = model
         .params
         .iter()
@@ -564,7 +551,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
             text.parse()
                 .unwrap_or_else(|_| quote!(compile_error!("articulated: bad literal")))
         };
-        match model.scalar {
+        match options.scalar {
             ScalarKind::F64 => suffixed(format!("{x:?}_f64")),
             ScalarKind::F32 => suffixed(format!("{:?}_f32", x as f32)),
             ScalarKind::Generic => {
@@ -576,7 +563,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
 
     // Docs of the type: the user's, then what was generated.
     // Doc lines as `///` writes them, with a leading space (a URDF's or a program's may lack it).
-    let user_doc = model.doc.iter().map(|d| {
+    let user_doc = options.doc.iter().map(|d| {
         let d = if d.is_empty() || d.starts_with(' ') {
             d.clone()
         } else {
@@ -587,8 +574,8 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
     let mut items = Vec::new();
     let mut consts = Vec::new();
     let mut functions = Vec::new();
-    for &output in &model.outputs {
-        let traced = trace(model, output).map_err(err)?;
+    for &output in &options.outputs {
+        let traced = trace(model, output);
         let ops = traced.ops();
         let used = used_inputs(&traced, nq_n, nv_n);
         let input = |var: Var| var_ident(var, &param_idents);
@@ -597,7 +584,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
             statements,
             outputs,
             ..
-        } = emit::straight_line(&traced.graph, &all, model.scalar, &input)?;
+        } = emit::straight_line(&traced.graph, &all, options.scalar, &input)?;
         let (values, pivot_exprs) = outputs.split_at(traced.values.len());
         let q_id = format_ident!("q");
         let v_id = format_ident!("v");
@@ -716,7 +703,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
             Output::ForwardDynamics => {
                 let dv = destructure(&v_id, nv_n, &used.v);
                 let dt = destructure(&tau_id, nv_n, &used.tau);
-                let f32 = model.scalar == ScalarKind::F32;
+                let f32 = options.scalar == ScalarKind::F32;
                 let tol = lit(if f32 { PIVOT_TOL_F32 } else { PIVOT_TOL_F64 });
                 let tol_global = lit(if f32 {
                     PIVOT_TOL_GLOBAL_F32
@@ -773,7 +760,6 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
                     }
                 }
             }
-            _ => unreachable!("trace() refused the others"),
         };
         items.push(item);
         functions.push(FunctionReport {
@@ -788,7 +774,7 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
         " Generated by `articulated` from the chain `{name_str}`: {} bodies, `NQ = {nq}` positions, \
          `NV = {nv}` velocities. Outputs: {}.",
         model.nb(),
-        model
+        options
             .outputs
             .iter()
             .map(|o| format!("`{}`", o.name()))
@@ -870,8 +856,8 @@ fn generate_with(model: &Model, with_struct: bool) -> syn::Result<Generated> {
 ///
 /// # Errors
 /// As [`generate`], or if the tokens do not parse as a file (a bug).
-pub fn generate_file(model: &Model, source: &str) -> syn::Result<String> {
-    let g = generate(model)?;
+pub fn generate_file(model: &Model, options: &Options, source: &str) -> syn::Result<String> {
+    let g = generate(model, options)?;
     let body = emit::format(g.tokens)?;
     let mut header = format!(
         "// Generated by articulated-codegen from {source}. Do not edit: regenerate with\n\

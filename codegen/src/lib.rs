@@ -16,6 +16,7 @@ pub mod generate;
 pub mod load;
 pub mod lower;
 pub mod newton_euler;
+pub mod options;
 pub mod parse;
 pub mod reassociate;
 pub mod regroup;

@@ -2,7 +2,7 @@
 //!
 //! Every problem is reported, not just the first: errors are collected as `syn::Error`s, each at
 //! the offending token, and combined into one (as serde_derive's `Ctxt` does), so the macro
-//! shows them all and [`parse_chain_str`] lists them all with their line and column. Messages
+//! shows them all and [`parse_chain_str`](crate::load::parse_chain_str) lists them all with their line and column. Messages
 //! quote the user's names and say what was expected and what was found.
 //!
 //! What is checked: names (settings, fields, bodies, parameters, outputs, joint kinds, scalars,
@@ -12,7 +12,6 @@
 //! positive definite, triangle inequality). Parameters are checked at their default values.
 
 mod eigen;
-mod file;
 
 use std::collections::hash_map::Entry;
 use std::collections::{HashMap, HashSet};
@@ -21,13 +20,13 @@ use std::fmt;
 use proc_macro2::Ident;
 use quote::ToTokens;
 use syn::punctuated::Punctuated;
-use syn::{Lit, Token, Visibility};
-
-pub use file::{load_chain_file, parse_chain_str, Diagnostic, FileError};
+use syn::{Lit, Token};
 
 use crate::model::{
-    Body, EulerSeq, Joint, JointKind, Model, Output, Param, Placement, ScalarKind, Value,
-    DEFAULT_GRAVITY,
+    Body, EulerSeq, Joint, JointKind, Model, Param, Placement, Value, DEFAULT_GRAVITY,
+};
+use crate::options::{
+    one_of, unknown_output, unknown_scalar, Description, Options, Output, ScalarKind, Visibility,
 };
 use crate::parse::{BodyDef, ChainDef, Expr, Field, Item, JointDef, KindDef, Setting};
 
@@ -36,11 +35,11 @@ use crate::parse::{BodyDef, ChainDef, Expr, Field, Item, JointDef, KindDef, Sett
 ///
 /// On failure the returned `syn::Error` combines every problem found, each spanned at the
 /// offending token (iterate it to see them one by one).
-pub fn lower(def: &ChainDef) -> syn::Result<Model> {
+pub fn lower(def: &ChainDef) -> syn::Result<Description> {
     let mut lw = Lower::default();
-    let model = lw.chain(def);
+    let description = lw.chain(def);
     lw.cx.check()?;
-    model.ok_or_else(|| syn::Error::new_spanned(&def.name, "internal error: no model built"))
+    description.ok_or_else(|| syn::Error::new_spanned(&def.name, "internal error: no model built"))
 }
 
 /// Collects errors; [`Ctxt::check`] combines them (serde_derive's `internals::Ctxt`).
@@ -131,7 +130,7 @@ struct JointDecl<'a> {
 }
 
 impl Lower {
-    fn chain(&mut self, def: &ChainDef) -> Option<Model> {
+    fn chain(&mut self, def: &ChainDef) -> Option<Description> {
         let doc = self.docs(&def.attrs, "before `chain`");
 
         // Parameters first: any item may use one, wherever it is declared.
@@ -143,8 +142,11 @@ impl Lower {
         }
 
         let mut gravity = Some(DEFAULT_GRAVITY);
-        let mut scalar = ScalarKind::F64;
-        let mut outputs: Vec<Output> = Output::DEFAULT.to_vec();
+        let mut options = Options {
+            visibility: visibility(&def.vis),
+            doc,
+            ..Options::default()
+        };
         let mut seen_settings: HashSet<String> = HashSet::new();
         for item in &def.items {
             if let Item::Setting(s) = item {
@@ -155,11 +157,9 @@ impl Lower {
                         .error(&s.key, format!("setting `{key}` is given twice"));
                     continue;
                 }
-                self.setting(s, &mut gravity, &mut scalar, &mut outputs);
+                self.setting(s, &mut gravity, &mut options);
             }
         }
-        outputs.sort();
-        outputs.dedup();
 
         // Bodies, by name; a second body of the same name is reported and left out.
         let mut bodies: Vec<BodyDecl> = Vec::new();
@@ -253,17 +253,14 @@ impl Lower {
             });
         }
 
-        Some(Model {
+        let model = Model {
             name: def.name.to_string(),
-            visibility: visibility(&def.vis),
-            doc,
             gravity,
             params: std::mem::take(&mut self.params),
             bodies: model_bodies,
             joints: model_joints,
-            scalar,
-            outputs,
-        })
+        };
+        Some(Description { model, options })
     }
 
     /// The doc strings among `attrs`; any other attribute is an error.
@@ -317,13 +314,7 @@ impl Lower {
         }
     }
 
-    fn setting(
-        &mut self,
-        s: &Setting,
-        gravity: &mut Option<[Value; 3]>,
-        scalar: &mut ScalarKind,
-        outputs: &mut Vec<Output>,
-    ) {
+    fn setting(&mut self, s: &Setting, gravity: &mut Option<[Value; 3]>, options: &mut Options) {
         let v = &s.value;
         match s.key.to_string().as_str() {
             "gravity" => {
@@ -333,15 +324,16 @@ impl Lower {
                     *gravity = Some(g);
                 }
             }
-            "scalar" => match v {
-                Expr::Name(n) if n == "f64" => *scalar = ScalarKind::F64,
-                Expr::Name(n) if n == "f32" => *scalar = ScalarKind::F32,
-                Expr::Name(n) if n == "generic" => *scalar = ScalarKind::Generic,
-                _ => self.cx.error(
-                    v,
-                    format!("unknown scalar `{v}`: expected `f64`, `f32` or `generic`"),
-                ),
-            },
+            "scalar" => {
+                let kind = match v {
+                    Expr::Name(n) => ScalarKind::from_name(&n.to_string()),
+                    _ => None,
+                };
+                match kind {
+                    Some(kind) => options.scalar = kind,
+                    None => self.cx.error(v, unknown_scalar(&v.to_string())),
+                }
+            }
             "outputs" => {
                 let Expr::List(_, elems) = v else {
                     self.cx.error(
@@ -352,21 +344,18 @@ impl Lower {
                     );
                     return;
                 };
-                outputs.clear();
+                let mut outputs = Vec::new();
                 for e in elems {
-                    match e {
-                        Expr::Name(n) if Output::from_name(&n.to_string()).is_some() => {
-                            outputs.extend(Output::from_name(&n.to_string()));
-                        }
-                        _ => {
-                            let names: Vec<&str> = Output::ALL.iter().map(|(_, n)| *n).collect();
-                            self.cx.error(
-                                e,
-                                format!("unknown output `{e}`: expected one of {}", one_of(&names)),
-                            );
-                        }
+                    let output = match e {
+                        Expr::Name(n) => Output::from_name(&n.to_string()),
+                        _ => None,
+                    };
+                    match output {
+                        Some(output) => outputs.push(output),
+                        None => self.cx.error(e, unknown_output(&e.to_string())),
                     }
                 }
+                options.set_outputs(outputs);
             }
             other => self.cx.error(
                 &s.key,
@@ -1180,39 +1169,17 @@ fn num(x: f64) -> String {
     format!("{rounded}")
 }
 
-/// "`a`", "`a` or `b`", "`a`, `b` or `c`".
-fn one_of(names: &[&str]) -> String {
-    match names {
-        [] => String::new(),
-        [one] => format!("`{one}`"),
-        [rest @ .., last] => {
-            let rest: Vec<String> = rest.iter().map(|n| format!("`{n}`")).collect();
-            format!("{} or `{last}`", rest.join(", "))
-        }
-    }
-}
-
-/// The visibility as Rust source: `""`, `"pub"`, `"pub(crate)"`, `"pub(in a::b)"`.
-fn visibility(vis: &Visibility) -> String {
+/// The visibility as written: none, `pub`, `pub(crate)`, `pub(in a::b)`.
+pub(crate) fn visibility(vis: &syn::Visibility) -> Visibility {
     match vis {
-        Visibility::Public(_) => "pub".to_string(),
-        Visibility::Inherited => String::new(),
-        Visibility::Restricted(r) => {
-            let mut path = String::new();
-            if r.path.leading_colon.is_some() {
-                path.push_str("::");
-            }
-            let segs: Vec<String> = r
-                .path
-                .segments
-                .iter()
-                .map(|s| s.ident.to_string())
-                .collect();
-            path.push_str(&segs.join("::"));
+        syn::Visibility::Public(_) => Visibility::Public,
+        syn::Visibility::Inherited => Visibility::Private,
+        syn::Visibility::Restricted(r) => {
+            let path = r.path.to_token_stream().to_string().replace(' ', "");
             if r.in_token.is_some() {
-                format!("pub(in {path})")
+                Visibility::Restricted(format!("in {path}"))
             } else {
-                format!("pub({path})")
+                Visibility::Restricted(path)
             }
         }
     }

@@ -27,7 +27,7 @@
 //! }
 //! ```
 //!
-//! The same text is a `.chain` file (read it with [`crate::lower::load_chain_file`]) and, inside
+//! The same text is a `.chain` file (read it with [`crate::load::load`]) and, inside
 //! `chain! { … }`, a macro invocation. Comments are Rust's: `//`, `/* … */`, and `///` doc
 //! comments.
 //!
@@ -35,9 +35,9 @@
 //! `[doc comments] [visibility] chain Name { items }`
 //!
 //! - Doc comments (`/// …`, or `#[doc = "…"]`) before `chain` become the generated type's docs
-//!   ([`Model::doc`](crate::model::Model::doc), one entry per line, exactly as written).
+//!   ([`Options::doc`](crate::options::Options::doc), one entry per line, exactly as written).
 //! - Visibility: none, `pub`, `pub(crate)`, `pub(super)`, `pub(in path)`: copied to
-//!   [`Model::visibility`](crate::model::Model::visibility).
+//!   [`Options::visibility`](crate::options::Options::visibility).
 //! - `chain` is a contextual keyword; `Name` names the generated type.
 //! - An optional `;` may follow the closing brace.
 //!
@@ -50,7 +50,7 @@
 //! |---|---|---|
 //! | `gravity` | `[gx, gy, gz]` (m/s², world frame) or `none` | `[0.0, 0.0, -9.81]` |
 //! | `scalar` | `f64`, `f32` or `generic` | `f64` |
-//! | `outputs` | a list of names from [`Output::ALL`](crate::model::Output::ALL): `mass_matrix`, `bias`, `gravity`, `inverse_dynamics`, `forward_dynamics`, `coriolis`, `center_of_mass`, `momentum`, `energy`, `joint_wrenches`, `linearization` | [`Output::DEFAULT`](crate::model::Output::DEFAULT) |
+//! | `outputs` | a list of names from [`Output::ALL`](crate::options::Output::ALL): `mass_matrix`, `bias`, `gravity`, `inverse_dynamics`, `forward_dynamics` | [`Output::DEFAULT`](crate::options::Output::DEFAULT) |
 //!
 //! Outputs are sorted and duplicates dropped.
 //!
@@ -109,7 +109,7 @@
 //!
 //! # Example
 //! ```
-//! use articulated_codegen::lower::parse_chain_str;
+//! use articulated_codegen::load::parse_chain_str;
 //! let src = r#"
 //!     /// A pendulum.
 //!     pub chain Pendulum {
@@ -118,9 +118,10 @@
 //!         joint pivot: revolute(y) { parent: world, child: bob }
 //!     }
 //! "#;
-//! let model = parse_chain_str(src, "pendulum.chain".as_ref()).unwrap();
-//! assert_eq!(model.name, "Pendulum");
-//! assert_eq!((model.nq(), model.nv()), (1, 1));
+//! let chain = parse_chain_str(src, "pendulum.chain".as_ref()).unwrap();
+//! assert_eq!(chain.model.name, "Pendulum");
+//! assert_eq!((chain.model.nq(), chain.model.nv()), (1, 1));
+//! assert_eq!(chain.options.doc, [" A pendulum."]);
 //! ```
 
 use std::fmt;

@@ -210,7 +210,7 @@ mod tests {
                    joint ja: revolute(z) { parent: world, child: a } \
                    joint jb: revolute(y) { parent: a, child: b, xyz: [0.0, 0.0, 0.5] } }";
         let def: crate::parse::ChainDef = syn::parse_str(src).unwrap();
-        let model = crate::lower::lower(&def).unwrap();
+        let model = crate::lower::lower(&def).unwrap().model;
         let (_, inertias) = sym::trace(|| {
             let mut tree = Tree::new(&model, &[]);
             regroup(&mut tree);

@@ -22,8 +22,9 @@
 //!   its inertial) under a [`JointKind::FreeEuler`] `zyx` joint named `root_joint` with the
 //!   identity placement, so its 6 coordinates come first.
 //! - Joints and bodies are in depth-first order, the children of a link in document order.
-//! - The model's name is the robot's name in UpperCamelCase (`arm6_mixed` → `Arm6Mixed`), its
-//!   visibility `pub`, gravity `[0, 0, −9.81]`, scalar `f64`, outputs [`Output::DEFAULT`].
+//! - The model's name is the robot's name in UpperCamelCase (`arm6_mixed` → `Arm6Mixed`),
+//!   gravity `[0, 0, −9.81]`; the [`Options`] are the defaults (a `pub` type in `f64`, the
+//!   default outputs) with a doc line naming the robot.
 //!
 //! # Errors
 //! Malformed XML, a missing required element, an unknown link, a link with two parents, two roots,
@@ -36,8 +37,10 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use articulated_dynamics::model::{
-    Body, EulerSeq, Joint, JointKind, Model, Output, Placement, ScalarKind, Value, DEFAULT_GRAVITY,
+    Body, EulerSeq, Joint, JointKind, Model, Placement, Value, DEFAULT_GRAVITY,
 };
+
+use crate::options::{Description, Options};
 
 /// An error found while importing a URDF description.
 ///
@@ -62,7 +65,12 @@ impl UrdfError {
         self.line = line;
         self
     }
-    /// The file the description was read from (`None` for [`from_urdf_str`]).
+    /// The same error, in the file `path` (for messages).
+    pub fn in_file(mut self, path: &Path) -> Self {
+        self.file = Some(path.to_path_buf());
+        self
+    }
+    /// The file the description was read from (`None` for [`from_urdf_str`] alone).
     pub fn file(&self) -> Option<&Path> {
         self.file.as_deref()
     }
@@ -91,21 +99,12 @@ impl fmt::Display for UrdfError {
 
 impl std::error::Error for UrdfError {}
 
-/// Reads the URDF file at `path` and builds its [`Model`] (see the [module docs](self)). With
+/// Builds the [`Description`] of a URDF robot given as text (see the [module docs](self)). With
 /// `floating`, a free `zyx` Euler base is put under the root link.
-pub fn load_urdf_file(path: &Path, floating: bool) -> Result<Model, UrdfError> {
-    let with_file = |mut e: UrdfError| {
-        e.file = Some(path.to_path_buf());
-        e
-    };
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| with_file(UrdfError::new(format!("cannot read the file: {e}"))))?;
-    from_urdf_str(&text, floating).map_err(with_file)
-}
-
-/// Builds the [`Model`] of a URDF description given as text (see the [module docs](self)). With
-/// `floating`, a free `zyx` Euler base is put under the root link.
-pub fn from_urdf_str(xml: &str, floating: bool) -> Result<Model, UrdfError> {
+///
+/// # Errors
+/// A [`UrdfError`] with the line of the offending element where it can be found.
+pub fn from_urdf_str(xml: &str, floating: bool) -> Result<Description, UrdfError> {
     let robot = read_robot(xml)
         .map_err(|e| UrdfError::new(format!("malformed URDF: {e}")).at(locate_parse_error(xml)))?;
     Importer { text: xml, robot }.build(floating)
@@ -557,7 +556,7 @@ impl Importer<'_> {
         })
     }
 
-    fn build(&self, floating: bool) -> Result<Model, UrdfError> {
+    fn build(&self, floating: bool) -> Result<Description, UrdfError> {
         let links = &self.robot.links;
         let joints = &self.robot.joints;
         if links.is_empty() {
@@ -717,11 +716,6 @@ impl Importer<'_> {
 
         let model = Model {
             name: camel_case(&self.robot.name),
-            visibility: "pub".into(),
-            doc: vec![format!(
-                "Imported from the URDF robot `{}`.",
-                self.robot.name
-            )],
             gravity: Some(DEFAULT_GRAVITY),
             params: Vec::new(),
             bodies: bodies
@@ -734,13 +728,18 @@ impl Importer<'_> {
                 })
                 .collect(),
             joints: out_joints,
-            scalar: ScalarKind::F64,
-            outputs: Output::DEFAULT.to_vec(),
         };
         model
             .check()
             .map_err(|e| UrdfError::new(format!("the imported model is invalid: {e}")))?;
-        Ok(model)
+        let options = Options {
+            doc: vec![format!(
+                " Imported from the URDF robot `{}`.",
+                self.robot.name
+            )],
+            ..Options::default()
+        };
+        Ok(Description { model, options })
     }
 }
 

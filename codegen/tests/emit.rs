@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use articulated_codegen::emit::{self, EmitError, Emitted};
-use articulated_codegen::model::ScalarKind;
+use articulated_codegen::options::ScalarKind;
 use articulated_codegen::sym::{trace, Graph, Sym, Var};
 use articulated_dynamics::Scalar;
 use proc_macro2::{Literal, TokenStream};

@@ -5,24 +5,38 @@
 use std::f64::consts::PI;
 use std::path::Path;
 
-use articulated_codegen::lower::{load_chain_file, lower, parse_chain_str};
+use articulated_codegen::load::{load, parse_chain_str};
+use articulated_codegen::lower::lower;
 use articulated_codegen::model::{
-    Axis, EulerSeq, JointKind, Model, Output, Param, Placement, ScalarKind, Value, DEFAULT_GRAVITY,
+    Axis, EulerSeq, JointKind, Model, Param, Placement, Value, DEFAULT_GRAVITY,
 };
+use articulated_codegen::options::{Description, Output, ScalarKind, Visibility};
 use articulated_codegen::parse::ChainDef;
 use quote::ToTokens;
 
 const B: &str = "body a { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }";
 const J: &str = "joint j: revolute(z) { parent: world, child: a }";
 
+/// The description of a `.chain` text, its model checked.
+fn describe(src: &str) -> Description {
+    let d = parse_chain_str(src, Path::new("t.chain")).unwrap_or_else(|e| panic!("{e}"));
+    d.model
+        .check()
+        .unwrap_or_else(|e| panic!("invalid model: {e}"));
+    d
+}
+
 fn parse(src: &str) -> Model {
-    let m = parse_chain_str(src, Path::new("t.chain")).unwrap_or_else(|e| panic!("{e}"));
-    m.check().unwrap_or_else(|e| panic!("invalid model: {e}"));
-    m
+    describe(src).model
+}
+
+/// The description of a chain `C` with these items.
+fn describe_chain(items: &[&str]) -> Description {
+    describe(&format!("chain C {{\n{}\n}}\n", items.join("\n")))
 }
 
 fn chain(items: &[&str]) -> Model {
-    parse(&format!("chain C {{\n{}\n}}\n", items.join("\n")))
+    describe_chain(items).model
 }
 
 fn c(x: f64) -> Value {
@@ -53,20 +67,21 @@ fn hemami_two_link_file() {
         env!("CARGO_MANIFEST_DIR"),
         "/tests/fixtures/two_link.chain"
     ));
-    let m = load_chain_file(path).unwrap_or_else(|e| panic!("{e}"));
+    let d = load(path, false).unwrap_or_else(|e| panic!("{e}"));
+    let m = &d.model;
     m.check().unwrap();
     assert_eq!(m.name, "TwoLink");
-    assert_eq!(m.visibility, "pub");
+    assert_eq!(d.options.visibility, Visibility::Public);
     assert_eq!(
-        m.doc,
+        d.options.doc,
         vec![
             " Hemami's two-link system: legs on a spherical ankle, trunk on a spherical hip."
                 .to_string()
         ]
     );
     assert_eq!(m.gravity, Some(c3([0.0, 0.0, -9.81])));
-    assert_eq!(m.scalar, ScalarKind::F64);
-    assert_eq!(m.outputs, Output::DEFAULT.to_vec());
+    assert_eq!(d.options.scalar, ScalarKind::F64);
+    assert_eq!(d.options.outputs, Output::DEFAULT.to_vec());
     assert_eq!(
         m.params,
         vec![Param {
@@ -102,7 +117,7 @@ fn the_macro_token_path_gives_the_same_model() {
         env!("CARGO_MANIFEST_DIR"),
         "/tests/fixtures/two_link.chain"
     ));
-    let from_file = load_chain_file(path).unwrap();
+    let from_file = load(path, false).unwrap();
     let tokens = quote::quote! {
         /// Hemami's two-link system: legs on a spherical ankle, trunk on a spherical hip.
         pub chain TwoLink {
@@ -127,13 +142,14 @@ fn the_macro_token_path_gives_the_same_model() {
 
 #[test]
 fn defaults_when_nothing_is_set() {
-    let m = parse(&format!("chain C {{ {B} {J} }}"));
+    let d = describe(&format!("chain C {{ {B} {J} }}"));
+    let m = &d.model;
     assert_eq!(m.name, "C");
-    assert_eq!(m.visibility, "");
-    assert!(m.doc.is_empty());
+    assert_eq!(d.options.visibility, Visibility::Private);
+    assert!(d.options.doc.is_empty());
     assert_eq!(m.gravity, Some(DEFAULT_GRAVITY));
-    assert_eq!(m.scalar, ScalarKind::F64);
-    assert_eq!(m.outputs, Output::DEFAULT.to_vec());
+    assert_eq!(d.options.scalar, ScalarKind::F64);
+    assert_eq!(d.options.outputs, Output::DEFAULT.to_vec());
     assert!(m.params.is_empty());
     assert_eq!(m.bodies[0].com, c3([0.0; 3]));
     assert_eq!(m.joints[0].placement, Placement::IDENTITY);
@@ -152,26 +168,31 @@ fn gravity_none_and_custom() {
 
 #[test]
 fn scalars() {
-    assert_eq!(chain(&["scalar: f64;", B, J]).scalar, ScalarKind::F64);
-    assert_eq!(chain(&["scalar: f32;", B, J]).scalar, ScalarKind::F32);
-    assert_eq!(
-        chain(&["scalar: generic;", B, J]).scalar,
-        ScalarKind::Generic
-    );
+    for (name, kind) in [
+        ("f64", ScalarKind::F64),
+        ("f32", ScalarKind::F32),
+        ("generic", ScalarKind::Generic),
+    ] {
+        let d = describe_chain(&[&format!("scalar: {name};"), B, J]);
+        assert_eq!(d.options.scalar, kind);
+    }
 }
 
 #[test]
 fn outputs_sorted_and_deduplicated() {
-    let m = chain(&["outputs: [energy, mass_matrix, energy, coriolis];", B, J]);
+    let d = describe_chain(&["outputs: [gravity, mass_matrix, gravity, bias];", B, J]);
     assert_eq!(
-        m.outputs,
-        [Output::MassMatrix, Output::Coriolis, Output::Energy]
+        d.options.outputs,
+        [Output::MassMatrix, Output::Bias, Output::Gravity]
     );
     let all: Vec<&str> = Output::ALL.iter().rev().map(|(_, n)| *n).collect();
-    let m = chain(&[&format!("outputs: [{}];", all.join(", ")), B, J]);
+    let d = describe_chain(&[&format!("outputs: [{}];", all.join(", ")), B, J]);
     let want: Vec<Output> = Output::ALL.iter().map(|(o, _)| *o).collect();
-    assert_eq!(m.outputs, want);
-    assert!(chain(&["outputs: [];", B, J]).outputs.is_empty());
+    assert_eq!(d.options.outputs, want);
+    assert!(describe_chain(&["outputs: [];", B, J])
+        .options
+        .outputs
+        .is_empty());
 }
 
 // ---- joint kinds ----
@@ -267,7 +288,7 @@ fn depth_first_order_children_in_declaration_order() {
 
 #[test]
 fn items_in_any_order() {
-    let m = chain(&[
+    let d = describe_chain(&[
         J,
         "joint k: revolute(x) { parent: a, child: b }",
         "body b { mass: m, inertia: diag(1.0, 1.0, 1.0) }",
@@ -275,8 +296,9 @@ fn items_in_any_order() {
         B,
         "param m = 2.0;",
     ]);
+    let m = &d.model;
     assert_eq!(m.bodies[1].mass, Value::Param(0));
-    assert_eq!(m.outputs, [Output::Bias]);
+    assert_eq!(d.options.outputs, [Output::Bias]);
     assert_eq!(m.joints[1].parent, Some(0));
 }
 
@@ -380,12 +402,12 @@ fn inertia_forms() {
 
 #[test]
 fn docs_and_visibility() {
-    let m = parse(&format!(
+    let d = describe(&format!(
         "/// First line.\n///\n/// Third, after a blank.\n#[doc = \"attribute form\"]\n\
          pub(crate) chain V {{ {B} {J} }}"
     ));
     assert_eq!(
-        m.doc,
+        d.options.doc,
         [
             " First line.",
             "",
@@ -393,21 +415,16 @@ fn docs_and_visibility() {
             "attribute form"
         ]
     );
-    assert_eq!(m.visibility, "pub(crate)");
-    for (vis, want) in [
-        ("", ""),
-        ("pub", "pub"),
-        ("pub(super)", "pub(super)"),
-        ("pub(in crate::robots)", "pub(in crate::robots)"),
-    ] {
-        let m = parse(&format!("{vis} chain V {{ {B} {J} }}"));
-        assert_eq!(m.visibility, want);
+    assert_eq!(d.options.visibility.to_string(), "pub(crate)");
+    for vis in ["", "pub", "pub(super)", "pub(in crate::robots)"] {
+        let d = describe(&format!("{vis} chain V {{ {B} {J} }}"));
+        assert_eq!(d.options.visibility.to_string(), vis);
     }
 }
 
 #[test]
 fn doc_comments_on_items_are_accepted() {
-    let m = chain(&[
+    let d = describe_chain(&[
         "/// Standard gravity.",
         "gravity: [0.0, 0.0, -9.81];",
         "/// The payload.",
@@ -417,8 +434,8 @@ fn doc_comments_on_items_are_accepted() {
         "/** The only joint. */",
         J,
     ]);
-    assert!(m.doc.is_empty());
-    assert_eq!(m.nb(), 1);
+    assert!(d.options.doc.is_empty());
+    assert_eq!(d.model.nb(), 1);
 }
 
 #[test]

@@ -4,8 +4,10 @@
 use std::f64::consts::FRAC_PI_2;
 use std::path::Path;
 
-use articulated_codegen::model::{EulerSeq, JointKind, Model, Output, Value};
-use articulated_codegen::urdf::{from_urdf_str, load_urdf_file, UrdfError};
+use articulated_codegen::load::{load, load_model};
+use articulated_codegen::model::{EulerSeq, JointKind, Model, Value};
+use articulated_codegen::options::{Output, Visibility};
+use articulated_codegen::urdf::{from_urdf_str, UrdfError};
 
 fn c(v: &Value) -> f64 {
     v.as_const().expect("a constant")
@@ -45,7 +47,7 @@ fn one_link(inertial: &str) -> Model {
          <joint name=\"j1\" type=\"revolute\"><parent link=\"base\"/><child link=\"l1\"/>\
          <axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint>"
     ));
-    from_urdf_str(&xml, false).expect("valid URDF")
+    from_urdf_str(&xml, false).expect("valid URDF").model
 }
 
 fn err(xml: &str) -> UrdfError {
@@ -192,7 +194,7 @@ fn fixed_joint_is_merged_into_its_parent_by_hand() {
         inertial(2.0, "0.2 0 0", "0 0 0", [0.01, 0.0, 0.0, 0.02, 0.0, 0.03]),
         inertial(1.0, "0 0 0", "0 0 0", [0.1, 0.0, 0.0, 0.1, 0.0, 0.1]),
     ));
-    let m = from_urdf_str(&xml, false).unwrap();
+    let m = from_urdf_str(&xml, false).unwrap().model;
     assert_eq!(m.nb(), 2);
     assert_eq!(m.bodies[0].name, "p");
     let p = &m.bodies[0];
@@ -228,7 +230,7 @@ fn joints_in_depth_first_order_children_in_document_order() {
 <joint name="ja" type="revolute"><parent link="base"/><child link="a"/></joint>
 <joint name="jb1" type="revolute"><parent link="b"/><child link="b1"/></joint>"#,
     );
-    let m = from_urdf_str(&xml, false).unwrap();
+    let m = from_urdf_str(&xml, false).unwrap().model;
     let names: Vec<&str> = m.joints.iter().map(|j| j.name.as_str()).collect();
     assert_eq!(names, ["jb", "jb1", "ja", "ja1"]);
     let bodies: Vec<&str> = m.bodies.iter().map(|b| b.name.as_str()).collect();
@@ -255,11 +257,12 @@ fn continuous_and_prismatic_axes_normalized_and_model_defaults() {
   <origin xyz="0.1 0.2 0.3" rpy="0.4 0.5 0.6"/><axis xyz="0 0 2"/></joint>
 <joint name="slide" type="prismatic"><parent link="a"/><child link="b"/><axis xyz="3 4 0"/></joint>
 </robot>"#;
-    let m = from_urdf_str(xml, false).unwrap();
+    let d = from_urdf_str(xml, false).unwrap();
+    let m = &d.model;
     assert_eq!(m.name, "MyLittleRobot2");
-    assert_eq!(m.visibility, "pub");
+    assert_eq!(d.options.visibility, Visibility::Public);
     assert_eq!(m.gravity.map(|g| c3(&g)), Some([0.0, 0.0, -9.81]));
-    assert_eq!(m.outputs, Output::DEFAULT.to_vec());
+    assert_eq!(d.options.outputs, Output::DEFAULT.to_vec());
     assert_eq!((m.nq(), m.nv()), (2, 2));
     assert_eq!(
         m.joints[0].kind,
@@ -285,10 +288,10 @@ fn floating_base_keeps_the_root_and_comes_first() {
 <joint name="shoulder" type="revolute"><parent link="torso"/><child link="arm"/><axis xyz="0 1 0"/></joint>"#,
         inertial(7.0, "0 0 0.1", "0 0 0", [1.0, 0.0, 0.0, 2.0, 0.0, 3.0])
     ));
-    let fixed = from_urdf_str(&xml, false).unwrap();
+    let fixed = from_urdf_str(&xml, false).unwrap().model;
     assert_eq!(fixed.nb(), 1);
     assert_eq!(fixed.joints[0].parent, None);
-    let m = from_urdf_str(&xml, true).unwrap();
+    let m = from_urdf_str(&xml, true).unwrap().model;
     assert_eq!(m.nb(), 2);
     assert_eq!((m.nq(), m.nv()), (7, 7));
     assert_eq!(
@@ -309,7 +312,7 @@ fn floating_base_keeps_the_root_and_comes_first() {
         r#"<link name="world"/><link name="box"/>
 <joint name="free" type="floating"><parent link="world"/><child link="box"/><origin xyz="0 0 1"/></joint>"#,
     );
-    let m = from_urdf_str(&xml, false).unwrap();
+    let m = from_urdf_str(&xml, false).unwrap().model;
     assert_eq!(
         m.joints[0].kind,
         JointKind::FreeEuler { seq: EulerSeq::ZYX }
@@ -445,11 +448,10 @@ fn errors_name_the_problem_and_the_line() {
 
 #[test]
 fn file_errors_name_the_file() {
-    let e = load_urdf_file(Path::new("/no/such/dir/robot.urdf"), false).unwrap_err();
-    assert_eq!(e.file(), Some(Path::new("/no/such/dir/robot.urdf")));
+    let e = load(Path::new("/no/such/dir/robot.urdf"), false).unwrap_err();
     assert!(
         e.to_string()
-            .starts_with("/no/such/dir/robot.urdf: cannot read"),
+            .starts_with("/no/such/dir/robot.urdf: error: cannot read"),
         "{e}"
     );
 
@@ -457,7 +459,7 @@ fn file_errors_name_the_file() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("bad.urdf");
     std::fs::write(&path, chain_with("<link name=\"b\"/>\n<joint name=\"jb\" type=\"planar\"><parent link=\"a\"/><child link=\"b\"/></joint>")).unwrap();
-    let e = load_urdf_file(&path, false).unwrap_err();
+    let e = load(&path, false).unwrap_err();
     std::fs::remove_dir_all(&dir).ok();
     assert_eq!(e.to_string(), format!("{}:7: joint `jb`: planar joints are not supported (write two prismatic joints and a revolute joint through massless links)", path.display()));
 }
@@ -472,12 +474,12 @@ fn fixture_and_shared_models_load() {
         ("arm6_mixed", 6),
         ("tree_two_arms", 7),
     ] {
-        let m = load_urdf_file(&data.join(format!("{name}.urdf")), false).unwrap();
+        let m = load_model(&data.join(format!("{name}.urdf")), false).unwrap();
         assert_eq!(m.nq(), nq, "{name}");
-        let f = load_urdf_file(&data.join(format!("{name}.urdf")), true).unwrap();
+        let f = load_model(&data.join(format!("{name}.urdf")), true).unwrap();
         assert_eq!(f.nq(), nq + 6, "{name}");
     }
-    let m = load_urdf_file(&root.join("tests/fixtures/rotated_tool.urdf"), false).unwrap();
+    let m = load_model(&root.join("tests/fixtures/rotated_tool.urdf"), false).unwrap();
     assert_eq!(m.nb(), 2);
 }
 
@@ -546,7 +548,7 @@ fn placements_through_fixed_joints_compose_even_at_gimbal_lock() {
 <joint name="j" type="revolute"><parent link="w"/><child link="l"/><origin xyz="0.5 -0.5 1" rpy="{} {} {}"/></joint>"#,
             a[0], a[1], a[2], b[0], b[1], b[2]
         ));
-        let m = from_urdf_str(&xml, false).unwrap();
+        let m = from_urdf_str(&xml, false).unwrap().model;
         assert_eq!(m.nb(), 1);
         assert_eq!(m.joints[0].parent, None);
         let (ra, rb) = (rpy_rot(a), rpy_rot(b));
@@ -569,12 +571,12 @@ fn links_welded_to_the_root_join_the_world_or_the_floating_root() {
         inertial(1.0, "0 0 0", "0 0 0", [0.1, 0.0, 0.0, 0.1, 0.0, 0.1]),
     ));
     // Fixed base: base_link is part of the world; the shoulder hangs from the world at z = 1.5.
-    let m = from_urdf_str(&xml, false).unwrap();
+    let m = from_urdf_str(&xml, false).unwrap().model;
     assert_eq!(m.nb(), 1);
     assert_eq!(m.joints[0].parent, None);
     assert_eq!(c3(&m.joints[0].placement.xyz), [0.0, 0.0, 1.5]);
     // Floating: the free base carries `world` with base_link merged into it (mass 3 at z = 1).
-    let m = from_urdf_str(&xml, true).unwrap();
+    let m = from_urdf_str(&xml, true).unwrap().model;
     assert_eq!(m.nb(), 2);
     assert_eq!(m.bodies[0].name, "world");
     assert_eq!(c(&m.bodies[0].mass), 3.0);

@@ -18,6 +18,7 @@
 
 use alloc::string::String;
 use alloc::vec::Vec;
+use core::fmt;
 
 use crate::scalar::Scalar;
 
@@ -251,91 +252,11 @@ pub struct Joint {
     pub placement: Placement,
 }
 
-/// Which scalar the generated code uses.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum ScalarKind {
-    /// `f64` (the default).
-    #[default]
-    F64,
-    /// `f32`.
-    F32,
-    /// Generic over `T: nalgebra::RealField + Copy`.
-    Generic,
-}
-
-/// An output the generator can emit for a chain.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Output {
-    /// `M(q)`.
-    MassMatrix,
-    /// `N(q, q̇)·q̇` without gravity.
-    Bias,
-    /// `g(q)`.
-    Gravity,
-    /// `τ = M·a + bias + gravity`.
-    InverseDynamics,
-    /// `q̈` from `τ`.
-    ForwardDynamics,
-    /// The matrix `N(q, q̇)` with `Ṁ − 2N` skew.
-    Coriolis,
-    /// Centre of mass of the whole chain.
-    CenterOfMass,
-    /// Linear and angular momentum.
-    Momentum,
-    /// Kinetic and potential energy.
-    Energy,
-    /// The wrench each joint transmits.
-    JointWrenches,
-    /// Linearization about a state.
-    Linearization,
-}
-
-impl Output {
-    /// Every output, with its name in the description grammar.
-    pub const ALL: [(Output, &'static str); 11] = [
-        (Output::MassMatrix, "mass_matrix"),
-        (Output::Bias, "bias"),
-        (Output::Gravity, "gravity"),
-        (Output::InverseDynamics, "inverse_dynamics"),
-        (Output::ForwardDynamics, "forward_dynamics"),
-        (Output::Coriolis, "coriolis"),
-        (Output::CenterOfMass, "center_of_mass"),
-        (Output::Momentum, "momentum"),
-        (Output::Energy, "energy"),
-        (Output::JointWrenches, "joint_wrenches"),
-        (Output::Linearization, "linearization"),
-    ];
-    /// The outputs generated when a description names none.
-    pub const DEFAULT: [Output; 5] = [
-        Output::MassMatrix,
-        Output::Bias,
-        Output::Gravity,
-        Output::InverseDynamics,
-        Output::ForwardDynamics,
-    ];
-    /// Its name in the grammar.
-    pub fn name(self) -> &'static str {
-        Output::ALL
-            .iter()
-            .find(|(o, _)| *o == self)
-            .map(|(_, n)| *n)
-            .unwrap_or("")
-    }
-    /// The output of that name.
-    pub fn from_name(s: &str) -> Option<Output> {
-        Output::ALL.iter().find(|(_, n)| *n == s).map(|(o, _)| *o)
-    }
-}
-
 /// A whole chain or tree of rigid bodies: what every front end produces.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Model {
     /// The chain's name (the generated type's name).
     pub name: String,
-    /// Visibility of the generated type as Rust source (`""`, `"pub"`, `"pub(crate)"`).
-    pub visibility: String,
-    /// Documentation lines given with the chain.
-    pub doc: Vec<String>,
     /// Gravity acceleration in the world frame (m/s²), or `None` for no gravity.
     pub gravity: Option<[Value; 3]>,
     /// Runtime parameters, referred to by [`Value::Param`].
@@ -344,30 +265,21 @@ pub struct Model {
     pub bodies: Vec<Body>,
     /// Joints; `joints[i].parent < Some(i)`.
     pub joints: Vec<Joint>,
-    /// The scalar of the generated code.
-    pub scalar: ScalarKind,
-    /// The outputs to generate, sorted, without duplicates.
-    pub outputs: Vec<Output>,
 }
 
 /// The default gravity, `[0, 0, −9.81]` m/s².
 pub const DEFAULT_GRAVITY: [Value; 3] = [Value::Const(0.0), Value::Const(0.0), Value::Const(-9.81)];
 
 impl Model {
-    /// A public chain named `name` with the default gravity, no parameters, the default scalar
-    /// and the default outputs ([`Output::DEFAULT`]): what a program that builds models (random
-    /// trees, tests) needs before it sets anything else.
+    /// A chain named `name` with the default gravity and no parameters: what a program that
+    /// builds models (random trees, tests) needs before it sets anything else.
     pub fn new(name: &str, bodies: Vec<Body>, joints: Vec<Joint>) -> Model {
         Model {
             name: String::from(name),
-            visibility: String::from("pub"),
-            doc: Vec::new(),
             gravity: Some(DEFAULT_GRAVITY),
             params: Vec::new(),
             bodies,
             joints,
-            scalar: ScalarKind::default(),
-            outputs: Output::DEFAULT.to_vec(),
         }
     }
 
@@ -399,6 +311,14 @@ impl Model {
     pub fn param_defaults(&self) -> Vec<f64> {
         self.params.iter().map(|p| p.default).collect()
     }
+    /// The joint that velocity coordinate `k` belongs to.
+    pub fn joint_of_velocity(&self, k: usize) -> Option<&Joint> {
+        let mut at = 0;
+        self.joints.iter().find(|j| {
+            at += j.kind.nv();
+            k < at
+        })
+    }
     /// Index of the body called `name`.
     pub fn body_index(&self, name: &str) -> Option<usize> {
         self.bodies.iter().position(|b| b.name == name)
@@ -406,21 +326,21 @@ impl Model {
     /// Checks the structural invariants the back ends rely on (lengths, parent order, depth-first
     /// order, parameter indices, finite constants, unit axes). Front ends report user errors
     /// themselves, at the user's token; this is the last line of defence, for models built by hand.
-    pub fn check(&self) -> Result<(), String> {
-        use alloc::format;
+    ///
+    /// # Errors
+    /// The first [`ModelError`] found.
+    pub fn check(&self) -> Result<(), ModelError> {
         if self.bodies.len() != self.joints.len() {
-            return Err(format!(
-                "{} bodies but {} joints: each body needs exactly one parent joint",
-                self.bodies.len(),
-                self.joints.len()
-            ));
+            return Err(ModelError::Counts {
+                bodies: self.bodies.len(),
+                joints: self.joints.len(),
+            });
         }
-        let nparams = self.params.len();
-        let check_value = |v: &Value, what: &str| -> Result<(), String> {
+        let check_value = |v: &Value, place: Place| -> Result<(), ModelError> {
             match *v {
-                Value::Const(x) if !x.is_finite() => Err(format!("{what} is not finite ({x})")),
-                Value::Param(i) if i >= nparams => {
-                    Err(format!("{what} names parameter #{i}, which does not exist"))
+                Value::Const(x) if !x.is_finite() => Err(ModelError::NonFinite { place, value: x }),
+                Value::Param(index) if index >= self.params.len() => {
+                    Err(ModelError::UnknownParam { place, index })
                 }
                 _ => Ok(()),
             }
@@ -429,23 +349,18 @@ impl Model {
         // still on the current path from the root.
         let mut path: Vec<usize> = Vec::new();
         for (i, (j, b)) in self.joints.iter().zip(&self.bodies).enumerate() {
+            let joint = || j.name.clone();
             match j.parent {
                 None => path.clear(),
+                Some(p) if p >= i => {
+                    return Err(ModelError::ParentAfterChild { joint: joint() });
+                }
                 Some(p) => {
-                    if p >= i {
-                        return Err(format!(
-                            "joint `{}`: parent {p} does not come before child {i}",
-                            j.name
-                        ));
-                    }
                     while path.last().is_some_and(|&top| top != p) {
                         path.pop();
                     }
                     if path.is_empty() {
-                        return Err(format!(
-                            "joint `{}`: bodies are not in depth-first order",
-                            j.name
-                        ));
+                        return Err(ModelError::NotDepthFirst { joint: joint() });
                     }
                 }
             }
@@ -453,25 +368,122 @@ impl Model {
             if let JointKind::Revolute { axis } | JointKind::Prismatic { axis } = j.kind {
                 let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
                 if !(n - 1.0).abs().le(&1e-9) {
-                    return Err(format!(
-                        "joint `{}`: axis {axis:?} is not a unit vector",
-                        j.name
-                    ));
+                    return Err(ModelError::AxisNotUnit {
+                        joint: joint(),
+                        axis,
+                    });
                 }
             }
             for v in j.placement.xyz.iter().chain(&j.placement.rpy) {
-                check_value(v, &format!("joint `{}` placement", j.name))?;
+                check_value(v, Place::Placement(joint()))?;
             }
-            check_value(&b.mass, &format!("body `{}` mass", b.name))?;
-            for v in b.com.iter().chain(b.inertia.iter().flatten()) {
-                check_value(v, &format!("body `{}` mass properties", b.name))?;
+            for v in [&b.mass]
+                .into_iter()
+                .chain(&b.com)
+                .chain(b.inertia.iter().flatten())
+            {
+                check_value(v, Place::MassProperties(b.name.clone()))?;
             }
         }
-        if let Some(g) = &self.gravity {
-            for v in g {
-                check_value(v, "gravity")?;
-            }
+        for v in self.gravity.iter().flatten() {
+            check_value(v, Place::Gravity)?;
         }
         Ok(())
     }
 }
+
+/// Where in a [`Model`] a number stands, for [`ModelError`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Place {
+    /// The placement of the named joint.
+    Placement(String),
+    /// The mass, centre of mass or inertia of the named body.
+    MassProperties(String),
+    /// Gravity.
+    Gravity,
+}
+
+impl fmt::Display for Place {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Place::Placement(joint) => write!(f, "the placement of joint `{joint}`"),
+            Place::MassProperties(body) => write!(f, "the mass properties of body `{body}`"),
+            Place::Gravity => write!(f, "gravity"),
+        }
+    }
+}
+
+/// A model that breaks an invariant the back ends rely on ([`Model::check`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum ModelError {
+    /// `bodies` and `joints` differ in length: each body needs exactly one parent joint.
+    Counts {
+        /// Number of bodies.
+        bodies: usize,
+        /// Number of joints.
+        joints: usize,
+    },
+    /// A joint's parent does not come before its child.
+    ParentAfterChild {
+        /// The joint.
+        joint: String,
+    },
+    /// The bodies are not in depth-first pre-order.
+    NotDepthFirst {
+        /// The first joint out of order.
+        joint: String,
+    },
+    /// A revolute or prismatic axis is not a unit vector.
+    AxisNotUnit {
+        /// The joint.
+        joint: String,
+        /// Its axis.
+        axis: [f64; 3],
+    },
+    /// A constant is NaN or infinite.
+    NonFinite {
+        /// Where it stands.
+        place: Place,
+        /// The value.
+        value: f64,
+    },
+    /// A [`Value::Param`] names a parameter the model does not have.
+    UnknownParam {
+        /// Where it stands.
+        place: Place,
+        /// The index it names.
+        index: usize,
+    },
+}
+
+impl fmt::Display for ModelError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ModelError::Counts { bodies, joints } => write!(
+                f,
+                "{bodies} bodies but {joints} joints: each body needs exactly one parent joint"
+            ),
+            ModelError::ParentAfterChild { joint } => {
+                write!(
+                    f,
+                    "joint `{joint}`: its parent does not come before its child"
+                )
+            }
+            ModelError::NotDepthFirst { joint } => {
+                write!(f, "joint `{joint}`: bodies are not in depth-first order")
+            }
+            ModelError::AxisNotUnit { joint, axis } => {
+                write!(f, "joint `{joint}`: axis {axis:?} is not a unit vector")
+            }
+            ModelError::NonFinite { place, value } => {
+                write!(f, "a number in {place} is not finite ({value})")
+            }
+            ModelError::UnknownParam { place, index } => write!(
+                f,
+                "a number in {place} names parameter #{index}, which does not exist"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for ModelError {}

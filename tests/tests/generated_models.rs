@@ -169,8 +169,9 @@ chain_and_text! { PAYLOAD_TEXT:
 
 #[test]
 fn runtime_parameters_match_the_reference_with_params() {
-    let model = articulated_codegen::lower::parse_chain_str(PAYLOAD_TEXT, Path::new("Payload"))
-        .unwrap_or_else(|e| panic!("{e}"));
+    let model = articulated_codegen::load::parse_chain_str(PAYLOAD_TEXT, Path::new("Payload"))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model;
     assert_eq!(model.params.len(), 5);
     let defaults = PayloadParams::<f64>::defaults();
     assert_eq!(

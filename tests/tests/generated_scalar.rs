@@ -206,7 +206,14 @@ fn generic_two_link_with_f64() {
 /// The emitted code of the two-link, as `articulated expand models/two_link.chain` prints it.
 #[test]
 fn two_link_emitted_code() {
-    let code = articulated_codegen::generate::generate_file(&two_link(), "models/two_link.chain")
-        .unwrap_or_else(|e| panic!("{e}"));
+    let chain =
+        articulated_codegen::load::load(Path::new(articulated_models::TWO_LINK.chain), false)
+            .unwrap();
+    let code = articulated_codegen::generate::generate_file(
+        &chain.model,
+        &chain.options,
+        "models/two_link.chain",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
     insta::assert_snapshot!(code);
 }

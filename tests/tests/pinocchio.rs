@@ -3,7 +3,7 @@
 //! Data: `tests/data/pinocchio/pinocchio-values.json` (four shared models, fixed base and, for
 //! two, a free base) and `tests/data/pinocchio-arm7.json` (`models/arm7.urdf`, written by
 //! `tests/data/make_arm7_reference.py`, with Pinocchio's joint wrenches). Each URDF is loaded with
-//! [`articulated_codegen::urdf::load_urdf_file`] and evaluated with
+//! [`articulated_codegen::load::load_model`] and evaluated with
 //! [`articulated::reference::Reference`]; every quantity must agree to 1e-10 relative to its
 //! largest entry. `cargo test -p articulated-tests --test pinocchio -- --nocapture` prints the
 //! largest relative error per model and quantity.
@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 
 use articulated::model::Model;
 use articulated::reference::{Error, Reference, Wrench};
-use articulated_codegen::urdf::load_urdf_file;
+use articulated_codegen::load::load_model;
 use serde_json::Value as Json;
 
 const TOL: f64 = 1e-10;
@@ -159,7 +159,7 @@ fn shared_models_match_pinocchio() {
             let Some(case) = entry.get(base) else {
                 continue;
             };
-            let model = load_urdf_file(&path, floating).unwrap_or_else(|e| panic!("{e}"));
+            let model = load_model(&path, floating).unwrap_or_else(|e| panic!("{e}"));
             let label = format!("{name} ({base})");
             failures.extend(report(&label, &compare(&model, case, &label)));
         }
@@ -174,7 +174,7 @@ fn arm7_matches_pinocchio_including_joint_wrenches() {
     let path = repo().join("models/arm7.urdf");
     let mut failures = Vec::new();
     for (base, floating) in [("fixed", false), ("floating", true)] {
-        let model = load_urdf_file(&path, floating).unwrap_or_else(|e| panic!("{e}"));
+        let model = load_model(&path, floating).unwrap_or_else(|e| panic!("{e}"));
         let label = format!("arm7 ({base})");
         let worst = compare(&model, &entry[base], &label);
         assert!(worst[5].is_some(), "{label}: no joint wrenches compared");
@@ -200,9 +200,9 @@ impl Rng {
 
 #[test]
 fn arm7_chain_file_and_urdf_describe_the_same_dynamics() {
-    let chain = articulated_codegen::lower::load_chain_file(&repo().join("models/arm7.chain"))
-        .unwrap_or_else(|e| panic!("{e}"));
-    let urdf = load_urdf_file(&repo().join("models/arm7.urdf"), false).unwrap();
+    let chain =
+        load_model(&repo().join("models/arm7.chain"), false).unwrap_or_else(|e| panic!("{e}"));
+    let urdf = load_model(&repo().join("models/arm7.urdf"), false).unwrap();
     assert_eq!(chain.name, urdf.name);
     let names = |m: &Model| -> Vec<(String, String)> {
         m.joints

@@ -27,8 +27,7 @@ pub mod jacobian;
 pub mod rnea;
 pub mod tree;
 
-use alloc::format;
-use alloc::string::{String, ToString};
+use alloc::string::String;
 use alloc::vec::Vec;
 use core::fmt;
 
@@ -39,7 +38,7 @@ pub use crba::{crba, crba_with};
 pub use rnea::{joint_forces, node_forces, rnea};
 pub use tree::{Node, NodeJoint, Tree};
 
-use crate::model::{JointKind, Model};
+use crate::model::{JointKind, Model, ModelError};
 
 /// What can go wrong in the reference dynamics. No function of [`Reference`] panics.
 #[derive(Debug, Clone, PartialEq)]
@@ -82,12 +81,11 @@ pub enum Error {
         /// Its name in the model.
         name: String,
     },
-    /// The model fails [`Model::check`]; the message says why.
-    InvalidModel(String),
-    /// Forward dynamics found a singular or non-positive articulated inertia (the mass matrix is
-    /// not positive definite: a massless leaf, an Euler joint at gimbal lock, …) or a non-finite
-    /// result; the message names the joint.
-    Singular(String),
+    /// The model fails [`Model::check`].
+    InvalidModel(ModelError),
+    /// Forward dynamics found the mass matrix singular at this state (a massless leaf, an Euler
+    /// joint at gimbal lock, …).
+    Singular(Singularity),
     /// A result overflowed to infinity or NaN although the inputs were finite (huge inputs).
     NonFiniteResult {
         /// Which output (`"mass_matrix"`, `"bias"`, …).
@@ -123,11 +121,74 @@ impl fmt::Display for Error {
             Error::ParamNonFinite { index, name } => {
                 write!(f, "parameter #{index} `{name}` is not a finite number")
             }
-            Error::InvalidModel(msg) => write!(f, "invalid model: {msg}"),
-            Error::Singular(msg) => write!(f, "singular dynamics: {msg}"),
+            Error::InvalidModel(e) => write!(f, "invalid model: {e}"),
+            Error::Singular(s) => write!(f, "{s}"),
             Error::NonFiniteResult { output } => write!(
                 f,
                 "`{output}` overflowed to a non-finite value (inputs too large)"
+            ),
+        }
+    }
+}
+
+/// How forward dynamics found `M(q)` singular ([`Error::Singular`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Singularity {
+    /// A pivot of the articulated-body factorization is not positive relative to its unreduced
+    /// value (or to the largest in the tree): `M(q)` is singular to working precision.
+    Pivot {
+        /// The joint the pivot belongs to.
+        joint: String,
+        /// Its velocity coordinate.
+        velocity: usize,
+        /// The pivot.
+        pivot: f64,
+        /// The diagonal entry before elimination.
+        unreduced: f64,
+    },
+    /// The acceleration of a coordinate is not finite.
+    NonFiniteAcceleration {
+        /// The joint.
+        joint: String,
+        /// The velocity coordinate.
+        velocity: usize,
+    },
+    /// `M(q)` is not positive definite, or its condition number passes [`M_CONDITION_LIMIT`].
+    Eigenvalues {
+        /// Its smallest eigenvalue.
+        min: f64,
+        /// Its largest eigenvalue (in magnitude).
+        max: f64,
+    },
+}
+
+impl fmt::Display for Singularity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Singularity::Pivot {
+                joint,
+                velocity,
+                pivot,
+                unreduced,
+            } => write!(
+                f,
+                "the mass matrix is singular here: at joint `{joint}` (velocity {velocity}) the \
+                 articulated-inertia pivot is {pivot:e}, against {unreduced:e} before elimination"
+            ),
+            Singularity::NonFiniteAcceleration { joint, velocity } => write!(
+                f,
+                "the acceleration of joint `{joint}` (velocity {velocity}) is not finite"
+            ),
+            Singularity::Eigenvalues { min, max } if *min <= 0.0 => write!(
+                f,
+                "the mass matrix is not positive definite here: its eigenvalues range from \
+                 {min:e} to {max:e}"
+            ),
+            Singularity::Eigenvalues { min, max } => write!(
+                f,
+                "the mass matrix is numerically singular here: its eigenvalues range from {min:e} \
+                 to {max:e}, a condition number of {:.1e}, past {M_CONDITION_LIMIT:.0e}",
+                max / min
             ),
         }
     }
@@ -229,10 +290,9 @@ fn finite(output: &'static str, x: Vec<f64>) -> Result<Vec<f64>, Error> {
 /// diagonal entry of the whole tree (catches an inertia that is zero up to rounding).
 const PIVOT_LOCAL_TOL: f64 = 1e-13;
 const PIVOT_GLOBAL_TOL: f64 = 1e-15;
-/// `M(q)` counts as singular when its smallest eigenvalue is not above this fraction of its
-/// largest: past that condition number (κ(M) > 1e13), q̈ can have fewer than three correct
-/// digits in f64 (relative error up to ε·κ ≈ 2e-3).
-const M_EIGEN_TOL: f64 = 1e-13;
+/// `M(q)` counts as singular past this condition number: q̈ can then have fewer than three
+/// correct digits in f64 (relative error up to ε·κ ≈ 2e-3).
+pub const M_CONDITION_LIMIT: f64 = 1e13;
 
 impl Reference {
     /// The reference dynamics of `model` with its parameters at their default values.
@@ -329,18 +389,19 @@ impl Reference {
         // so the first failure found this way is the culprit.
         for (k, (&p, &d)) in out.pivots.iter().zip(&out.diag).enumerate().rev() {
             if !(p > PIVOT_LOCAL_TOL * d.abs() && p > PIVOT_GLOBAL_TOL * scale) {
-                return Err(Error::Singular(format!(
-                    "joint `{}` (velocity {k}): articulated inertia pivot {p:e} is not positive \
-                     (unreduced {d:e}); the mass matrix is singular here",
-                    self.joint_of_v(k)
-                )));
+                return Err(Error::Singular(Singularity::Pivot {
+                    joint: self.joint_of_v(k),
+                    velocity: k,
+                    pivot: p,
+                    unreduced: d,
+                }));
             }
         }
         if let Some(k) = out.qdd.iter().position(|x| !x.is_finite()) {
-            return Err(Error::Singular(format!(
-                "joint `{}` (velocity {k}): the acceleration is not finite",
-                self.joint_of_v(k)
-            )));
+            return Err(Error::Singular(Singularity::NonFiniteAcceleration {
+                joint: self.joint_of_v(k),
+                velocity: k,
+            }));
         }
         // ABA's pivots can stay positive by rounding when M is singular or indefinite (a massless
         // root under a free base, an inertia that is not positive definite), and then q̈ is
@@ -355,11 +416,11 @@ impl Reference {
         let (lo, hi) = eig.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| {
             (lo.min(x), hi.max(x.abs()))
         });
-        if lo.is_nan() || lo <= M_EIGEN_TOL * hi {
-            return Err(Error::Singular(format!(
-                "the mass matrix is not positive definite here: its eigenvalues range from {lo:e} \
-                 to {hi:e}"
-            )));
+        if lo.is_nan() || lo * M_CONDITION_LIMIT <= hi {
+            return Err(Error::Singular(Singularity::Eigenvalues {
+                min: lo,
+                max: hi,
+            }));
         }
         Ok(DVector::from_vec(out.qdd))
     }
@@ -392,13 +453,8 @@ impl Reference {
     }
 
     fn joint_of_v(&self, k: usize) -> String {
-        let mut at = 0;
-        for j in &self.model.joints {
-            at += j.kind.nv();
-            if k < at {
-                return j.name.clone();
-            }
-        }
-        "?".to_string()
+        self.model
+            .joint_of_velocity(k)
+            .map_or_else(String::new, |j| j.name.clone())
     }
 }

@@ -1,4 +1,4 @@
-//! `.chain` files: read, tokenize with line/column spans, parse, lower; errors as
+//! The text of a `.chain` file: tokenized with line and column spans, parsed, lowered; errors as
 //! `path:line:column: error: message`.
 
 extern crate proc_macro;
@@ -9,7 +9,8 @@ use std::str::FromStr;
 
 use proc_macro2::TokenStream;
 
-use crate::model::Model;
+use crate::lower::lower;
+use crate::options::Description;
 use crate::parse::ChainDef;
 
 /// Everything wrong with one description file, each problem at its line and column.
@@ -24,10 +25,9 @@ pub struct FileError {
 /// One problem in a description file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Diagnostic {
-    /// 1-based line of the offending token; 0 when the problem is with the file as a whole
-    /// (it cannot be read).
+    /// 1-based line of the offending token.
     pub line: usize,
-    /// 1-based column (in characters) of the offending token; 0 with `line` 0.
+    /// 1-based column (in characters) of the offending token.
     pub column: usize,
     /// What is wrong: expected vs found, quoting the user's names.
     pub message: String,
@@ -35,16 +35,11 @@ pub struct Diagnostic {
 
 impl fmt::Display for Diagnostic {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.line == 0 {
-            write!(f, "error: {}", self.message)
-        } else {
-            write!(f, "{}:{}: error: {}", self.line, self.column, self.message)
-        }
+        write!(f, "{}:{}: error: {}", self.line, self.column, self.message)
     }
 }
 
-/// One line per diagnostic: `path:line:column: error: message`, or `path: error: message` for a
-/// file that cannot be read.
+/// One line per diagnostic: `path:line:column: error: message`.
 impl fmt::Display for FileError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let path = self.path.display();
@@ -52,11 +47,7 @@ impl fmt::Display for FileError {
             if i > 0 {
                 writeln!(f)?;
             }
-            if d.line == 0 {
-                write!(f, "{path}: {d}")?;
-            } else {
-                write!(f, "{path}:{d}")?;
-            }
+            write!(f, "{path}:{d}")?;
         }
         Ok(())
     }
@@ -68,7 +59,10 @@ impl std::error::Error for FileError {}
 ///
 /// Spans carry line and column through proc-macro2's `span-locations` feature, so every
 /// diagnostic names the offending token's line and column.
-pub fn parse_chain_str(src: &str, path: &Path) -> Result<Model, FileError> {
+///
+/// # Errors
+/// Every problem found, each with its line and column.
+pub fn parse_chain_str(src: &str, path: &Path) -> Result<Description, FileError> {
     let _lexer = FallbackLexer::new();
     let fail = |diagnostics: Vec<Diagnostic>| FileError {
         path: path.to_path_buf(),
@@ -76,7 +70,7 @@ pub fn parse_chain_str(src: &str, path: &Path) -> Result<Model, FileError> {
     };
     let tokens = TokenStream::from_str(src).map_err(|e| fail(vec![lex_diagnostic(&e, src)]))?;
     let def: ChainDef = syn::parse2(tokens).map_err(|e| fail(diagnostics(e, src)))?;
-    super::lower(&def).map_err(|e| fail(diagnostics(e, src)))
+    lower(&def).map_err(|e| fail(diagnostics(e, src)))
 }
 
 /// Inside a proc macro (a macro that reads a `.chain` file), the compiler would tokenize the text
@@ -103,21 +97,6 @@ impl Drop for FallbackLexer {
         if self.forced {
             proc_macro2::fallback::unforce();
         }
-    }
-}
-
-/// Reads, parses and lowers a `.chain` file.
-pub fn load_chain_file(path: &Path) -> Result<Model, FileError> {
-    match std::fs::read_to_string(path) {
-        Ok(src) => parse_chain_str(&src, path),
-        Err(e) => Err(FileError {
-            path: path.to_path_buf(),
-            diagnostics: vec![Diagnostic {
-                line: 0,
-                column: 0,
-                message: format!("cannot read: {e}"),
-            }],
-        }),
     }
 }
 

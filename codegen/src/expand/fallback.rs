@@ -1,0 +1,48 @@
+//! What stands in for the generated items after an error, so the user sees the real error and
+//! not a cascade of "cannot find type" or "no function named" errors after it (as `thiserror`'s
+//! `fallback.rs`). The ui tests in `macros/tests/ui` lock this.
+
+use proc_macro2::{Ident, TokenStream};
+use quote::quote;
+
+/// `NQ` and `NV` (zero) and the runtime traits, generic in the scalar and in one size `N` for
+/// both `q` and `v`, so that uses of them type-check and the sizes are inferred from `q` (a size
+/// left free would be a "type annotations needed" error of its own). The bodies are never run:
+/// the crate does not compile.
+pub(crate) fn fallback(name: &Ident) -> TokenStream {
+    let sizes = quote!(<T, const N: usize>);
+    let v = quote!(::articulated::nalgebra::SVector<T, N>);
+    let m = quote!(::articulated::nalgebra::SMatrix<T, N, N>);
+    let fd = quote!(::core::result::Result<#v, ::articulated::SingularMassMatrix>);
+    let never = quote!({ ::core::unreachable!() });
+    let name_str = name.to_string();
+    quote! {
+        impl #name {
+            /// Stand-in after an error in the description.
+            pub const NQ: usize = 0;
+            /// Stand-in after an error in the description.
+            pub const NV: usize = 0;
+        }
+        impl<T> ::articulated::Chain<T> for #name {
+            const NAME: &'static str = #name_str;
+            const COORDINATES: &'static [::articulated::Coordinates] = &[];
+            type Params = ();
+            fn default_params() {}
+        }
+        impl #sizes ::articulated::MassMatrix<T, N, N> for #name {
+            fn mass_matrix_with(_: &#v, _: &()) -> #m #never
+        }
+        impl #sizes ::articulated::Bias<T, N, N> for #name {
+            fn bias_with(_: &#v, _: &#v, _: &()) -> #v #never
+        }
+        impl #sizes ::articulated::Gravity<T, N, N> for #name {
+            fn gravity_with(_: &#v, _: &()) -> #v #never
+        }
+        impl #sizes ::articulated::InverseDynamics<T, N, N> for #name {
+            fn inverse_dynamics_with(_: &#v, _: &#v, _: &#v, _: &()) -> #v #never
+        }
+        impl #sizes ::articulated::ForwardDynamics<T, N, N> for #name {
+            fn forward_dynamics_with(_: &#v, _: &#v, _: &#v, _: &()) -> #fd #never
+        }
+    }
+}

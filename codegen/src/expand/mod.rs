@@ -1,0 +1,181 @@
+//! The macros' expansions, on `proc_macro2` so they can be tested and reused: `chain!{…}` and
+//! `#[derive(Chain)]` (the `articulated-macros` crate is a shim that calls these).
+//!
+//! On an error the expansion is a `compile_error!` at the offending token, plus a stand-in for
+//! what the macro would have declared ([`fallback`]), so the user sees one error and not a
+//! cascade.
+
+mod attr;
+mod fallback;
+
+use std::path::{Path, PathBuf};
+
+use proc_macro2::TokenStream;
+use quote::quote;
+use syn::parse::{ParseStream, Parser};
+use syn::{Attribute, Data, DeriveInput, Fields, Ident, LitStr, Visibility};
+
+use attr::{parse_attr, Source};
+use fallback::fallback;
+
+use crate::generate::{generate, generate_impls};
+use crate::load::{load, LoadError};
+use crate::lower::lower;
+use crate::parse::ChainDef;
+
+/// `chain!{ … }`: the grammar of [`crate::parse`], expanded to the type and its impls.
+pub fn chain(input: TokenStream) -> TokenStream {
+    let def: ChainDef = match syn::parse2(input.clone()) {
+        Ok(def) => def,
+        Err(e) => {
+            // A syntax error stops the parse; the header (`[vis] chain Name`) usually still
+            // reads, and then the stand-in keeps uses of `Name` quiet.
+            let errors = e.to_compile_error();
+            return match header.parse2(input) {
+                Ok((vis, name)) => {
+                    let stub = fallback(&name);
+                    quote! { #errors #vis struct #name; #stub }
+                }
+                Err(_) => errors,
+            };
+        }
+    };
+    let (vis, name) = (&def.vis, &def.name);
+    let result = lower(&def).and_then(|chain| generate(&chain.model, &chain.options));
+    match result {
+        Ok(g) => g.tokens,
+        Err(e) => {
+            let errors = e.to_compile_error();
+            let stub = fallback(name);
+            quote! { #errors #vis struct #name; #stub }
+        }
+    }
+}
+
+/// Reads the header of a chain whose body does not parse: `[attrs] [vis] chain Name …`.
+fn header(input: ParseStream) -> syn::Result<(Visibility, Ident)> {
+    input.call(Attribute::parse_outer)?;
+    let vis: Visibility = input.parse()?;
+    let kw: Ident = input.parse()?;
+    if kw != "chain" {
+        return Err(syn::Error::new(kw.span(), "expected `chain`"));
+    }
+    let name: Ident = input.parse()?;
+    input.parse::<TokenStream>()?;
+    Ok((vis, name))
+}
+
+/// Resolves a path from the attribute against the crate's `CARGO_MANIFEST_DIR`.
+fn resolve(rel: &str) -> PathBuf {
+    let path = Path::new(rel);
+    if path.is_absolute() {
+        return path.to_path_buf();
+    }
+    match std::env::var_os("CARGO_MANIFEST_DIR") {
+        Some(dir) => Path::new(&dir).join(path),
+        None => path.to_path_buf(),
+    }
+}
+
+/// A file that does not load, as errors at the path in the attribute. Messages name the file as
+/// the attribute does (relative to the crate), not by the absolute path it resolved to: that is
+/// the text under the caret, and the same on every machine. Each problem of a `.chain` file is
+/// its own error, `file:line:column: message` (rustc adds the `error: `).
+fn load_error(e: LoadError, path: &Path, lit: &LitStr) -> syn::Error {
+    let shown = lit.value();
+    let error = |m: String| syn::Error::new(lit.span(), m);
+    match e {
+        LoadError::Read { error: io, .. } if Path::new(&shown).is_relative() => error(format!(
+            "{shown}: cannot read: {io}; paths in #[chain(…)] are relative to the crate's \
+             directory (CARGO_MANIFEST_DIR)"
+        )),
+        LoadError::Read { error: io, .. } => error(format!("{shown}: cannot read: {io}")),
+        LoadError::Chain(file) => file
+            .diagnostics
+            .iter()
+            .map(|d| error(format!("{shown}:{}:{}: {}", d.line, d.column, d.message)))
+            .reduce(|mut all, e| {
+                all.combine(e);
+                all
+            })
+            .unwrap_or_else(|| error(format!("{shown}: cannot be loaded"))),
+        other => error(
+            other
+                .to_string()
+                .replace(&path.display().to_string(), &shown),
+        ),
+    }
+}
+
+/// `#[derive(Chain)]` on a unit struct with `#[chain(file = "models/x.chain")]` or
+/// `#[chain(urdf = "models/x.urdf")]` (optionally `floating`, `scalar = …`, `outputs = […]`):
+/// the impls for the described chain, named after the struct. The crate rebuilds when the file
+/// changes.
+pub fn derive(input: TokenStream) -> TokenStream {
+    match derive_inner(input.clone()) {
+        Ok(tokens) => tokens,
+        Err(e) => {
+            let errors = e.to_compile_error();
+            // The stand-in, on a type it can be written for (no generic parameters).
+            match syn::parse2::<DeriveInput>(input) {
+                Ok(input) if input.generics.params.is_empty() => {
+                    let stub = fallback(&input.ident);
+                    quote! { #errors #stub }
+                }
+                _ => errors,
+            }
+        }
+    }
+}
+
+fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
+    let input: DeriveInput = syn::parse2(input)?;
+    match &input.data {
+        Data::Struct(s) if matches!(s.fields, Fields::Unit) => {}
+        _ => {
+            return Err(syn::Error::new(
+                input.ident.span(),
+                "#[derive(Chain)] goes on a unit struct: `struct Arm;`",
+            ))
+        }
+    }
+    if !input.generics.params.is_empty() {
+        return Err(syn::Error::new(
+            input.ident.span(),
+            "#[derive(Chain)] goes on a struct without generic parameters",
+        ));
+    }
+    let attr = parse_attr(&input)?;
+    let lit = attr.source.lit();
+    let (is_urdf, floating) = match attr.source {
+        Source::Chain(_) => (false, false),
+        Source::Urdf(_, floating) => (true, floating),
+    };
+    let path = resolve(&lit.value());
+    let expected = if is_urdf { "urdf" } else { "chain" };
+    if path.extension().and_then(|e| e.to_str()) != Some(expected) {
+        return Err(syn::Error::new(
+            lit.span(),
+            format!("expected a `.{expected}` file, found `{}`", lit.value()),
+        ));
+    }
+    let mut chain = load(&path, floating).map_err(|e| load_error(e, &path, lit))?;
+    chain.model.name = input.ident.to_string();
+    // The struct is the user's: its visibility goes on what is generated beside it.
+    chain.options.visibility = crate::lower::visibility(&input.vis);
+    if let Some(scalar) = attr.scalar {
+        chain.options.scalar = scalar;
+    }
+    if let Some(outputs) = attr.outputs {
+        chain.options.outputs = outputs;
+    }
+    let g = generate_impls(&chain.model, &chain.options)
+        .map_err(|e| syn::Error::new(lit.span(), e.to_string()))?;
+    let tokens = g.tokens;
+    let abs = path.display().to_string();
+    Ok(quote! {
+        // Makes cargo rebuild the crate when the description changes.
+        const _: &[u8] = include_bytes!(#abs);
+        #tokens
+    })
+}

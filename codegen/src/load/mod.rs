@@ -1,0 +1,93 @@
+//! Loading a description: the one place that reads files, for every front end (the macros, the
+//! [`Builder`](crate::Builder), the CLI). The file's extension picks the front end:
+//! - `.chain`: [`chain_file`] tokenizes the text with line and column spans, then the grammar
+//!   ([`crate::parse`]) and the checks ([`crate::lower`]) run on it;
+//! - `.urdf`: [`crate::urdf`] imports it.
+
+pub mod chain_file;
+
+use std::path::{Path, PathBuf};
+
+use articulated_dynamics::model::Model;
+
+pub use chain_file::{parse_chain_str, Diagnostic, FileError};
+
+use crate::options::Description;
+use crate::urdf::{self, UrdfError};
+
+/// Why a model file could not be loaded.
+#[derive(Debug)]
+pub enum LoadError {
+    /// The file cannot be read.
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// A `.chain` file that does not parse or validate (each diagnostic names its line and
+    /// column).
+    Chain(FileError),
+    /// A URDF file that does not import.
+    Urdf(UrdfError),
+    /// An extension that is neither `.chain` nor `.urdf`.
+    UnknownExtension(PathBuf),
+    /// `floating` asked for a `.chain` file, where the free base is written in the file itself.
+    FloatingChain(PathBuf),
+}
+
+impl std::fmt::Display for LoadError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LoadError::Read { path, error } => {
+                write!(f, "{}: error: cannot read: {error}", path.display())
+            }
+            LoadError::Chain(e) => write!(f, "{e}"),
+            LoadError::Urdf(e) => write!(f, "{e}"),
+            LoadError::UnknownExtension(p) => write!(
+                f,
+                "{}: error: unknown model format: expected a `.chain` or `.urdf` file",
+                p.display()
+            ),
+            LoadError::FloatingChain(p) => write!(
+                f,
+                "{}: error: a free base is added only under a URDF root; in a `.chain` file write \
+                 it as a joint, e.g. `joint base: free {{ parent: world, child: … }}`",
+                p.display()
+            ),
+        }
+    }
+}
+
+impl std::error::Error for LoadError {}
+
+/// Loads a `.chain` or `.urdf` file into a [`Description`]. With `floating`, a URDF root gets the
+/// default free base (Euler `zyx`, Wieber's form): q and v gain 6 leading entries.
+///
+/// # Errors
+/// A [`LoadError`] naming the file (and, for a problem inside it, the line).
+pub fn load(path: &Path, floating: bool) -> Result<Description, LoadError> {
+    let ext = path.extension().and_then(|e| e.to_str());
+    match ext {
+        Some("chain") if floating => return Err(LoadError::FloatingChain(path.to_path_buf())),
+        Some("chain" | "urdf") => {}
+        _ => return Err(LoadError::UnknownExtension(path.to_path_buf())),
+    }
+    let text = std::fs::read_to_string(path).map_err(|error| LoadError::Read {
+        path: path.to_path_buf(),
+        error,
+    })?;
+    if ext == Some("chain") {
+        parse_chain_str(&text, path).map_err(LoadError::Chain)
+    } else {
+        urdf::from_urdf_str(&text, floating).map_err(|e| LoadError::Urdf(e.in_file(path)))
+    }
+}
+
+/// [`load`], keeping only the physics (what the reference dynamics needs).
+///
+/// # Errors
+/// As [`load`].
+pub fn load_model(path: &Path, floating: bool) -> Result<Model, LoadError> {
+    load(path, floating).map(|d| d.model)
+}

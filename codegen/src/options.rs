@@ -1,0 +1,220 @@
+//! What to generate from a chain, apart from the physics: the type's visibility and docs, the
+//! scalar, the outputs. Every front end states them the same way: the settings of a `.chain`
+//! file or of `chain!{}` (`scalar: f32;`, `outputs: [mass_matrix, bias];`), the keys of
+//! `#[chain(…, scalar = f32, outputs = [mass_matrix, bias])]`, the methods of
+//! [`Builder`](crate::Builder), and `articulated expand --scalar … --outputs …`.
+//!
+//! The physics (bodies, joints, gravity, parameters) is the
+//! [`Model`](articulated_dynamics::model::Model), which the reference dynamics reads too; a
+//! [`Description`] is the two together, what every front end produces.
+
+use std::fmt;
+
+use proc_macro2::TokenStream;
+use quote::quote;
+
+use articulated_dynamics::model::Model;
+
+/// Which scalar the generated code computes in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ScalarKind {
+    /// `f64` (the default).
+    #[default]
+    F64,
+    /// `f32`.
+    F32,
+    /// Generic over `T: nalgebra::RealField + Copy`.
+    Generic,
+}
+
+impl ScalarKind {
+    /// Every scalar with its name in the grammar and the attribute.
+    pub const ALL: [(ScalarKind, &'static str); 3] = [
+        (ScalarKind::F64, "f64"),
+        (ScalarKind::F32, "f32"),
+        (ScalarKind::Generic, "generic"),
+    ];
+
+    /// The scalar of that name (`f64`, `f32`, `generic`).
+    pub fn from_name(name: &str) -> Option<ScalarKind> {
+        Self::ALL.iter().find(|(_, n)| *n == name).map(|(s, _)| *s)
+    }
+
+    /// Its name in the grammar.
+    pub fn name(self) -> &'static str {
+        match self {
+            ScalarKind::F64 => "f64",
+            ScalarKind::F32 => "f32",
+            ScalarKind::Generic => "generic",
+        }
+    }
+}
+
+/// A function the generator can emit for a chain; its name in `outputs:` is the function's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Output {
+    /// `mass_matrix(q)`: `M(q)`.
+    MassMatrix,
+    /// `bias(q, v)`: `N(q, q̇)·q̇` without gravity.
+    Bias,
+    /// `gravity(q)`: `g(q)`.
+    Gravity,
+    /// `inverse_dynamics(q, v, a)`: `τ = M·a + bias + gravity`.
+    InverseDynamics,
+    /// `forward_dynamics(q, v, tau)`: `q̈`, or an error where `M` is singular.
+    ForwardDynamics,
+}
+
+impl Output {
+    /// Every output, with its name in the grammar, in the order the generator emits them.
+    pub const ALL: [(Output, &'static str); 5] = [
+        (Output::MassMatrix, "mass_matrix"),
+        (Output::Bias, "bias"),
+        (Output::Gravity, "gravity"),
+        (Output::InverseDynamics, "inverse_dynamics"),
+        (Output::ForwardDynamics, "forward_dynamics"),
+    ];
+
+    /// The outputs generated when a description names none.
+    pub const DEFAULT: [Output; 5] = [
+        Output::MassMatrix,
+        Output::Bias,
+        Output::Gravity,
+        Output::InverseDynamics,
+        Output::ForwardDynamics,
+    ];
+
+    /// Its name in the grammar: the generated function's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Output::MassMatrix => "mass_matrix",
+            Output::Bias => "bias",
+            Output::Gravity => "gravity",
+            Output::InverseDynamics => "inverse_dynamics",
+            Output::ForwardDynamics => "forward_dynamics",
+        }
+    }
+
+    /// The output of that name.
+    pub fn from_name(name: &str) -> Option<Output> {
+        Self::ALL.iter().find(|(_, n)| *n == name).map(|(o, _)| *o)
+    }
+}
+
+/// The visibility of the generated type (and of its parameter struct).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum Visibility {
+    /// None: private to the module.
+    #[default]
+    Private,
+    /// `pub`.
+    Public,
+    /// `pub(…)` with what stands in the parentheses: `crate`, `super`, `in a::b`.
+    Restricted(String),
+}
+
+impl Visibility {
+    /// The visibility as tokens.
+    pub fn to_tokens(&self) -> TokenStream {
+        match self {
+            Visibility::Private => quote!(),
+            Visibility::Public => quote!(pub),
+            Visibility::Restricted(inner) => {
+                let inner: TokenStream = inner.parse().unwrap_or_else(|_| quote!(crate));
+                quote!(pub(#inner))
+            }
+        }
+    }
+}
+
+impl fmt::Display for Visibility {
+    /// As Rust writes it: ``, `pub`, `pub(crate)`, `pub(in a::b)`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Visibility::Private => Ok(()),
+            Visibility::Public => write!(f, "pub"),
+            Visibility::Restricted(inner) => write!(f, "pub({inner})"),
+        }
+    }
+}
+
+/// What to generate for a chain.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// Visibility of the generated type.
+    pub visibility: Visibility,
+    /// Documentation lines for the generated type, as written (`///` lines without the
+    /// slashes).
+    pub doc: Vec<String>,
+    /// The scalar of the generated code.
+    pub scalar: ScalarKind,
+    /// The outputs to generate, sorted, without duplicates.
+    pub outputs: Vec<Output>,
+}
+
+impl Default for Options {
+    /// A public type in `f64` with the default outputs ([`Output::DEFAULT`]) and no docs.
+    fn default() -> Self {
+        Options {
+            visibility: Visibility::Public,
+            doc: Vec::new(),
+            scalar: ScalarKind::F64,
+            outputs: Output::DEFAULT.to_vec(),
+        }
+    }
+}
+
+impl Options {
+    /// Sets the outputs, sorted and without duplicates.
+    pub fn set_outputs(&mut self, outputs: impl IntoIterator<Item = Output>) {
+        self.outputs = outputs.into_iter().collect();
+        self.outputs.sort();
+        self.outputs.dedup();
+    }
+}
+
+/// A chain as a front end reads it: the physics and what to generate from it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Description {
+    /// Bodies, joints, gravity, parameters: what the reference dynamics reads too.
+    pub model: Model,
+    /// Visibility, docs, scalar, outputs.
+    pub options: Options,
+}
+
+impl Description {
+    /// A model with the default [`Options`].
+    pub fn new(model: Model) -> Self {
+        Description {
+            model,
+            options: Options::default(),
+        }
+    }
+}
+
+/// "`a`", "`a` or `b`", "`a`, `b` or `c`": the expected names in a message.
+pub(crate) fn one_of(names: &[&str]) -> String {
+    match names {
+        [] => String::new(),
+        [one] => format!("`{one}`"),
+        [rest @ .., last] => {
+            let rest: Vec<String> = rest.iter().map(|n| format!("`{n}`")).collect();
+            format!("{} or `{last}`", rest.join(", "))
+        }
+    }
+}
+
+/// The message for an unknown output name.
+pub(crate) fn unknown_output(found: &str) -> String {
+    let names: Vec<&str> = Output::ALL.iter().map(|(_, n)| *n).collect();
+    format!(
+        "unknown output `{found}`: expected one of {}",
+        one_of(&names)
+    )
+}
+
+/// The message for an unknown scalar name.
+pub(crate) fn unknown_scalar(found: &str) -> String {
+    let names: Vec<&str> = ScalarKind::ALL.iter().map(|(_, n)| *n).collect();
+    format!("unknown scalar `{found}`: expected {}", one_of(&names))
+}
