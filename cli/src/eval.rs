@@ -4,10 +4,10 @@
 
 use articulated::model::Model;
 use articulated::reference::{check_q, Error, Reference, Singularity};
-use articulated_codegen::generate::trace;
 use articulated_codegen::load::load_model;
 use articulated_codegen::options::Output;
 use articulated_codegen::sym::Var;
+use articulated_codegen::trace::trace;
 use nalgebra::{DMatrix, DVector};
 use serde_json::Value;
 
@@ -143,7 +143,7 @@ fn joint_of_v(model: &Model, k: usize) -> String {
         .map_or_else(String::new, |j| j.name.clone())
 }
 
-/// The generator's expression graphs (`articulated_codegen::generate::trace`), evaluated in
+/// The generator's expression graphs (`articulated_codegen::trace::trace`), evaluated in
 /// `f64`: what the generated code computes, with the same checks (every forward-dynamics pivot
 /// positive, every result finite), reported as the reference reports them.
 fn by_graph(model: &Model, s: &State) -> Result<Dynamics, String> {
@@ -157,9 +157,8 @@ fn by_graph(model: &Model, s: &State) -> Result<Dynamics, String> {
         if !pivots_ok {
             // The generator's test failed; name the pivot that came out worst, relative to its
             // unreduced value (NaN worst of all).
-            let pd: Vec<(f64, f64)> = traced
-                .pivots
-                .iter()
+            let pairs = traced.pivots.iter().flat_map(|p| &p.pairs);
+            let pd: Vec<(f64, f64)> = pairs
                 .map(|&(p, d)| {
                     let x = traced.graph.eval(&[p, d], |var| s.input(var));
                     (x[0], x[1])

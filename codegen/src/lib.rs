@@ -9,18 +9,16 @@
 //! expansions and [`Builder`] writes the same code from a `build.rs`.
 
 pub mod build;
-pub mod crba;
 pub mod emit;
 pub mod expand;
 pub mod generate;
 pub mod load;
 pub mod lower;
-pub mod newton_euler;
+pub mod optimize;
 pub mod options;
 pub mod parse;
-pub mod reassociate;
-pub mod regroup;
 pub mod sym;
+pub mod trace;
 pub mod urdf;
 
 pub use articulated_dynamics::model;

@@ -441,3 +441,23 @@ fn map_constants_refolds_and_keeps_names() {
     assert_eq!(rounded.eval(&new, at), vec![1.125, 3.0]);
     approx::assert_relative_eq!(graph.eval(&out, at)[0], 1.125, max_relative = 1e-9);
 }
+
+#[test]
+fn numbers_as_written_fold_in_exact_decimal_arithmetic() {
+    // Sums, differences and products of numbers as written are exact and rounded once: the
+    // regrouped inertia 3.2 − 2.8 is 0.4, not the 0.40000000000000036 of binary arithmetic.
+    let (_, folded) = trace(|| {
+        [
+            c(3.2) - c(2.8),
+            c(0.1) + c(0.2),
+            (c(50.9) * c(0.32) * c(0.32) + c(2.8)) - (c(50.9) * c(0.1024) + c(3.2)),
+            c(1.2) * c(0.6),
+        ]
+        .map(|s| s.constant())
+    });
+    assert_eq!(folded, [Some(0.4), Some(0.3), Some(-0.4), Some(0.72)]);
+    // A quotient is a binary value: what it takes part in folds in binary, as IEEE computes it.
+    let (_, folded) = trace(|| (c(1.0) / c(10.0) + c(0.2)).constant());
+    assert_eq!(folded, Some(1.0 / 10.0 + 0.2));
+    assert_ne!(folded, Some(0.3));
+}

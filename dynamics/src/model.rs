@@ -84,7 +84,8 @@ impl Axis {
             Axis::Z => [0.0, 0.0, 1.0],
         }
     }
-    fn letter(self) -> char {
+    /// `x`, `y` or `z`.
+    pub fn letter(self) -> char {
         match self {
             Axis::X => 'x',
             Axis::Y => 'y',

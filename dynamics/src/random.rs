@@ -49,7 +49,8 @@ impl Rng {
     pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.unit()
     }
-    fn below(&mut self, n: usize) -> usize {
+    /// Uniform in `0..n` (`n > 0`).
+    pub fn below(&mut self, n: usize) -> usize {
         (self.next_u64() % n as u64) as usize
     }
     /// A uniformly random unit vector (normalized Gaussian-free: rejection in the cube).

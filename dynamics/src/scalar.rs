@@ -33,6 +33,14 @@ pub trait Scalar:
     fn sin_cos(self) -> (Self, Self);
     /// Square root.
     fn sqrt(self) -> Self;
+    /// Names this value for a reader of generated code and returns it unchanged. The symbolic
+    /// scalar records the name, and the emitter binds the value to a local of that name (the
+    /// recursions label what they compute per body: `trunk_w_x`, the angular velocity of `trunk`
+    /// about x); numbers ignore it. The first name given to a value wins.
+    #[inline(always)]
+    fn label(self, _name: core::fmt::Arguments<'_>) -> Self {
+        self
+    }
 }
 
 impl Scalar for f64 {

@@ -23,7 +23,15 @@ use crate::scalar::Scalar;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vec3<T>(pub [T; 3]);
 
+/// The names of the three axes, for labels.
+const AXES: [&str; 3] = ["x", "y", "z"];
+
 impl<T: Scalar> Vec3<T> {
+    /// Labels the components `{stem}_x`, `{stem}_y`, `{stem}_z` ([`Scalar::label`]).
+    #[inline(always)]
+    pub fn label(self, stem: core::fmt::Arguments<'_>) -> Self {
+        Vec3([0, 1, 2].map(|k| self.0[k].label(format_args!("{stem}_{}", AXES[k]))))
+    }
     /// `[x, y, z]`.
     pub fn new(x: T, y: T, z: T) -> Self {
         Vec3([x, y, z])
@@ -78,6 +86,25 @@ impl<T: Scalar> Neg for Vec3<T> {
 pub struct Mat3<T>(pub [[T; 3]; 3]);
 
 impl<T: Scalar> Mat3<T> {
+    /// Labels every entry `{stem}_xx`, `{stem}_xy`, … ([`Scalar::label`]).
+    #[inline(always)]
+    pub fn label(self, stem: core::fmt::Arguments<'_>) -> Self {
+        Mat3([0, 1, 2].map(|r| {
+            [0, 1, 2].map(|c| self.0[r][c].label(format_args!("{stem}_{}{}", AXES[r], AXES[c])))
+        }))
+    }
+    /// Labels the upper triangle `{stem}_xx`, `{stem}_xy`, … of a symmetric matrix (the lower
+    /// triangle is the same values).
+    #[inline(always)]
+    pub fn label_symmetric(self, stem: core::fmt::Arguments<'_>) -> Self {
+        let mut m = self;
+        for (r, row_axis) in AXES.iter().enumerate() {
+            for (c, col_axis) in AXES.iter().enumerate().skip(r) {
+                m.0[r][c] = self.0[r][c].label(format_args!("{stem}_{row_axis}{col_axis}"));
+            }
+        }
+        m
+    }
     /// The zero matrix.
     pub fn zero() -> Self {
         Mat3([[T::zero(); 3]; 3])
@@ -246,6 +273,12 @@ pub struct Force<T> {
 }
 
 impl<T: Scalar> Motion<T> {
+    /// Labels the angular part `{ang}_x, …` and the linear part `{lin}_x, …`
+    /// ([`Scalar::label`]).
+    #[inline(always)]
+    pub fn label(self, ang: core::fmt::Arguments<'_>, lin: core::fmt::Arguments<'_>) -> Self {
+        Motion::new(self.ang.label(ang), self.lin.label(lin))
+    }
     /// `[ang; lin]`.
     pub fn new(ang: Vec3<T>, lin: Vec3<T>) -> Self {
         Motion { ang, lin }
@@ -290,6 +323,11 @@ impl<T: Scalar> Motion<T> {
 }
 
 impl<T: Scalar> Force<T> {
+    /// Labels the couple `{ang}_x, …` and the force `{lin}_x, …` ([`Scalar::label`]).
+    #[inline(always)]
+    pub fn label(self, ang: core::fmt::Arguments<'_>, lin: core::fmt::Arguments<'_>) -> Self {
+        Force::new(self.ang.label(ang), self.lin.label(lin))
+    }
     /// `[ang; lin]`.
     pub fn new(ang: Vec3<T>, lin: Vec3<T>) -> Self {
         Force { ang, lin }
@@ -445,6 +483,16 @@ pub struct Inertia<T> {
 }
 
 impl<T: Scalar> Inertia<T> {
+    /// Labels the mass `{stem}_m`, the first moment `{stem}_h_x, …` and the upper triangle of
+    /// the rotational inertia `{stem}_i_xx, {stem}_i_xy, …` ([`Scalar::label`]).
+    #[inline(always)]
+    pub fn label(self, stem: core::fmt::Arguments<'_>) -> Self {
+        Inertia {
+            m: self.m.label(format_args!("{stem}_m")),
+            h: self.h.label(format_args!("{stem}_h")),
+            i: self.i.label_symmetric(format_args!("{stem}_i")),
+        }
+    }
     /// The zero inertia (a massless frame).
     pub fn zero() -> Self {
         Inertia {
@@ -531,6 +579,18 @@ impl<T: Scalar> Mul<Motion<T>> for &Inertia<T> {
 pub struct Mat6<T>(pub [[T; 6]; 6]);
 
 impl<T: Scalar> Mat6<T> {
+    /// Labels the upper triangle `{stem}{r}{c}` of a symmetric 6×6 matrix, rows and columns
+    /// counted from 0 ([`Scalar::label`]).
+    #[inline(always)]
+    pub fn label_symmetric(self, stem: core::fmt::Arguments<'_>) -> Self {
+        let mut m = self;
+        for r in 0..6 {
+            for c in r..6 {
+                m.0[r][c] = self.0[r][c].label(format_args!("{stem}{r}{c}"));
+            }
+        }
+        m
+    }
     /// The zero matrix.
     pub fn zero() -> Self {
         Mat6([[T::zero(); 6]; 6])

@@ -169,7 +169,7 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
     if let Some(outputs) = attr.outputs {
         chain.options.outputs = outputs;
     }
-    let g = generate_impls(&chain.model, &chain.options)
+    let g = generate_impls(&chain.model, &chain.options, &lit.value())
         .map_err(|e| syn::Error::new(lit.span(), e.to_string()))?;
     let tokens = g.tokens;
     let abs = path.display().to_string();

@@ -65,6 +65,12 @@ fn ldl_solve<T: Scalar>(f: &[[T; 6]; 6], n: usize, b: [T; 6]) -> [T; 6] {
 /// Forward dynamics by the articulated-body algorithm (RBDA Table 7.1, with multi-DOF joints as
 /// in RBDA §7.3: `U_i = I_i^A·S_i`, `D_i = S_iᵀ·U_i`, `u_i = τ_i − S_iᵀ·p_i^A`).
 ///
+/// Labels ([`Scalar::label`]), per node `n`: velocity `n_w_x, …`, `n_v_x, …`, bias acceleration
+/// `n_cw_x, …`, `n_cv_x, …`, `U`'s columns `n_u{k}_n_x, …`, `u` as `n_tu{k}`, `D` as `n_d{k}{l}`
+/// and its pivots `n_pivot{k}`, the articulated inertia handed to the parent `n_ia{r}{c}` (upper
+/// triangle) and its bias force `n_pa_n_x, …`, `n_pa_f_x, …`, both in the parent's frame
+/// `n_ia_up{r}{c}`, `n_pa_up_n_x, …`, the acceleration `n_dw_x, …`, `n_dv_x, …`.
+///
 /// Pass 1: velocities, `c_i = v_i ×m (S·q̇_i)`, `I_i^A = I_i`, `p_i^A = v_i ×f (I_i·v_i)`.
 /// Pass 2 (leaves in): `I^a = I^A − U·D⁻¹·Uᵀ`, `p^a = p^A + I^a·c + U·D⁻¹·u`, added to the
 /// parent through `X_upᵀ`. Pass 3: `a_i = X_up·a_λ + c_i`, `q̈_i = D⁻¹·(u − Uᵀ·a_i)`,
@@ -91,8 +97,9 @@ pub fn aba<T: Scalar>(
                 (v_i, v_i.cross_motion(v_j))
             }
         };
-        vel.push(v_i);
-        c.push(c_i);
+        let n = &node.name;
+        vel.push(v_i.label(format_args!("{n}_w"), format_args!("{n}_v")));
+        c.push(c_i.label(format_args!("{n}_cw"), format_args!("{n}_cv")));
         ia.push(node.inertia.to_mat6());
         pa.push(v_i.cross_force(node.inertia.mul_motion(v_i)));
     }
@@ -107,19 +114,26 @@ pub fn aba<T: Scalar>(
     for (i, node) in tree.nodes.iter().enumerate().rev() {
         let n = node.nv();
         let mut d = zero6;
+        let name = &node.name;
         for k in 0..n {
             let s_k = node.s_col(k);
-            u_cols[i][k] = ia[i].mul_motion(s_k);
-            u_vec[i][k] = tau[node.v_at + k] - s_k.dot(pa[i]);
+            u_cols[i][k] = ia[i]
+                .mul_motion(s_k)
+                .label(format_args!("{name}_u{k}_n"), format_args!("{name}_u{k}_f"));
+            u_vec[i][k] = (tau[node.v_at + k] - s_k.dot(pa[i])).label(format_args!("{name}_tu{k}"));
         }
         for k in 0..n {
             for l in 0..n {
-                d[k][l] = node.s_col(k).dot(u_cols[i][l]);
+                d[k][l] = node
+                    .s_col(k)
+                    .dot(u_cols[i][l])
+                    .label(format_args!("{name}_d{k}{l}"));
             }
             diag[node.v_at + k] = d[k][k];
         }
         ldl(&mut d, n);
         for k in 0..n {
+            d[k][k] = d[k][k].label(format_args!("{name}_pivot{k}"));
             pivots[node.v_at + k] = d[k][k];
         }
         d_fac[i] = d;
@@ -149,9 +163,18 @@ pub fn aba<T: Scalar>(
                 }
                 ud_u = ud_u + u_cols[i][k].scale(dinv_u[k]);
             }
-            let p_a = pa[i] + i_a.mul_motion(c[i]) + ud_u;
-            ia[p] = ia[p].add(&i_a.to_parent(&x_up[i]));
-            pa[p] = pa[p] + x_up[i].inv_apply_force(p_a);
+            let i_a = i_a.label_symmetric(format_args!("{name}_ia"));
+            let p_a = (pa[i] + i_a.mul_motion(c[i]) + ud_u)
+                .label(format_args!("{name}_pa_n"), format_args!("{name}_pa_f"));
+            let ia_up = i_a
+                .to_parent(&x_up[i])
+                .label_symmetric(format_args!("{name}_ia_up"));
+            let pa_up = x_up[i].inv_apply_force(p_a).label(
+                format_args!("{name}_pa_up_n"),
+                format_args!("{name}_pa_up_f"),
+            );
+            ia[p] = ia[p].add(&ia_up);
+            pa[p] = pa[p] + pa_up;
         }
     }
 
@@ -174,7 +197,8 @@ pub fn aba<T: Scalar>(
             qdd[node.v_at + k] = x[k];
             a_i = a_i + node.s_col(k).scale(x[k]);
         }
-        acc.push(a_i);
+        let n = &node.name;
+        acc.push(a_i.label(format_args!("{n}_dw"), format_args!("{n}_dv")));
     }
     AbaOutput { qdd, pivots, diag }
 }

@@ -12,6 +12,10 @@ use crate::spatial::{Inertia, Transform};
 /// Composite inertias `I_c[λ] += X_upᵀ·I_c[i]·X_up` from the leaves in, then for each node
 /// `F = I_c[i]·S_i`, `M_ii = S_iᵀ·F`, and `F` is carried to each ancestor `j` (`F = X_upᵀ·F`)
 /// giving `M_ji = S_jᵀ·F` and its mirror `M_ij`.
+///
+/// Labels ([`Scalar::label`]), per node `n`: the composite inertia `n_ic_m`, `n_ic_h_x, …`,
+/// `n_ic_i_xx, …`, the same in the parent's frame `n_ic_up_m, …`, and the force `F` of its
+/// `k`-th motion `n_fs{k}_n_x, …`, `n_fs{k}_f_x, …`.
 pub fn crba<T: Scalar>(tree: &Tree<T>, q: &[T]) -> Vec<T> {
     crba_with(tree, q, |ic, _, x_up| ic.to_parent(x_up))
 }
@@ -28,15 +32,20 @@ pub fn crba_with<T: Scalar>(
     let x_up = tree.x_up(q);
     let mut ic: Vec<_> = tree.nodes.iter().map(|n| n.inertia).collect();
     for (i, node) in tree.nodes.iter().enumerate().rev() {
+        ic[i] = ic[i].label(format_args!("{}_ic", node.name));
         if let Some(p) = node.parent {
-            ic[p] = ic[p].add(&to_parent(&ic[i], i, &x_up[i]));
+            let up = to_parent(&ic[i], i, &x_up[i]).label(format_args!("{}_ic_up", node.name));
+            ic[p] = ic[p].add(&up);
         }
     }
     let mut m = alloc::vec![T::zero(); nv * nv];
     for (i, node) in tree.nodes.iter().enumerate() {
         for k in 0..node.nv() {
             let col = node.v_at + k;
-            let mut f = ic[i].mul_motion(node.s_col(k));
+            let n = &node.name;
+            let mut f = ic[i]
+                .mul_motion(node.s_col(k))
+                .label(format_args!("{n}_fs{k}_n"), format_args!("{n}_fs{k}_f"));
             for l in 0..node.nv() {
                 m[(node.v_at + l) * nv + col] = node.s_col(l).dot(f);
             }

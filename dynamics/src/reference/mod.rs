@@ -24,6 +24,7 @@
 pub mod aba;
 pub mod crba;
 pub mod jacobian;
+pub mod ltdl;
 pub mod rnea;
 pub mod tree;
 
@@ -35,6 +36,7 @@ use nalgebra::{DMatrix, DVector};
 
 pub use aba::{aba, AbaOutput};
 pub use crba::{crba, crba_with};
+pub use ltdl::ltdl_solve;
 pub use rnea::{joint_forces, node_forces, rnea};
 pub use tree::{Node, NodeJoint, Tree};
 

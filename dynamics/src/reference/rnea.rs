@@ -14,6 +14,10 @@ use crate::spatial::Force;
 ///
 /// Forward pass: `v_i = X_up·v_λ + S·q̇_i`, `a_i = X_up·a_λ + S·q̈_i + v_i ×m (S·q̇_i)`,
 /// `f_i = I_i·a_i + v_i ×f (I_i·v_i)`; backward pass: `f_λ += X_upᵀ·f_i`.
+///
+/// Labels ([`Scalar::label`]), per node `n`: velocity `n_w_x, …` (angular) and `n_v_x, …`
+/// (linear), acceleration `n_dw_x, …` and `n_dv_x, …`, the transmitted couple `n_n_x, …` and
+/// force `n_f_x, …`, and the same in the parent's frame `n_up_n_x, …`, `n_up_f_x, …`.
 pub fn node_forces<T: Scalar>(
     tree: &Tree<T>,
     q: &[T],
@@ -36,14 +40,20 @@ pub fn node_forces<T: Scalar>(
                 (v_i, a_i)
             }
         };
+        let n = &node.name;
+        let v_i = v_i.label(format_args!("{n}_w"), format_args!("{n}_v"));
+        let a_i = a_i.label(format_args!("{n}_dw"), format_args!("{n}_dv"));
         let inertia = &node.inertia;
         f.push(inertia.mul_motion(a_i) + v_i.cross_force(inertia.mul_motion(v_i)));
         vel.push(v_i);
         acc.push(a_i);
     }
     for (i, node) in tree.nodes.iter().enumerate().rev() {
+        let n = &node.name;
+        f[i] = f[i].label(format_args!("{n}_n"), format_args!("{n}_f"));
         if let Some(p) = node.parent {
-            f[p] = f[p] + x_up[i].inv_apply_force(f[i]);
+            let up = x_up[i].inv_apply_force(f[i]);
+            f[p] = f[p] + up.label(format_args!("{n}_up_n"), format_args!("{n}_up_f"));
         }
     }
     f

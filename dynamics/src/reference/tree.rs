@@ -9,6 +9,8 @@
 //! own (child) frame, so the velocity-product term of the joint is `c_J = 0` and the bias
 //! acceleration is `v_i ×m (S·q̇_i)` (Featherstone 2008, RBDA §4.4 and eq. 5.7).
 
+use alloc::format;
+use alloc::string::String;
 use alloc::vec::Vec;
 
 use crate::model::{Axis, JointKind, Model};
@@ -34,6 +36,11 @@ pub enum NodeJoint<T> {
 /// One node of the numeric tree.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Node<T> {
+    /// What the labels of its quantities start with ([`Scalar::label`]): the body's name for
+    /// the node that is a model body, `{joint}_r{axis}` and `{joint}_t{axis}` for the massless
+    /// frames an Euler or free joint expands into (a rotation about, a translation along the
+    /// axis).
+    pub name: String,
     /// Parent node, or `None` for the world.
     pub parent: Option<usize>,
     /// The joint frame in the parent node's frame: `X_T`, parent → joint frame.
@@ -149,8 +156,13 @@ impl<T: Scalar> Tree<T> {
             let mut parent = joint.parent.map(|b| body_node[b]);
             let mut x_tree = Some(x_tree);
             // Pushes one node; only the first of an expansion gets the placement.
-            let mut push = |joint: NodeJoint<T>, nq: usize, nv: usize, nodes: &mut Vec<Node<T>>| {
+            let mut push = |name: String,
+                            joint: NodeJoint<T>,
+                            nq: usize,
+                            nv: usize,
+                            nodes: &mut Vec<Node<T>>| {
                 nodes.push(Node {
+                    name,
                     parent,
                     x_tree: x_tree.take().unwrap_or_else(Transform::identity),
                     joint,
@@ -162,29 +174,53 @@ impl<T: Scalar> Tree<T> {
                 q_at += nq;
                 v_at += nv;
             };
+            // The massless frames of an expansion, named after the joint and their axis; the
+            // last node is the body.
+            let frame = |kind: &str, a: Axis| format!("{}_{kind}{}", joint.name, a.letter());
+            let body_name = || body.name.clone();
             match joint.kind {
-                JointKind::Revolute { axis } => {
-                    push(NodeJoint::Revolute(Vec3::from_f64(axis)), 1, 1, &mut nodes)
-                }
-                JointKind::Prismatic { axis } => {
-                    push(NodeJoint::Prismatic(Vec3::from_f64(axis)), 1, 1, &mut nodes)
-                }
+                JointKind::Revolute { axis } => push(
+                    body_name(),
+                    NodeJoint::Revolute(Vec3::from_f64(axis)),
+                    1,
+                    1,
+                    &mut nodes,
+                ),
+                JointKind::Prismatic { axis } => push(
+                    body_name(),
+                    NodeJoint::Prismatic(Vec3::from_f64(axis)),
+                    1,
+                    1,
+                    &mut nodes,
+                ),
                 JointKind::SphericalEuler { seq } => {
-                    for a in seq.0 {
-                        push(NodeJoint::Revolute(unit_axis(a)), 1, 1, &mut nodes);
+                    for (k, a) in seq.0.into_iter().enumerate() {
+                        let name = if k == 2 { body_name() } else { frame("r", a) };
+                        push(name, NodeJoint::Revolute(unit_axis(a)), 1, 1, &mut nodes);
                     }
                 }
-                JointKind::SphericalQuaternion => push(NodeJoint::Quaternion, 4, 3, &mut nodes),
+                JointKind::SphericalQuaternion => {
+                    push(body_name(), NodeJoint::Quaternion, 4, 3, &mut nodes)
+                }
                 JointKind::FreeEuler { seq } => {
                     for a in [Axis::X, Axis::Y, Axis::Z] {
-                        push(NodeJoint::Prismatic(unit_axis(a)), 1, 1, &mut nodes);
+                        push(
+                            frame("t", a),
+                            NodeJoint::Prismatic(unit_axis(a)),
+                            1,
+                            1,
+                            &mut nodes,
+                        );
                     }
-                    for a in seq.0 {
-                        push(NodeJoint::Revolute(unit_axis(a)), 1, 1, &mut nodes);
+                    for (k, a) in seq.0.into_iter().enumerate() {
+                        let name = if k == 2 { body_name() } else { frame("r", a) };
+                        push(name, NodeJoint::Revolute(unit_axis(a)), 1, 1, &mut nodes);
                     }
                 }
-                JointKind::FreeQuaternion => push(NodeJoint::FreeQuaternion, 7, 6, &mut nodes),
-                JointKind::Fixed => push(NodeJoint::Fixed, 0, 0, &mut nodes),
+                JointKind::FreeQuaternion => {
+                    push(body_name(), NodeJoint::FreeQuaternion, 7, 6, &mut nodes)
+                }
+                JointKind::Fixed => push(body_name(), NodeJoint::Fixed, 0, 0, &mut nodes),
             }
             let last = nodes.len() - 1;
             let c = Vec3(body.com.map(|x| x.get(params)));
@@ -207,10 +243,19 @@ impl<T: Scalar> Tree<T> {
 
     /// The transforms `X_up[i] = X_J(q_i)·X_T[i]`, parent node → node `i` (Featherstone 2008,
     /// RBDA Table 5.1, line 5).
+    ///
+    /// Labels ([`Scalar::label`]): the rotation `{node}_e_xx, …` and the translation
+    /// `{node}_r_x, …` (Featherstone's `E` and `r`).
     pub fn x_up(&self, q: &[T]) -> Vec<Transform<T>> {
         self.nodes
             .iter()
-            .map(|n| n.joint_transform(q).after(&n.x_tree))
+            .map(|n| {
+                let x = n.joint_transform(q).after(&n.x_tree);
+                Transform {
+                    e: x.e.label(format_args!("{}_e", n.name)),
+                    r: x.r.label(format_args!("{}_r", n.name)),
+                }
+            })
             .collect()
     }
 

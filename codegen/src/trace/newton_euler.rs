@@ -12,7 +12,7 @@
 //! `F = m·V̇ + U·h`, `N = Ī·ω̇ + ω × (Ī·ω) + h × V̇`, with `U = (ω̇×) + (ω×)(ω×)`,
 //!
 //! (`m`, `h = m·c`, `Ī`: the inertia about the origin). The linear velocity never appears: the
-//! terms of the spatial form that contain it cancel. After [`crate::regroup`] most bodies have
+//! terms of the spatial form that contain it cancel. After [`super::regroup`] most bodies have
 //! `m = 0`, which is where this form gains most.
 //!
 //! Forward pass for node `i` with parent `p`, `X_up = (E, r)` (`r`: the node's origin in the
@@ -37,6 +37,10 @@ use articulated_dynamics::Scalar;
 /// `τ = M(q)·a + N(q, q̇)·q̇ (+ g(q) with `with_gravity`)`, as
 /// [`articulated_dynamics::reference::rnea`] computes it, by the classical-acceleration
 /// Newton–Euler recursion (see the [module docs](self)).
+///
+/// Labels ([`Scalar::label`]), per node `n`: `n_w_x, …` (`ω`), `n_dw_x, …` (`ω̇`), `n_dv_x, …`
+/// (`V̇`), `n_u_xx, …` (`U`), the transmitted couple `n_n_x, …` and force `n_f_x, …`, and the
+/// same in the parent's frame `n_up_n_x, …`, `n_up_f_x, …`.
 pub fn classical_rnea<T: Scalar>(
     tree: &Tree<T>,
     q: &[T],
@@ -63,10 +67,11 @@ pub fn classical_rnea<T: Scalar>(
                 x.e.mul_vec(accel[p] + u[p].mul_vec(x.r)),
             ),
         };
-        let om = w + sv.ang;
-        let om_dot = wd + sa.ang + w.cross(sv.ang);
-        let acc = lin + sa.lin + (w + w + sv.ang).cross(sv.lin);
-        let u_i = u_matrix(om, om_dot);
+        let n = &node.name;
+        let om = (w + sv.ang).label(format_args!("{n}_w"));
+        let om_dot = (wd + sa.ang + w.cross(sv.ang)).label(format_args!("{n}_dw"));
+        let acc = (lin + sa.lin + (w + w + sv.ang).cross(sv.lin)).label(format_args!("{n}_dv"));
+        let u_i = u_matrix(om, om_dot).label(format_args!("{n}_u"));
         let inertia = &node.inertia;
         let force = acc.scale(inertia.m) + u_i.mul_vec(inertia.h);
         let i_om = inertia.i.mul_vec(om);
@@ -78,8 +83,11 @@ pub fn classical_rnea<T: Scalar>(
         u.push(u_i);
     }
     for (i, node) in tree.nodes.iter().enumerate().rev() {
+        let n = &node.name;
+        f[i] = f[i].label(format_args!("{n}_n"), format_args!("{n}_f"));
         if let Some(p) = node.parent {
-            f[p] = f[p] + x_up[i].inv_apply_force(f[i]);
+            let up = x_up[i].inv_apply_force(f[i]);
+            f[p] = f[p] + up.label(format_args!("{n}_up_n"), format_args!("{n}_up_f"));
         }
     }
     let mut tau = vec![T::zero(); tree.nv];

@@ -39,7 +39,8 @@ pub fn crba<T: Scalar>(
             NodeJoint::Revolute(u) => match axis(&u) {
                 Some(k) => {
                     let e = node.joint_transform(q).e;
-                    to_parent(&rotate_about(ic, &e, k), &node.x_tree)
+                    let turned = rotate_about(ic, &e, k, &node.name);
+                    to_parent(&turned, &node.x_tree)
                 }
                 None => to_parent(ic, x_up),
             },
@@ -76,19 +77,20 @@ fn to_parent<T: Scalar>(inertia: &Inertia<T>, x: &Transform<T>) -> Inertia<T> {
 }
 
 /// `E_Jᵀ·I·E_J` for the rotation `E_J` about the coordinate axis `e_k` (a revolute joint's, no
-/// translation), by double angles.
-fn rotate_about<T: Scalar>(inertia: &Inertia<T>, e: &Mat3<T>, k: usize) -> Inertia<T> {
+/// translation), by double angles; labelled `{name}_cos2`, `{name}_sin2` (the double angle's),
+/// `{name}_mean`, `{name}_half_diff` (`p`, `t`) and the result, the composite inertia in the joint frame, `{name}_icj_*` ([`Scalar::label`]).
+fn rotate_about<T: Scalar>(inertia: &Inertia<T>, e: &Mat3<T>, k: usize, name: &str) -> Inertia<T> {
     let (j, l) = ((k + 1) % 3, (k + 2) % 3);
     // E restricted to the plane (j, l) is [[c, s], [−s, c]].
     let (c, s) = (e.0[j][j], e.0[j][l]);
     let two = T::from_f64(2.0);
     let half = T::from_f64(0.5);
-    let c2 = c * c - s * s;
-    let s2 = c * s * two;
+    let c2 = (c * c - s * s).label(format_args!("{name}_cos2"));
+    let s2 = (c * s * two).label(format_args!("{name}_sin2"));
     let ii = &inertia.i.0;
     let (a, b, d) = (ii[j][j], ii[j][l], ii[l][l]);
-    let p = (a + d) * half;
-    let t = (a - d) * half;
+    let p = ((a + d) * half).label(format_args!("{name}_mean"));
+    let t = ((a - d) * half).label(format_args!("{name}_half_diff"));
     let u = t * c2 - b * s2;
     let mut out = inertia.i;
     out.0[j][j] = p + u;
@@ -110,6 +112,7 @@ fn rotate_about<T: Scalar>(inertia: &Inertia<T>, e: &Mat3<T>, k: usize) -> Inert
         h,
         i: out,
     }
+    .label(format_args!("{name}_icj"))
 }
 
 #[cfg(test)]

@@ -1,0 +1,473 @@
+//! Straight-line Rust from an expression [`Graph`].
+//!
+//! [`straight_line`] turns the nodes some outputs need into one `let` per operation, in
+//! dependency order, plus one expression per output; the caller wraps them in a function body.
+//! [`format()`] pretty-prints a whole item list. The steps, one file each:
+//! - [`names`]: each local named after what it holds (the recursions' labels, `s_q3`/`c_q3`,
+//!   the terms of a labelled value after it);
+//! - [`fusion`]: products fused into their sum as `mul_add` (f64 and f32);
+//! - [`sines`]: the math calls per scalar, and the joint angles' sines and cosines in one call;
+//! - [`literals`]: constants as a person writes them and clippy accepts them.
+//!
+//! The emitted code allocates nothing, has no `unsafe`, cannot panic, and compiles under
+//! `#![no_std]` without `alloc`, in each [`ScalarKind`]: `f64` and `f32` (literals suffixed
+//! `_f64`/`_f32`; in `f32` the constants are rounded to `f32` and the graph folded again first,
+//! so that a constant that becomes `0` or `±1` there disappears too), or generic (a type
+//! parameter `T: nalgebra::RealField + Copy` in scope; constants
+//! `::articulated::nalgebra::convert::<f64, T>(1.5)`).
+//!
+//! It is also meant to be clean under `clippy -D warnings` in the user's crate: the graph never
+//! contains `x·1`, `x+0`, `x−x` and the like (see [`crate::sym`]); every `let` is used; operands
+//! are names, literals or inputs, so no parentheses are needed.
+
+mod fusion;
+mod literals;
+mod names;
+mod sines;
+
+use std::collections::{HashMap, HashSet};
+use std::fmt;
+
+use proc_macro2::{Ident, Span, TokenStream};
+use quote::quote;
+
+use crate::options::ScalarKind;
+use crate::sym::{Graph, Node, OpCounts, Sym, Var};
+use names::Names;
+use sines::{MathFn, Trig};
+
+/// Straight-line code for some outputs of a graph (see [`straight_line`]).
+#[derive(Clone, Debug)]
+pub struct Emitted {
+    /// One `let` per live operation (constants and inputs are used in place), in dependency
+    /// order; a sine and a cosine of the same argument share one `let (s, c) = …;`.
+    pub statements: TokenStream,
+    /// One expression per output, in order: a name bound in `statements`, a literal (a constant
+    /// call for `Generic`) or an input expression.
+    pub outputs: Vec<TokenStream>,
+    /// The operations `statements` perform.
+    pub ops: OpCounts,
+}
+
+/// Why [`straight_line`] could not emit a graph.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EmitError {
+    /// A constant is not finite in the requested scalar (the graph never folds to one, so it came
+    /// from `Scalar::from_f64`, or an `f64` constant overflows `f32`).
+    NonFiniteConstant {
+        /// The constant in the graph.
+        value: f64,
+        /// The scalar it was to be printed in.
+        scalar: ScalarKind,
+    },
+}
+
+impl fmt::Display for EmitError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EmitError::NonFiniteConstant { value, scalar } => write!(
+                f,
+                "the constant {value:?} is not a finite {} and cannot be emitted",
+                match scalar {
+                    ScalarKind::F64 => "f64",
+                    ScalarKind::F32 => "f32",
+                    ScalarKind::Generic => "f64 (converted to T)",
+                }
+            ),
+        }
+    }
+}
+
+impl std::error::Error for EmitError {}
+
+impl From<EmitError> for syn::Error {
+    /// At the call site: the macro reports it with `to_compile_error`.
+    fn from(e: EmitError) -> syn::Error {
+        syn::Error::new(Span::call_site(), e)
+    }
+}
+
+/// Emits straight-line code computing `outputs` of `graph` in `scalar`; `input` gives the
+/// expression that reads an input, such as `q[3]` (it must be a path, field access, index or
+/// call, so that it can be used as an operand and a method receiver without parentheses).
+///
+/// # Errors
+/// [`EmitError::NonFiniteConstant`] if a live constant is NaN or infinite in `scalar`.
+///
+/// # Panics
+/// If an output belongs to another graph.
+pub fn straight_line(
+    graph: &Graph,
+    outputs: &[Sym],
+    scalar: ScalarKind,
+    input: &dyn Fn(Var) -> TokenStream,
+) -> Result<Emitted, EmitError> {
+    if scalar == ScalarKind::F32 {
+        let (g, outs) = crate::optimize::round_constants_to_f32(graph, outputs);
+        return Writer::new(&g, &outs, scalar, input).emit(&outs);
+    }
+    Writer::new(graph, outputs, scalar, input).emit(outputs)
+}
+
+/// Up to this many statements a function binds one value per `let`, which reads best. rustc
+/// (1.95, with debug info) overflows its stack on a function with about 2,500 `let`s or more,
+/// because each `let` opens a lexical scope nested in the previous one (LLVM's
+/// `DwarfCompileUnit::createAndAddScopeChildren` recurses through them). Past this many, the
+/// values of each level of the graph are bound together in one tuple `let`, so the nesting is
+/// the graph's depth instead of its size.
+const MAX_LETS: usize = 1000;
+
+/// One statement: its pattern, its value, and its level in the DAG (1 + the highest level of
+/// the statements it reads; inputs and constants are level 0).
+struct Statement {
+    pattern: TokenStream,
+    value: TokenStream,
+    level: usize,
+}
+
+/// Everything the statements are written from.
+struct Writer<'g> {
+    graph: &'g Graph,
+    scalar: ScalarKind,
+    live: Vec<Sym>,
+    inputs: HashMap<Sym, TokenStream>,
+    trig: Trig,
+    /// The product fused into each sum.
+    fused: HashMap<Sym, Sym>,
+    /// The inputs whose sines and cosines one `sincos_array` call computes.
+    batched: Vec<Sym>,
+    /// The local each statement binds.
+    name: HashMap<Sym, Ident>,
+}
+
+impl<'g> Writer<'g> {
+    fn new(
+        graph: &'g Graph,
+        outputs: &[Sym],
+        scalar: ScalarKind,
+        input: &dyn Fn(Var) -> TokenStream,
+    ) -> Self {
+        let live = graph.live(outputs);
+        let mut names = Names::default();
+        // The fused multiply–add is called by its short name.
+        names.reserve_idents(quote!(mul_add mul_addf));
+        let mut inputs = HashMap::new();
+        for &s in &live {
+            if let Node::Input(var) = graph.node(s) {
+                let tokens = input(var);
+                names.reserve_idents(tokens.clone());
+                inputs.insert(s, tokens);
+            }
+        }
+        let trig = Trig::of(graph, &live);
+        let fused = match scalar {
+            ScalarKind::Generic => HashMap::new(),
+            _ => fusion::fused_products(graph, &live, outputs),
+        };
+        let batched = match scalar {
+            ScalarKind::F64 => Some(trig.batched_angles(graph, &live)).filter(|a| a.len() >= 2),
+            _ => None,
+        }
+        .unwrap_or_default();
+        let mut w = Writer {
+            graph,
+            scalar,
+            live,
+            inputs,
+            trig,
+            fused,
+            batched,
+            name: HashMap::new(),
+        };
+        let statements = w.statement_nodes();
+        w.name = names::assign(graph, &statements, &|s| w.reads(s), &mut names);
+        w
+    }
+
+    /// The nodes bound by a `let`, in the order they are emitted: the batched sines and
+    /// cosines first, then every other operation except the products fused into a sum.
+    fn statement_nodes(&self) -> Vec<Sym> {
+        let in_fma: HashSet<Sym> = self.fused.values().copied().collect();
+        let batch = self.batch_nodes();
+        let batched: HashSet<Sym> = batch.iter().copied().collect();
+        let rest = self.live.iter().copied().filter(|&s| {
+            !matches!(self.graph.node(s), Node::Const(_) | Node::Input(_))
+                && !in_fma.contains(&s)
+                && !batched.contains(&s)
+        });
+        batch.iter().copied().chain(rest).collect()
+    }
+
+    /// The sines, then the cosines, that the `sincos_array` call computes.
+    fn batch_nodes(&self) -> Vec<Sym> {
+        let sines = self.batched.iter().filter_map(|a| self.trig.sin_of.get(a));
+        let cosines = self.batched.iter().filter_map(|a| self.trig.cos_of.get(a));
+        sines.chain(cosines).copied().collect()
+    }
+
+    /// The nodes statement `s` reads, through the product fused into it.
+    fn reads(&self, s: Sym) -> Vec<Sym> {
+        let mut out = Vec::new();
+        for o in self.graph.node(s).operands() {
+            if self.fused.get(&s) == Some(&o) {
+                out.extend(self.graph.node(o).operands());
+            } else {
+                out.push(o);
+            }
+        }
+        out
+    }
+
+    /// The statements and output expressions.
+    fn emit(&self, outputs: &[Sym]) -> Result<Emitted, EmitError> {
+        let mut stmts = Vec::new();
+        let mut level: HashMap<Sym, usize> = HashMap::new();
+        let mut done: HashSet<Sym> = HashSet::new();
+        if let Some(batch) = self.sincos_array()? {
+            for s in self.batch_nodes() {
+                level.insert(s, 1);
+                done.insert(s);
+            }
+            stmts.push(batch);
+        }
+        for s in self.statement_nodes() {
+            if done.contains(&s) {
+                continue;
+            }
+            let (pattern, value, args) = self.statement(s, &mut done)?;
+            let l = 1 + args
+                .iter()
+                .map(|a| level.get(a).copied().unwrap_or(0))
+                .max()
+                .unwrap_or(0);
+            for bound in self.bound_by(s) {
+                level.insert(bound, l);
+            }
+            stmts.push(Statement {
+                pattern,
+                value,
+                level: l,
+            });
+        }
+        let mut statements = bind(stmts);
+        if !self.fused.is_empty() {
+            let path = match self.scalar {
+                ScalarKind::F32 => quote!(::articulated::math::mul_addf),
+                _ => quote!(::articulated::math::mul_add),
+            };
+            statements = quote!(use #path; #statements);
+        }
+        Ok(Emitted {
+            statements,
+            outputs: outputs
+                .iter()
+                .map(|&s| self.operand(s))
+                .collect::<Result<_, _>>()?,
+            ops: self.graph.op_counts(outputs),
+        })
+    }
+
+    /// The nodes the statement of `s` binds: itself, or a sine and its cosine.
+    fn bound_by(&self, s: Sym) -> Vec<Sym> {
+        match self.graph.node(s) {
+            Node::Sin(a) | Node::Cos(a) => {
+                match (self.trig.sin_of.get(&a), self.trig.cos_of.get(&a)) {
+                    (Some(&sin), Some(&cos)) => vec![sin, cos],
+                    _ => vec![s],
+                }
+            }
+            _ => vec![s],
+        }
+    }
+
+    /// `let ([s_q1, …], [c_q1, …]) = ::articulated::math::sincos_array([q1, …]);`
+    fn sincos_array(&self) -> Result<Option<Statement>, EmitError> {
+        if self.batched.is_empty() {
+            return Ok(None);
+        }
+        let pattern = |of: &HashMap<Sym, Sym>| {
+            let names = self.batched.iter().map(|a| match of.get(a) {
+                Some(s) => {
+                    let n = &self.name[s];
+                    quote!(#n)
+                }
+                None => quote!(_),
+            });
+            quote!([#(#names),*])
+        };
+        let (sines, cosines) = (pattern(&self.trig.sin_of), pattern(&self.trig.cos_of));
+        let args = self
+            .batched
+            .iter()
+            .map(|&a| self.operand(a))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Some(Statement {
+            pattern: quote!((#sines, #cosines)),
+            value: quote!(::articulated::math::sincos_array([#(#args),*])),
+            level: 1,
+        }))
+    }
+
+    /// The pattern and value of the statement computing `s`, and the nodes it reads.
+    fn statement(
+        &self,
+        s: Sym,
+        done: &mut HashSet<Sym>,
+    ) -> Result<(TokenStream, TokenStream, Vec<Sym>), EmitError> {
+        let n = &self.name[&s];
+        let node = self.graph.node(s);
+        let (value, args) = match node {
+            Node::Add(..) | Node::Sub(..) if self.fused.contains_key(&s) => self.fma(s)?,
+            Node::Add(a, b) => {
+                let (ta, tb) = (self.term(a)?, self.term(b)?);
+                (quote!(#ta + #tb), vec![a, b])
+            }
+            Node::Sub(a, b) => {
+                let (ta, tb) = (self.term(a)?, self.term(b)?);
+                (quote!(#ta - #tb), vec![a, b])
+            }
+            Node::Mul(a, b) => {
+                // A constant factor first: `2.0_f64 * x` reads as the math does.
+                let (a, b) = self.constant_first(a, b);
+                let (ta, tb) = (self.term(a)?, self.term(b)?);
+                (quote!(#ta * #tb), vec![a, b])
+            }
+            Node::Div(a, b) => {
+                let (ta, tb) = (self.term(a)?, self.term(b)?);
+                (quote!(#ta / #tb), vec![a, b])
+            }
+            Node::Neg(a) => {
+                let ta = self.operand(a)?;
+                (quote!(-#ta), vec![a])
+            }
+            Node::Sin(a) | Node::Cos(a) => {
+                let both = (self.trig.sin_of.get(&a), self.trig.cos_of.get(&a));
+                if let (Some(&sin), Some(&cos)) = both {
+                    done.extend([sin, cos]);
+                    let (ns, nc) = (&self.name[&sin], &self.name[&cos]);
+                    let call = sines::call(self.scalar, MathFn::SinCos, self.operand(a)?);
+                    return Ok((quote!((#ns, #nc)), call, vec![a]));
+                }
+                let f = match node {
+                    Node::Sin(_) => MathFn::Sin,
+                    _ => MathFn::Cos,
+                };
+                (sines::call(self.scalar, f, self.operand(a)?), vec![a])
+            }
+            Node::Sqrt(a) => (
+                sines::call(self.scalar, MathFn::Sqrt, self.operand(a)?),
+                vec![a],
+            ),
+            Node::Const(_) | Node::Input(_) => unreachable!("never bound to a local"),
+        };
+        Ok((quote!(#n), value, args))
+    }
+
+    /// `mul_add(x, y, c)` for the sum `s` and the product fused into it.
+    fn fma(&self, s: Sym) -> Result<(TokenStream, Vec<Sym>), EmitError> {
+        let p = self.fused[&s];
+        let (Node::Mul(x, y), Node::Add(a, b) | Node::Sub(a, b)) =
+            (self.graph.node(p), self.graph.node(s))
+        else {
+            unreachable!("only products are fused, only into sums")
+        };
+        let (x, y) = self.constant_first(x, y);
+        let c = if p == a { b } else { a };
+        let subtract = matches!(self.graph.node(s), Node::Sub(..));
+        let (tx, ty, tc) = if subtract && p == b {
+            // c − x·y = (−x)·y + c
+            (self.negated(x)?, self.operand(y)?, self.operand(c)?)
+        } else if subtract {
+            // x·y − c
+            (self.operand(x)?, self.operand(y)?, self.negated(c)?)
+        } else {
+            (self.operand(x)?, self.operand(y)?, self.operand(c)?)
+        };
+        let f = match self.scalar {
+            ScalarKind::F32 => quote!(mul_addf),
+            _ => quote!(mul_add),
+        };
+        Ok((quote!(#f(#tx, #ty, #tc)), vec![x, y, c]))
+    }
+
+    /// The operands of a product, a constant first.
+    fn constant_first(&self, a: Sym, b: Sym) -> (Sym, Sym) {
+        if matches!(self.graph.node(b), Node::Const(_)) {
+            (b, a)
+        } else {
+            (a, b)
+        }
+    }
+
+    /// An operand as a function argument or an output: a name, an input, or a constant.
+    fn operand(&self, s: Sym) -> Result<TokenStream, EmitError> {
+        match self.graph.node(s) {
+            Node::Const(x) => Ok(literals::constant(x, self.scalar)?.0),
+            Node::Input(_) => Ok(self.inputs[&s].clone()),
+            _ => {
+                let n = &self.name[&s];
+                Ok(quote!(#n))
+            }
+        }
+    }
+
+    /// An operand of `+ − · /`: the same, with the rare constant that is itself a quotient (see
+    /// [`literals::constant`]) in parentheses.
+    fn term(&self, s: Sym) -> Result<TokenStream, EmitError> {
+        match self.graph.node(s) {
+            Node::Const(x) => match literals::constant(x, self.scalar)? {
+                (c, true) => Ok(quote!((#c))),
+                (c, false) => Ok(c),
+            },
+            _ => self.operand(s),
+        }
+    }
+
+    /// `−x` as an argument: a constant negated, anything else with a minus sign.
+    fn negated(&self, s: Sym) -> Result<TokenStream, EmitError> {
+        match self.graph.node(s) {
+            Node::Const(x) => Ok(literals::constant(-x, self.scalar)?.0),
+            _ => {
+                let t = self.operand(s)?;
+                Ok(quote!(-#t))
+            }
+        }
+    }
+}
+
+/// The statements as `let`s: one each, or (past [`MAX_LETS`]) one per level of the graph.
+fn bind(stmts: Vec<Statement>) -> TokenStream {
+    if stmts.len() <= MAX_LETS {
+        return stmts
+            .into_iter()
+            .map(|Statement { pattern, value, .. }| quote!(let #pattern = #value;))
+            .collect();
+    }
+    let depth = stmts.iter().map(|s| s.level).max().unwrap_or(0);
+    let mut by_level: Vec<Vec<(TokenStream, TokenStream)>> = vec![Vec::new(); depth + 1];
+    for s in stmts {
+        by_level[s.level].push((s.pattern, s.value));
+    }
+    by_level
+        .into_iter()
+        .filter(|level| !level.is_empty())
+        .map(|level| {
+            if level.len() == 1 {
+                let (pattern, value) = &level[0];
+                quote!(let #pattern = #value;)
+            } else {
+                let (patterns, values): (Vec<_>, Vec<_>) = level.into_iter().unzip();
+                quote!(let (#(#patterns),*) = (#(#values),*);)
+            }
+        })
+        .collect()
+}
+
+/// Pretty-prints a list of items (a whole file's worth) with `prettyplease`.
+///
+/// # Errors
+/// If `tokens` do not parse as a list of items.
+pub fn format(tokens: TokenStream) -> Result<String, syn::Error> {
+    let file: syn::File = syn::parse2(tokens)?;
+    Ok(prettyplease::unparse(&file))
+}

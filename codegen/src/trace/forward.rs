@@ -1,0 +1,98 @@
+//! Forward dynamics, traced two ways:
+//! - **ABA** (Featherstone 2008, RBDA §7.3), O(n);
+//! - **CRBA + `LᵀDL`**: `M` from CRBA, `h = N·q̇ + g` from Newton–Euler, then `M = LᵀDL` factored
+//!   from the last coordinate to the first (RBDA §6.5), which keeps the tree's sparsity: the
+//!   structural zeros of `M` are exact zeros in the graph, so every product with them folds
+//!   away.
+//!
+//! Each on the tree as described and regrouped, and CRBA + `LᵀDL` with both formulations of
+//! `M` and `h`. Regrouping changes neither `M` nor ABA's pivots: every moved part `I_s` has
+//! `I_s·S = 0`, so each `D_i = Sᵢᵀ·I^A_i·S_i` and `U_i = I^A_i·S_i` is the same.
+
+use articulated_dynamics::model::Model;
+use articulated_dynamics::reference::{aba, ltdl_solve};
+use articulated_dynamics::Scalar;
+
+use super::{inputs, label_outputs, mass_matrix, rnea, symbolic_tree};
+use super::{Formulation, Pivots, Traced, Variant};
+use crate::options::Output;
+use crate::sym::{self, Sym, Var};
+
+/// How forward dynamics is computed in generated code.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FdMethod {
+    /// The articulated-body algorithm.
+    Aba,
+    /// CRBA, Newton–Euler, then a sparse `LᵀDL` of `M` and two triangular solves.
+    CrbaLtdl,
+}
+
+impl FdMethod {
+    /// A short name for docs and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            FdMethod::Aba => "ABA (RBDA §7.3)",
+            FdMethod::CrbaLtdl => "CRBA + sparse LᵀDL (RBDA §6.2, §6.5)",
+        }
+    }
+}
+
+/// The variants of forward dynamics: ABA on the tree as described and regrouped, CRBA + `LᵀDL`
+/// with both formulations, each on both trees.
+pub(crate) fn variants() -> impl Iterator<Item = Variant> {
+    let aba = [false, true].map(|regrouped| Variant {
+        regrouped,
+        formulation: Formulation::Reference,
+        method: Some(FdMethod::Aba),
+    });
+    let ltdl = [false, true].into_iter().flat_map(|regrouped| {
+        [Formulation::Reference, Formulation::Specialized].map(|formulation| Variant {
+            regrouped,
+            formulation,
+            method: Some(FdMethod::CrbaLtdl),
+        })
+    });
+    aba.into_iter().chain(ltdl)
+}
+
+/// Forward dynamics traced one way.
+pub(crate) fn trace_variant(model: &Model, variant: Variant) -> Traced {
+    let (graph, (values, pairs, scale)) = sym::trace(|| {
+        let tree = symbolic_tree(model, variant.regrouped);
+        let (q, v, tau) = (
+            inputs(tree.nq, Var::Q),
+            inputs(tree.nv, Var::V),
+            inputs(tree.nv, Var::Tau),
+        );
+        let (values, pairs) = match variant.method {
+            Some(FdMethod::CrbaLtdl) => {
+                let m = mass_matrix(variant.formulation, &tree, &q);
+                let zero = vec![Sym::zero(); tree.nv];
+                let h = rnea(variant.formulation, &tree, &q, &v, &zero, true);
+                let b: Vec<Sym> = tau.iter().zip(&h).map(|(&t, &h)| t - h).collect();
+                ltdl_solve(m, b, tree.nv)
+            }
+            _ => {
+                let out = aba(&tree, &q, &v, &tau, true);
+                (out.qdd, out.pivots.into_iter().zip(out.diag).collect())
+            }
+        };
+        // Inside the trace: the sum is recorded in this graph.
+        let scale = pairs
+            .iter()
+            .map(|p: &(Sym, Sym)| p.1)
+            .reduce(|a, b| a + b)
+            .unwrap_or_else(Sym::zero)
+            .label(format_args!("pivot_scale"));
+        let values = label_outputs(Output::ForwardDynamics, values, tree.nv);
+        (values, pairs, scale)
+    });
+    Traced {
+        output: Output::ForwardDynamics,
+        graph,
+        values,
+        pivots: Some(Pivots { pairs, scale }),
+        variant,
+        candidates: Vec::new(),
+    }
+}

@@ -1,0 +1,300 @@
+//! Tracing: each output's recursion run on the symbolic scalar ([`crate::sym`]) into an
+//! expression graph, several ways, and the way with the fewest operations kept.
+//!
+//! The recursions traced are the reference's own generic code
+//! (`articulated_dynamics::reference`: RNEA, CRBA, ABA, the sparse `LᵀDL`), instantiated on
+//! [`Sym`]: what the reference computes in `f64` at run time, the generator records once, folds
+//! and emits. Beside them, formulations written for the generator compute the same values in
+//! fewer operations:
+//! - [`regroup`]: the inertial parameters regrouped first (Khalil's base parameters);
+//! - [`newton_euler`]: Newton–Euler on classical accelerations, for bias, gravity and inverse
+//!   dynamics;
+//! - [`crba`]: a CRBA that carries composite inertias by their upper triangle and through
+//!   coordinate-axis revolute joints by double angles, for `M`;
+//! - [`forward`]: forward dynamics by ABA or by CRBA + `LᵀDL`.
+//!
+//! Every [`Variant`] of an output is traced; [`trace`] keeps the one with the fewest operations
+//! (the first of equals), then regroups its sums by arrival time ([`crate::optimize::reassociate`]). All
+//! variants compute the same values (each formulation's tests hold it to the reference); they
+//! round differently.
+
+pub mod crba;
+pub mod forward;
+pub mod newton_euler;
+pub mod regroup;
+
+use std::fmt;
+
+use articulated_dynamics::model::Model;
+use articulated_dynamics::reference::{self, Tree};
+use articulated_dynamics::Scalar;
+
+use crate::optimize::reassociate;
+use crate::options::Output;
+use crate::sym::{self, Graph, OpCounts, Sym, Var};
+pub use forward::FdMethod;
+
+/// The recursion traced for an output: the reference's, or the one written for the generator
+/// that computes the same values in fewer operations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Formulation {
+    /// The reference's own recursion (spatial RNEA, CRBA, ABA).
+    Reference,
+    /// For `M`: [`crba`] (symmetric composite inertias, double angles); for bias, gravity and
+    /// inverse dynamics (and `h` in forward dynamics): [`newton_euler`] (classical
+    /// accelerations).
+    Specialized,
+}
+
+/// One way of tracing an output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Variant {
+    /// Whether the inertias were regrouped first ([`regroup`]).
+    pub regrouped: bool,
+    /// The recursion for `M` and the Newton–Euler terms.
+    pub formulation: Formulation,
+    /// Forward dynamics only: ABA or CRBA + `LᵀDL`.
+    pub method: Option<FdMethod>,
+}
+
+impl fmt::Display for Variant {
+    /// A short description for docs and reports: "ABA, regrouped inertias".
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut parts: Vec<&str> = Vec::new();
+        if let Some(m) = self.method {
+            parts.push(m.name());
+        }
+        if self.method != Some(FdMethod::Aba) {
+            parts.push(match self.formulation {
+                Formulation::Reference => "reference recursions",
+                Formulation::Specialized => "specialized recursions",
+            });
+        }
+        if self.regrouped {
+            parts.push("regrouped inertias");
+        }
+        write!(f, "{}", parts.join(", "))
+    }
+}
+
+/// The checks of forward dynamics' factorization: each pivot with the unreduced value it is
+/// compared to, and the sum of the unreduced values, which every pivot is compared to as well.
+#[derive(Clone, Debug)]
+pub struct Pivots {
+    /// `(pivot, unreduced)` per velocity coordinate.
+    pub pairs: Vec<(Sym, Sym)>,
+    /// The sum of the unreduced values.
+    pub scale: Sym,
+}
+
+/// Relative pivot tolerance of generated forward dynamics: a pivot must exceed this fraction of
+/// its unreduced value (the same test as the reference's ABA).
+pub const PIVOT_TOL_F64: f64 = 1e-13;
+/// The same for `f32` (its epsilon is 1.2e-7).
+pub const PIVOT_TOL_F32: f64 = 1e-6;
+/// Every pivot must also exceed this fraction of the sum of all unreduced pivots (for CRBA +
+/// LᵀDL, the trace of `M`). A pivot of an exactly singular `M` comes out as rounding noise, about
+/// ε·trace(M) times some growth, which can pass the test against its own unreduced value (a
+/// massless root under a free base: the pivot of 1e-16 against `M_kk` of 1e-3); against the
+/// trace it cannot. Legitimate pivots of ill-conditioned chains (κ up to 1e11) pass.
+pub const PIVOT_TOL_GLOBAL_F64: f64 = 1e-12;
+/// The same for `f32`.
+pub const PIVOT_TOL_GLOBAL_F32: f64 = 1e-5;
+
+/// One output traced into its own graph.
+#[derive(Debug)]
+pub struct Traced {
+    /// Which output.
+    pub output: Output,
+    /// The expression graph.
+    pub graph: Graph,
+    /// The values, in order: `M` row-major for the mass matrix, one per velocity otherwise.
+    pub values: Vec<Sym>,
+    /// Forward dynamics only: the factorization's checks.
+    pub pivots: Option<Pivots>,
+    /// The variant kept.
+    pub variant: Variant,
+    /// Every variant traced, with its operation count, in the order traced.
+    pub candidates: Vec<(Variant, OpCounts)>,
+}
+
+impl Traced {
+    /// Operations the emitted function performs (values and pivot checks).
+    pub fn ops(&self) -> OpCounts {
+        self.graph.op_counts(&self.all_outputs())
+    }
+
+    /// The values, then each pivot and its unreduced value, then the scale.
+    pub fn all_outputs(&self) -> Vec<Sym> {
+        let mut all = self.values.clone();
+        if let Some(p) = &self.pivots {
+            all.extend(p.pairs.iter().flat_map(|&(p, d)| [p, d]));
+            all.push(p.scale);
+        }
+        all
+    }
+
+    /// The same values with every sum regrouped so that late terms are added last
+    /// ([`crate::optimize::reassociate`]): no more operations, a shorter critical path.
+    fn reassociated(self) -> Traced {
+        let (graph, mut all) = reassociate(&self.graph, &self.all_outputs());
+        let pivots = self.pivots.as_ref().map(|_| {
+            let scale = all
+                .pop()
+                .unwrap_or_else(|| unreachable!("the scale is last"));
+            let pairs = all.split_off(self.values.len());
+            Pivots {
+                pairs: pairs.chunks(2).map(|pd| (pd[0], pd[1])).collect(),
+                scale,
+            }
+        });
+        Traced {
+            graph,
+            values: all,
+            pivots,
+            ..self
+        }
+    }
+
+    /// Evaluates the graph in `f64` (the CLI's `--engine symbolic`): the values, then, for
+    /// forward dynamics, whether every pivot passed the generated code's checks.
+    pub fn eval(&self, input: impl Fn(Var) -> f64) -> (Vec<f64>, bool) {
+        let all = self.graph.eval(&self.all_outputs(), input);
+        let (values, rest) = all.split_at(self.values.len());
+        let ok = match rest.split_last() {
+            None => true,
+            Some((&scale, pairs)) => pairs.chunks(2).all(|pd| {
+                pd[0] > PIVOT_TOL_F64 * pd[1]
+                    && pd[0] > PIVOT_TOL_GLOBAL_F64 * scale
+                    && pd[0].is_finite()
+            }),
+        };
+        (values.to_vec(), ok)
+    }
+}
+
+/// Traces `output` of `model` every way there is and keeps the fewest operations (see the
+/// [module docs](self)).
+pub fn trace(model: &Model, output: Output) -> Traced {
+    let traced: Vec<Traced> = match output {
+        Output::ForwardDynamics => forward::variants()
+            .map(|variant| forward::trace_variant(model, variant))
+            .collect(),
+        _ => [false, true]
+            .into_iter()
+            .flat_map(|regrouped| {
+                [Formulation::Reference, Formulation::Specialized].map(|formulation| Variant {
+                    regrouped,
+                    formulation,
+                    method: None,
+                })
+            })
+            .map(|variant| trace_variant(model, output, variant))
+            .collect(),
+    };
+    let candidates: Vec<(Variant, OpCounts)> =
+        traced.iter().map(|t| (t.variant, t.ops())).collect();
+    let mut best = traced
+        .into_iter()
+        .reduce(|best, t| {
+            if t.ops().total() < best.ops().total() {
+                t
+            } else {
+                best
+            }
+        })
+        .unwrap_or_else(|| unreachable!("every output has variants"));
+    best.candidates = candidates;
+    best.reassociated()
+}
+
+/// `M`, bias, gravity or inverse dynamics traced one way.
+fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
+    let (graph, values) = sym::trace(|| {
+        let tree = symbolic_tree(model, variant.regrouped);
+        let (q, v, a) = (
+            inputs(tree.nq, Var::Q),
+            inputs(tree.nv, Var::V),
+            inputs(tree.nv, Var::A),
+        );
+        let zero = vec![Sym::zero(); tree.nv];
+        let form = variant.formulation;
+        let values = match output {
+            Output::MassMatrix => mass_matrix(form, &tree, &q),
+            Output::Bias => rnea(form, &tree, &q, &v, &zero, false),
+            Output::Gravity => rnea(form, &tree, &q, &zero, &zero, true),
+            Output::InverseDynamics => rnea(form, &tree, &q, &v, &a, true),
+            Output::ForwardDynamics => unreachable!("traced by `forward`"),
+        };
+        label_outputs(output, values, tree.nv)
+    });
+    Traced {
+        output,
+        graph,
+        values,
+        pivots: None,
+        variant,
+        candidates: Vec::new(),
+    }
+}
+
+/// Names the outputs after what they are (`tau_3`, `m_1_2`), where the recursion left them
+/// unnamed; the first name a value gets wins.
+fn label_outputs(output: Output, values: Vec<Sym>, nv: usize) -> Vec<Sym> {
+    let stem = match output {
+        Output::MassMatrix => "m",
+        Output::Bias => "bias",
+        Output::Gravity => "g",
+        Output::InverseDynamics => "tau",
+        Output::ForwardDynamics => "qdd",
+    };
+    values
+        .into_iter()
+        .enumerate()
+        .map(|(k, x)| match output {
+            Output::MassMatrix => x.label(format_args!("{stem}_{}_{}", k / nv, k % nv)),
+            _ => x.label(format_args!("{stem}_{k}")),
+        })
+        .collect()
+}
+
+/// The model's tree on the symbolic scalar, its parameters as inputs, regrouped if asked.
+///
+/// # Panics
+/// Outside [`sym::trace`].
+pub(crate) fn symbolic_tree(model: &Model, regrouped: bool) -> Tree<Sym> {
+    let params = inputs(model.params.len(), Var::Param);
+    let mut tree = Tree::new(model, &params);
+    if regrouped {
+        regroup::regroup(&mut tree);
+    }
+    tree
+}
+
+/// The inputs `var(0), …, var(n − 1)`.
+pub(crate) fn inputs(n: usize, var: fn(usize) -> Var) -> Vec<Sym> {
+    (0..n).map(|i| Sym::input(var(i))).collect()
+}
+
+/// Inverse dynamics by `form` (`with_gravity`: add `g(q)`).
+pub(crate) fn rnea(
+    form: Formulation,
+    tree: &Tree<Sym>,
+    q: &[Sym],
+    v: &[Sym],
+    a: &[Sym],
+    with_gravity: bool,
+) -> Vec<Sym> {
+    match form {
+        Formulation::Specialized => newton_euler::classical_rnea(tree, q, v, a, with_gravity),
+        Formulation::Reference => reference::rnea(tree, q, v, a, with_gravity),
+    }
+}
+
+/// `M(q)` by `form`, row-major.
+pub(crate) fn mass_matrix(form: Formulation, tree: &Tree<Sym>, q: &[Sym]) -> Vec<Sym> {
+    match form {
+        Formulation::Specialized => crba::crba(tree, q, regroup::coordinate_axis),
+        Formulation::Reference => reference::crba(tree, q),
+    }
+}
