@@ -328,8 +328,7 @@ impl SavitzkyGolay {
         let n = self.degree + 1;
         let h = scale(t, index, k);
         for j in range {
-            let mut p = [0.0; MAX_COEFFS];
-            legendre(n, (t[j] - t[index]) / h, &mut p, None, None);
+            let [p, _, _] = legendre(n, (t[j] - t[index]) / h);
             let w = |gd: &[f64; MAX_COEFFS]| (0..n).map(|m| gd[m] * p[m]).sum::<f64>();
             let (w0, w1, w2) = (w(&g[0]), w(&g[1]), w(&g[2]));
             let row = &y[j * columns..(j + 1) * columns];
@@ -355,8 +354,7 @@ impl SavitzkyGolay {
         // Gram matrix of the Legendre basis over the window's scaled times.
         let mut g = [[0.0; MAX_COEFFS]; MAX_COEFFS];
         for j in index - k..=index + k {
-            let mut p = [0.0; MAX_COEFFS];
-            legendre(n, (t[j] - t[index]) / h, &mut p, None, None);
+            let [p, _, _] = legendre(n, (t[j] - t[index]) / h);
             for a in 0..n {
                 for b in 0..=a {
                     g[a][b] += p[a] * p[b];
@@ -371,8 +369,8 @@ impl SavitzkyGolay {
                     s -= g[a][c] * g[b][c];
                 }
                 if a == b {
-                    // A relative pivot test, false for NaN.
-                    if !(s > 1e-12 * g[a][a]) {
+                    // A relative pivot test; NaN fails it too.
+                    if s.is_nan() || s <= 1e-12 * g[a][a] {
                         return Err(DifferentiateError::IllConditioned { index });
                     }
                     g[a][a] = libm::sqrt(s);
@@ -381,11 +379,7 @@ impl SavitzkyGolay {
                 }
             }
         }
-        let mut rhs = [[0.0; MAX_COEFFS]; 3];
-        {
-            let [r0, r1, r2] = &mut rhs;
-            legendre(n, 0.0, r0, Some(r1), Some(r2));
-        }
+        let rhs = legendre(n, 0.0);
         let mut out = [[0.0; MAX_COEFFS]; 3];
         for (d, (r, o)) in rhs.iter().zip(out.iter_mut()).enumerate() {
             // L·z = r, then Lᵀ·x = z.
@@ -521,15 +515,10 @@ fn scale(t: &[f64], i: usize, k: usize) -> f64 {
 }
 
 /// The Legendre polynomials `P_0 … P_{n−1}` at `s` (Bonnet's recurrence `(m + 1)·P_{m+1} =
-/// (2m + 1)·s·P_m − m·P_{m−1}`), and optionally their first and second derivatives
-/// (`P'_{m+1} = P'_{m−1} + (2m + 1)·P_m`, and the same one order up).
-fn legendre(
-    n: usize,
-    s: f64,
-    p: &mut [f64; MAX_COEFFS],
-    mut dp: Option<&mut [f64; MAX_COEFFS]>,
-    mut ddp: Option<&mut [f64; MAX_COEFFS]>,
-) {
+/// (2m + 1)·s·P_m − m·P_{m−1}`) and their first and second derivatives
+/// (`P'_{m+1} = P'_{m−1} + (2m + 1)·P_m`, and the same one order up): `[P, P', P'']`.
+fn legendre(n: usize, s: f64) -> [[f64; MAX_COEFFS]; 3] {
+    let mut p = [0.0; MAX_COEFFS];
     let mut d1 = [0.0; MAX_COEFFS];
     let mut d2 = [0.0; MAX_COEFFS];
     p[0] = 1.0;
@@ -543,12 +532,7 @@ fn legendre(
         d1[m + 1] = d1[m - 1] + (2.0 * mf + 1.0) * p[m];
         d2[m + 1] = d2[m - 1] + (2.0 * mf + 1.0) * d1[m];
     }
-    if let Some(dp) = dp.as_deref_mut() {
-        *dp = d1;
-    }
-    if let Some(ddp) = ddp.as_deref_mut() {
-        *ddp = d2;
-    }
+    [p, d1, d2]
 }
 
 /// Why [`velocities`] could not convert a configuration's derivatives.
@@ -641,7 +625,7 @@ pub fn velocities(
                 v_dot[iv..iv + n].copy_from_slice(&q_ddot[iq..iq + n]);
             }
             Coordinates::Quaternion => {
-                let (unit, w, w_dot) = angular(
+                let Angular { unit, w, w_dot } = angular(
                     joint,
                     quat(&q[iq..]),
                     quat(&q_dot[iq..]),
@@ -652,7 +636,7 @@ pub fn velocities(
                 v_dot[iv..iv + 3].copy_from_slice(&w_dot);
             }
             Coordinates::FreeQuaternion => {
-                let (unit, w, w_dot) = angular(
+                let Angular { unit, w, w_dot } = angular(
                     joint,
                     quat(&q[iq + 3..]),
                     quat(&q_dot[iq + 3..]),
@@ -680,13 +664,20 @@ pub fn velocities(
     Ok(())
 }
 
+/// A quaternion joint's normalized orientation, angular velocity and its rate.
+struct Angular {
+    unit: [f64; 4],
+    w: [f64; 3],
+    w_dot: [f64; 3],
+}
+
 /// `(q̂, ω, ω̇)` from a quaternion and its two derivatives, `q = n·q̂`.
 fn angular(
     joint: usize,
     q: [f64; 4],
     q_dot: [f64; 4],
     q_ddot: [f64; 4],
-) -> Result<([f64; 4], [f64; 3], [f64; 3]), CoordinatesError> {
+) -> Result<Angular, CoordinatesError> {
     let n = libm::sqrt(q.iter().map(|x| x * x).sum::<f64>());
     if !(n.is_finite() && n > 0.0) {
         return Err(CoordinatesError::DegenerateQuaternion { joint });
@@ -702,7 +693,7 @@ fn angular(
         (2.0 * b[2] - 2.0 * n_dot * w[1]) / n,
         (2.0 * b[3] - 2.0 * n_dot * w[2]) / n,
     ];
-    Ok((unit, w, w_dot))
+    Ok(Angular { unit, w, w_dot })
 }
 
 fn quat(s: &[f64]) -> [f64; 4] {

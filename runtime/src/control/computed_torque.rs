@@ -17,6 +17,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use crate::control::tangent::difference;
+use crate::control::Controller;
 use crate::differentiate::{dimensions, CoordinatesError};
 use crate::Coordinates;
 
@@ -71,7 +72,7 @@ pub(crate) fn check_dimensions(
 ///     |q, v, a| Pendulum::inverse_dynamics(q, v, a),
 /// )?;
 /// // Tilted by 0.1 rad, at rest: τ = ID(q, 0, −25·0.1) = 1.01·(−2.5) − 9.81·sin 0.1.
-/// let tau = control(0.0, &SVector::new(0.1), &SVector::zeros());
+/// let tau = control(0.0, &SVector::<f64, 1>::new(0.1), &SVector::zeros());
 /// assert!((tau[0] - (-2.525 - 9.81 * 0.1f64.sin())).abs() < 1e-12);
 /// # Ok::<(), articulated::differentiate::CoordinatesError>(())
 /// ```
@@ -84,10 +85,7 @@ pub fn computed_torque<'a, const NQ: usize, const NV: usize, R, ID>(
     kd: SMatrix<f64, NV, NV>,
     mut reference: R,
     mut inverse_dynamics: ID,
-) -> Result<
-    impl FnMut(f64, &SVector<f64, NQ>, &SVector<f64, NV>) -> SVector<f64, NV> + 'a,
-    CoordinatesError,
->
+) -> Result<impl Controller<NQ, NV> + 'a, CoordinatesError>
 where
     R: FnMut(f64) -> (SVector<f64, NQ>, SVector<f64, NV>, SVector<f64, NV>) + 'a,
     ID: FnMut(&SVector<f64, NQ>, &SVector<f64, NV>, &SVector<f64, NV>) -> SVector<f64, NV> + 'a,

@@ -71,7 +71,7 @@ pub struct Linearization {
 
 /// The step for a scalar at `x`: `ε^(1/3)·max(1, |x|)`, rounded so that `x + h` is exact.
 fn step(x: f64) -> f64 {
-    let h = f64::EPSILON.cbrt() * f64::max(1.0, x.abs());
+    let h = libm::cbrt(f64::EPSILON) * f64::max(1.0, x.abs());
     (x + h) - x
 }
 
@@ -147,18 +147,18 @@ where
 ///
 /// articulated::chain! {
 ///     chain Pendulum {
-///         body bob { mass: 1.0, com: [0.0, 0.0, 1.0], inertia: diag(0.0, 0.0, 0.0) }
+///         body bob { mass: 1.0, com: [0.0, 0.0, 1.0], inertia: diag(0.01, 0.01, 0.01) }
 ///         joint pivot: revolute(y) { parent: world, child: bob }
 ///     }
 /// }
-/// // Upright (the bob 1 m above the pivot): v̇ = (g/l)·δ + τ/(m l²).
+/// // Upright (the bob 1 m above the pivot): v̇ = (m g l·δ + τ)/(I_yy + m l²).
 /// let q0 = SVector::<f64, 1>::zeros();
-/// let lin = linearize(&SVector::zeros(), &SVector::zeros(), |d, v, tau| {
+/// let lin = linearize(&SVector::zeros(), &SVector::zeros(), |d: &SVector<f64, 1>, v, tau| {
 ///     let mut q = SVector::<f64, 1>::zeros();
 ///     retract(Pendulum::COORDINATES, q0.as_slice(), d.as_slice(), q.as_mut_slice());
 ///     Pendulum::forward_dynamics(&q, v, tau)
 /// })?;
-/// assert!((lin.a[(1, 0)] - 9.81).abs() < 1e-7 && (lin.b[(1, 0)] - 1.0).abs() < 1e-8);
+/// assert!((lin.a[(1, 0)] - 9.81 / 1.01).abs() < 1e-7 && (lin.b[(1, 0)] - 1.0 / 1.01).abs() < 1e-8);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 ///

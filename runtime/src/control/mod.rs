@@ -22,6 +22,21 @@
 //! let controller = state_feedback(C::COORDINATES, q_eq, v_eq, tau_eq, kq, kv)?;
 //! ```
 
+use nalgebra::SVector;
+
+/// A controller: `(t, q, v) ↦ τ`, what a simulator calls at each evaluation of the dynamics.
+/// Every `FnMut(f64, &SVector<f64, NQ>, &SVector<f64, NV>) -> SVector<f64, NV>` is one; the
+/// laws here return one.
+pub trait Controller<const NQ: usize, const NV: usize>:
+    FnMut(f64, &SVector<f64, NQ>, &SVector<f64, NV>) -> SVector<f64, NV>
+{
+}
+
+impl<F, const NQ: usize, const NV: usize> Controller<NQ, NV> for F where
+    F: FnMut(f64, &SVector<f64, NQ>, &SVector<f64, NV>) -> SVector<f64, NV>
+{
+}
+
 pub mod computed_torque;
 #[cfg(feature = "alloc")]
 pub mod linearize;

@@ -182,7 +182,8 @@ pub fn care(
         let next = &p + delta;
         let next = (&next + next.transpose()) * 0.5;
         let next_res = residual(a, &g, q, &next);
-        if !(next_res.norm() < res.norm()) {
+        // Also stops on NaN.
+        if next_res.norm().partial_cmp(&res.norm()) != Some(core::cmp::Ordering::Less) {
             break;
         }
         let small = next_res.norm() > 0.5 * res.norm();
@@ -196,9 +197,12 @@ pub fn care(
     if !hurwitz(&(a - &g * &p)) {
         return Err(RiccatiError::NoStabilizingSolution);
     }
-    let relative_residual = res.norm() / scale(&p);
-    if !(relative_residual <= 1e-8) {
-        return Err(RiccatiError::NoConvergence { relative_residual });
+    // Written without dividing, so that the zero equation (Q = 0, A stable: P = 0) passes.
+    let converged = res.norm() <= 1e-8 * scale(&p);
+    if !converged {
+        return Err(RiccatiError::NoConvergence {
+            relative_residual: res.norm() / scale(&p),
+        });
     }
     Ok(p)
 }
@@ -232,14 +236,14 @@ fn sign_solution(
     for _ in 0..100 {
         let lu = z.clone().lu();
         // |det Z|^(1/2n) from the LU pivots, in logarithms (no overflow at 2n = 48).
-        let log_det: f64 = lu.u().diagonal().iter().map(|u| u.abs().ln()).sum();
+        let log_det: f64 = lu.u().diagonal().iter().map(|u| libm::log(u.abs())).sum();
         let inv = match lu.try_inverse() {
             Some(inv) if log_det.is_finite() && inv.iter().all(|x| x.is_finite()) => inv,
             // Z singular: H has an eigenvalue on the imaginary axis.
             _ => return Err(RiccatiError::NoStabilizingSolution),
         };
         let c = if scaled {
-            (-log_det / (2 * n) as f64).exp()
+            libm::exp(-log_det / (2 * n) as f64)
         } else {
             1.0
         };
@@ -284,7 +288,7 @@ fn sign_solution(
     let (max, min) = sv.iter().fold((0.0f64, f64::INFINITY), |(hi, lo), &s| {
         (hi.max(s), lo.min(s))
     });
-    if !(min > 1e-10 * max) {
+    if min.is_nan() || min <= 1e-10 * max {
         return Err(RiccatiError::NoStabilizingSolution);
     }
     let p = svd

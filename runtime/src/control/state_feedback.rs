@@ -16,6 +16,7 @@ use nalgebra::{SMatrix, SVector};
 
 use crate::control::computed_torque::check_dimensions;
 use crate::control::tangent::difference;
+use crate::control::Controller;
 use crate::differentiate::CoordinatesError;
 use crate::Coordinates;
 
@@ -46,10 +47,7 @@ pub fn state_feedback<'a, const NQ: usize, const NV: usize>(
     tau_eq: SVector<f64, NV>,
     kq: SMatrix<f64, NV, NV>,
     kv: SMatrix<f64, NV, NV>,
-) -> Result<
-    impl FnMut(f64, &SVector<f64, NQ>, &SVector<f64, NV>) -> SVector<f64, NV> + 'a,
-    CoordinatesError,
-> {
+) -> Result<impl Controller<NQ, NV> + 'a, CoordinatesError> {
     check_dimensions(coordinates, NQ, NV)?;
     Ok(move |_t: f64, q: &SVector<f64, NQ>, v: &SVector<f64, NV>| {
         let mut dq = SVector::<f64, NV>::zeros();
