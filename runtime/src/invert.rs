@@ -19,7 +19,7 @@
 //! in `q̈` for a degree-`p` fit with a fixed window in samples; noise of deviation `σ` on `q`
 //! adds about `σ·‖w₂‖₂` to `q̈`, with `‖w₂‖₂ ∝ 1/(K^(5/2)·Δ²)` for a window of `K` samples
 //! spaced `Δ`. The table measured on Hemami's two-link system is printed by `cargo test -p
-//! articulated --test samples --release -- --nocapture noise_table`.
+//! articulated --test samples -- --nocapture noise_table`.
 
 use core::convert::Infallible;
 use core::fmt;

@@ -4,7 +4,7 @@
 //! [`derive@Chain`]), the traits generated chains implement ([`MassMatrix`], [`Bias`],
 //! [`Gravity`], [`InverseDynamics`], [`ForwardDynamics`]; bring them in with
 //! `use articulated::prelude::*;`), and, with the `alloc` feature (on through `std`, the
-//! default), the chain [`model`] and the interpreted [`reference`] dynamics.
+//! default), the chain [`model`] and the interpreted [`reference`](mod@reference) dynamics.
 //!
 //! The runtime half of Hemami, Dariush & Barin (2005) works on any generated chain:
 //! [`differentiate`] (Savitzky–Golay derivatives of sampled signals on their actual times, and

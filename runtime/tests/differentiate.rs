@@ -3,6 +3,7 @@
 //! closed form.
 
 use articulated::differentiate::{velocities, CoordinatesError, DifferentiateError, SavitzkyGolay};
+use articulated::invert::couples;
 use articulated::nalgebra::{Matrix3, SVector, Vector3};
 use articulated::prelude::*;
 use articulated::Coordinates;
@@ -481,4 +482,51 @@ fn free_quaternion_against_newton_euler() {
         let lin = r.transpose() * Vector3::from(p1);
         assert!((Vector3::new(v[0], v[1], v[2]) - lin).norm() < 1e-14);
     }
+}
+
+/// Newton–Euler's couples on the free body at time `t` of the closed-form motion.
+fn free_body_couples(t: f64) -> ([f64; 7], SVector<f64, 6>) {
+    let ([q, _, _], w, wd) = two_axis(t, false);
+    let p = [t.sin(), 0.5 * (2.0 * t).cos(), 0.3 * t * t];
+    let p2 = [-t.sin(), -2.0 * (2.0 * t).cos(), 0.6];
+    let r = articulated::nalgebra::UnitQuaternion::from_quaternion(
+        articulated::nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]),
+    )
+    .to_rotation_matrix()
+    .into_inner();
+    let inertia = Matrix3::from_diagonal(&Vector3::new(0.15, 0.2, 0.3));
+    let f = r.transpose() * (Vector3::from(p2) - Vector3::new(0.0, 0.0, -9.81)) * 2.0;
+    let (w, wd) = (Vector3::from(w), Vector3::from(wd));
+    let n = inertia * wd + w.cross(&(inertia * w));
+    let qa = [p[0], p[1], p[2], q[0], q[1], q[2], q[3]];
+    (
+        qa,
+        SVector::from_column_slice(&[f.x, f.y, f.z, n.x, n.y, n.z]),
+    )
+}
+
+#[test]
+fn free_body_couples_from_samples() {
+    // The inverse plant end to end on a quaternion joint: sampled positions and unit
+    // quaternions at 1 kHz, smoothed (so no longer exactly unit), converted, inverted.
+    let t: Vec<f64> = (0..2001).map(|i| i as f64 * 1e-3).collect();
+    let q: Vec<f64> = t.iter().flat_map(|&t| free_body_couples(t).0).collect();
+    let sg = SavitzkyGolay::new(5, 4).unwrap();
+    let c = couples::<7, 6, _>(FreeBody::COORDINATES, &t, &q, &sg, |q, v, a| {
+        FreeBody::inverse_dynamics(q, v, a)
+    })
+    .unwrap();
+    let mut worst: f64 = 0.0;
+    let mut largest: f64 = 0.0;
+    for (row, &time) in c.t.iter().enumerate() {
+        let exact = free_body_couples(time).1;
+        let got = SVector::<f64, 6>::from_column_slice(c.row(row).unwrap());
+        worst = worst.max((got - exact).amax());
+        largest = largest.max(exact.amax());
+    }
+    println!(
+        "free body from samples: max couple error {:.2e} of {largest:.2e}",
+        worst
+    );
+    assert!(worst < 1e-6 * largest, "{worst} of {largest}");
 }
