@@ -246,7 +246,7 @@ impl SavitzkyGolay {
 
     /// `2k + 1`: samples in one window.
     pub fn window(&self) -> usize {
-        2 * self.half_window + 1
+        self.half_window.saturating_mul(2).saturating_add(1)
     }
 
     /// The samples, out of `samples`, that have a full window and so get an estimate: `k ..

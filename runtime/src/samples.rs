@@ -89,7 +89,8 @@ impl Samples {
 
     /// The positions of sample `i`, or `None` past the end.
     pub fn q(&self, i: usize) -> Option<&[f64]> {
-        self.q.get(i * self.nq..(i + 1) * self.nq)
+        let start = i.checked_mul(self.nq)?;
+        self.q.get(start..start.checked_add(self.nq)?)
     }
 
     /// Reads the `t` and `q0 … q{nq−1}` columns of a trajectory CSV (format in the

@@ -250,6 +250,17 @@ fn every_error_is_reported() {
         .derivatives_at(&t, &y, 2, 5, &mut a, &mut b, &mut c)
         .is_ok());
     assert!((b[1] - 1.0).abs() < 1e-12 && (c[1] - 2.0).abs() < 1e-10);
+    // An absurd window is only too large, not an overflow.
+    let huge = SavitzkyGolay::new(usize::MAX, 2).unwrap();
+    assert_eq!(huge.window(), usize::MAX);
+    assert_eq!(huge.centres(8).len(), 0);
+    assert_eq!(
+        huge.differentiate(&t, &y, 2),
+        Err(TooFewSamples {
+            samples: 8,
+            window: usize::MAX
+        })
+    );
     // A window whose times crowd at one end is reported, not turned into garbage.
     let sg = SavitzkyGolay::new(2, 4).unwrap();
     let t = [0.0, 1e-9, 2e-9, 3e-9, 1.0, 2.0];
