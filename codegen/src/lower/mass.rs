@@ -2,12 +2,12 @@
 //! every body that moves: only bodies fixed to the world may be massless) and inertias
 //! (symmetric, positive definite, or positive semi-definite on a body that does not move, and
 //! the triangle inequality on the principal moments). The principal moments of a full matrix are
-//! its eigenvalues.
+//! its eigenvalues, from nalgebra's symmetric eigen-solver.
 
+use nalgebra::{Matrix3, SymmetricEigen};
 use proc_macro2::Ident;
 
 use super::context::num;
-use super::eigen;
 use super::{BodyDecl, InertiaDecl, Lower};
 use crate::model::Value;
 use crate::parse::Expr;
@@ -132,7 +132,7 @@ impl Lower {
         if !self.symmetric(name, inertia, scale) {
             return None;
         }
-        let e = eigen::symmetric_eigenvalues(*m);
+        let e = eigenvalues(m)?;
         let tol = 1e-12 * scale;
         let bad = if moving { e[0] <= tol } else { e[0] < -tol };
         if bad {
@@ -186,4 +186,16 @@ impl Lower {
         }
         symmetric
     }
+}
+
+/// The eigenvalues of the symmetric matrix whose upper triangle is that of `m`, in ascending
+/// order; `None` if nalgebra's solver has not converged after 1000 iterations (3×3 matrices take
+/// a few: the cap only keeps a macro expansion from hanging, which `symmetric_eigenvalues`,
+/// without one, would not).
+fn eigenvalues(m: &[[f64; 3]; 3]) -> Option<[f64; 3]> {
+    let upper = Matrix3::from_fn(|i, j| m[i.min(j)][i.max(j)]);
+    let e = SymmetricEigen::try_new(upper, f64::EPSILON, 1000)?.eigenvalues;
+    let mut e = [e[0], e[1], e[2]];
+    e.sort_by(f64::total_cmp);
+    Some(e)
 }

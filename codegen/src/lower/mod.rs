@@ -17,7 +17,6 @@
 //! `tree` (parents, cycles, depth-first order) and `mass` (masses, inertias).
 
 mod context;
-mod eigen;
 mod items;
 mod kinds;
 mod mass;
