@@ -1,146 +1,170 @@
-//! Finding lines in the URDF text, which urdf-rs does not give: the line of a parse error (the
-//! first badly nested tag, else the first `<link>` or `<joint>` element that fails to read on its
-//! own) and the line of the `n`-th element of a given name.
+//! Finding lines in the URDF text, which urdf-rs does not give, with roxmltree (an XML parser
+//! that keeps every node's position): the line of each `<link>` and `<joint>` element, for the
+//! importer's errors ([`ElementLines`]), and the line a parse error comes from
+//! ([`parse_error_line`]): the first bad tag of malformed XML, else the first `<link>` or
+//! `<joint>` element that urdf-rs refuses on its own.
+
+use roxmltree::{Document, Error, Node, ParsingOptions, TextPos};
 
 use super::read_robot;
 
-/// The line urdf-rs's error most likely comes from: the first badly nested tag, else the first
-/// `<link>` or `<joint>` element that fails to read on its own.
-pub(super) fn locate_parse_error(text: &str) -> Option<usize> {
-    if let Err(pos) = check_nesting(text) {
-        return Some(line_at(text, pos));
-    }
-    for element in ["link", "joint"] {
-        for (start, end) in element_blocks(text, element) {
-            let alone = format!("<robot name=\"x\">{}</robot>", &text[start..end]);
-            if read_robot(&alone).is_err() {
-                return Some(line_at(text, start));
-            }
-        }
-    }
-    None
+/// The text as roxmltree reads it; a DTD is allowed, as urdf-rs allows it.
+fn parse(text: &str) -> Result<Document<'_>, Error> {
+    let options = ParsingOptions {
+        allow_dtd: true,
+        ..ParsingOptions::default()
+    };
+    Document::parse_with_options(text, options)
 }
 
-fn line_at(text: &str, pos: usize) -> usize {
-    text[..pos.min(text.len())].matches('\n').count() + 1
+/// The 1-based line of `node`.
+fn line_of(node: Node) -> usize {
+    node.document().text_pos_at(node.range().start).row as usize
 }
 
-/// Checks that tags nest; on failure the byte offset of the offending tag (a closing tag that
-/// does not match, or an opening tag never closed).
-fn check_nesting(text: &str) -> Result<(), usize> {
-    let mut open: Vec<(&str, usize)> = Vec::new();
-    let mut i = 0;
-    while let Some(k) = text[i..].find('<') {
-        let start = i + k;
-        let rest = &text[start..];
-        let (skip_to, tag) = if rest.starts_with("<!--") {
-            (rest.find("-->").map(|e| e + 3), None)
-        } else if rest.starts_with("<![CDATA[") {
-            (rest.find("]]>").map(|e| e + 3), None)
-        } else if rest.starts_with("<?") || rest.starts_with("<!") {
-            (rest.find('>').map(|e| e + 1), None)
-        } else {
-            (
-                rest.find('>').map(|e| e + 1),
-                rest.find('>').map(|e| &rest[1..e]),
-            )
-        };
-        let Some(len) = skip_to else {
-            return Err(start);
-        };
-        i = start + len;
-        let Some(tag) = tag else { continue };
-        let name_of = |t: &str| -> String {
-            t.chars()
-                .take_while(|c| !c.is_whitespace() && *c != '/')
-                .collect()
-        };
-        if let Some(closing) = tag.strip_prefix('/') {
-            let name = name_of(closing.trim_start());
-            match open.pop() {
-                Some((o, _)) if name_of(o) == name => {}
-                // `<a><b></a>`: `<b>` is the one left open.
-                Some((_, o_start)) if open.iter().any(|(t, _)| name_of(t) == name) => {
-                    return Err(o_start)
+/// The robot's `<element>` children (`link` or `joint`), in document order.
+fn robot_elements<'a, 'input>(
+    doc: &'a Document<'input>,
+    element: &'a str,
+) -> impl Iterator<Item = Node<'a, 'input>> + 'a {
+    doc.root_element()
+        .children()
+        .filter(move |n| n.is_element() && n.tag_name().name() == element)
+}
+
+/// The lines of the robot's `<link>` and `<joint>` elements, by name.
+pub(super) struct ElementLines {
+    /// Element (`link` or `joint`), `name` attribute and line, in document order.
+    elements: Vec<(&'static str, String, usize)>,
+}
+
+impl ElementLines {
+    /// The elements of `text`; none if roxmltree finds the XML malformed where urdf-rs read it
+    /// (the importer's errors then name no line).
+    pub(super) fn new(text: &str) -> Self {
+        let mut elements = Vec::new();
+        if let Ok(doc) = parse(text) {
+            for element in ["link", "joint"] {
+                for node in robot_elements(&doc, element) {
+                    let name = node.attribute("name").unwrap_or_default().to_string();
+                    elements.push((element, name, line_of(node)));
                 }
-                _ => return Err(start),
             }
-        } else if !tag.ends_with('/') {
-            open.push((tag, start));
         }
+        ElementLines { elements }
     }
-    match open.first() {
-        Some((_, start)) => Err(*start),
-        None => Ok(()),
+
+    /// The line of the `n`-th (0-based) `<element>` (`link` or `joint`) named `name`.
+    pub(super) fn line(&self, element: &str, name: &str, n: usize) -> Option<usize> {
+        self.elements
+            .iter()
+            .filter(|(e, na, _)| *e == element && na == name)
+            .nth(n)
+            .map(|(_, _, line)| *line)
     }
 }
 
-/// Byte ranges of the `<element …/>` and `<element …>…</element>` elements in `text`.
-fn element_blocks(text: &str, element: &str) -> Vec<(usize, usize)> {
-    let open = format!("<{element}");
-    let close = format!("</{element}>");
-    let mut out = Vec::new();
-    let mut from = 0;
-    while let Some(k) = text[from..].find(&open) {
-        let start = from + k;
-        from = start + open.len();
-        if !text[from..].starts_with(|c: char| c.is_whitespace() || c == '>' || c == '/') {
-            continue;
-        }
-        let Some(gt) = text[from..].find('>') else {
-            break;
-        };
-        let tag_end = from + gt + 1;
-        let end = if text[..tag_end].ends_with("/>") {
-            tag_end
-        } else {
-            match text[tag_end..].find(&close) {
-                Some(c) => tag_end + c + close.len(),
-                None => break,
-            }
-        };
-        out.push((start, end));
-        from = end;
+/// The line urdf-rs's parse error most likely comes from: for malformed XML, the first bad tag;
+/// for well-formed XML, the first `<link>` or `<joint>` element that fails to read on its own.
+pub(super) fn parse_error_line(text: &str) -> Option<usize> {
+    match parse(text) {
+        Err(e) => malformed_line(text, &e),
+        Ok(doc) => ["link", "joint"].into_iter().find_map(|element| {
+            robot_elements(&doc, element)
+                .find(|node| {
+                    // An element from an entity's expansion may have no text of its own.
+                    let Some(element) = text.get(node.range()) else {
+                        return false;
+                    };
+                    read_robot(&format!("<robot name=\"x\">{element}</robot>")).is_err()
+                })
+                .map(line_of)
+        }),
     }
-    out
 }
 
-/// The 1-based line of the `n`-th (0-based) `<element … name="name" …>` tag in `text`.
-pub(super) fn find_line(text: &str, element: &str, name: &str, n: usize) -> Option<usize> {
-    let open = format!("<{element}");
-    let mut seen = 0;
-    let mut from = 0;
-    while let Some(k) = text[from..].find(&open) {
-        let start = from + k;
-        from = start + open.len();
-        let rest = &text[from..];
-        if !rest.starts_with(|c: char| c.is_whitespace() || c == '>' || c == '/') {
-            continue;
-        }
-        let end = rest.find('>').unwrap_or(rest.len());
-        if tag_attribute(&rest[..end], "name") == Some(name) {
-            if seen == n {
-                return Some(line_at(text, start));
+/// The line of the first bad tag of malformed XML.
+fn malformed_line(text: &str, e: &Error) -> Option<usize> {
+    match e {
+        // `<a><b></a>`: `<b>` is the one left open; a closing tag that closes no open element is
+        // the bad one itself.
+        Error::UnexpectedCloseTag(_, closing, pos) => {
+            let open = offset(text, *pos).and_then(|at| open_elements(text, at));
+            match open.as_deref().and_then(<[_]>::split_last) {
+                Some((innermost, outer)) if outer.iter().any(|(name, _)| name == closing) => {
+                    Some(innermost.1)
+                }
+                _ => Some(pos.row as usize),
             }
-            seen += 1;
+        }
+        // The text ends with elements open: the outermost is the first never closed; or it ends
+        // inside a tag.
+        Error::UnclosedRootNode => match open_elements(text, text.len()) {
+            Some(open) => open.first().map(|(_, line)| *line),
+            None => Some(last_line(text)),
+        },
+        // The text ends inside a tag, a comment or a declaration.
+        Error::UnexpectedEndOfStream => Some(last_line(text)),
+        // No element, or the text ends inside the first: where it ends.
+        Error::NoRootNode => (!text.trim().is_empty()).then(|| last_line(text)),
+        // A limit: no line to name.
+        Error::DtdDetected
+        | Error::NodesLimitReached
+        | Error::AttributesLimitReached
+        | Error::NamespacesLimitReached => None,
+        other => Some(other.pos().row as usize),
+    }
+}
+
+/// The line where `text` ends.
+fn last_line(text: &str) -> usize {
+    text.matches('\n').count() + 1
+}
+
+/// The byte offset of `pos` (row and column in characters, 1-based) in `text`.
+fn offset(text: &str, pos: TextPos) -> Option<usize> {
+    let row_start = match pos.row {
+        0 | 1 => 0,
+        row => text.match_indices('\n').nth(row as usize - 2)?.0 + 1,
+    };
+    let col = (pos.col as usize).checked_sub(1)?;
+    let row = &text[row_start..];
+    let in_row = row
+        .char_indices()
+        .map(|(k, _)| k)
+        .chain([row.len()])
+        .nth(col)?;
+    Some(row_start + in_row)
+}
+
+/// The elements still open at byte `at` of `text` (outermost first), with their lines, where
+/// `text[..at]` is well-formed but for the elements it leaves open. roxmltree names them from the
+/// innermost out: after the prefix and the closing tags found so far, a closing tag that matches
+/// no element is reported as the wrong one to close the innermost still open. Once all are
+/// closed the prefix parses, and the open elements are those that end past `at`.
+fn open_elements(text: &str, at: usize) -> Option<Vec<(String, usize)>> {
+    const NOTHING: &str = "</articulated:closes-nothing>";
+    let prefix = text.get(..at)?;
+    let mut closers = String::new();
+    let mut names = Vec::new();
+    for _ in 0..=prefix.matches('<').count() {
+        let closed = format!("{prefix}{closers}");
+        if let Ok(doc) = parse(&closed) {
+            let lines: Vec<usize> = doc
+                .descendants()
+                .filter(|n| n.is_element() && n.range().end > at)
+                .map(line_of)
+                .collect();
+            return (lines.len() == names.len())
+                .then(|| names.into_iter().rev().zip(lines).collect());
+        }
+        match parse(&format!("{closed}{NOTHING}")) {
+            Err(Error::UnexpectedCloseTag(open, _, _)) => {
+                closers.push_str(&format!("</{open}>"));
+                names.push(open);
+            }
+            _ => return None,
         }
     }
     None
-}
-
-/// The value of attribute `attr` in the inside of a tag (`a="x" b='y'`).
-fn tag_attribute<'t>(mut tag: &'t str, attr: &str) -> Option<&'t str> {
-    loop {
-        tag = tag.trim_start();
-        let eq = tag.find('=')?;
-        let key = tag[..eq].trim();
-        let rest = tag[eq + 1..].trim_start();
-        let quote = rest.chars().next().filter(|c| *c == '"' || *c == '\'')?;
-        let body = &rest[1..];
-        let close = body.find(quote)?;
-        if key == attr {
-            return Some(&body[..close]);
-        }
-        tag = &body[close + 1..];
-    }
 }

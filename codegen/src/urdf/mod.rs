@@ -47,7 +47,7 @@ mod frames;
 mod lines;
 
 use frames::{matrix_rpy, rotate_inertia, MassProps, Transform};
-use lines::{find_line, locate_parse_error};
+use lines::{parse_error_line, ElementLines};
 
 /// An error found while importing a URDF description.
 ///
@@ -113,8 +113,9 @@ impl std::error::Error for UrdfError {}
 /// A [`UrdfError`] with the line of the offending element where it can be found.
 pub fn from_urdf_str(xml: &str, floating: bool) -> Result<Description, UrdfError> {
     let robot = read_robot(xml)
-        .map_err(|e| UrdfError::new(format!("malformed URDF: {e}")).at(locate_parse_error(xml)))?;
-    Importer { text: xml, robot }.build(floating)
+        .map_err(|e| UrdfError::new(format!("malformed URDF: {e}")).at(parse_error_line(xml)))?;
+    let lines = ElementLines::new(xml);
+    Importer { lines, robot }.build(floating)
 }
 
 /// urdf-rs's reader, with a panic deep in an XML library turned into an error.
@@ -126,9 +127,9 @@ fn read_robot(xml: &str) -> Result<urdf_rs::Robot, String> {
     }
 }
 
-/// The importer of one robot, with the text it was read from (for the lines of errors).
-struct Importer<'t> {
-    text: &'t str,
+/// The importer of one robot, with the lines of its elements (for errors).
+struct Importer {
+    lines: ElementLines,
     robot: urdf_rs::Robot,
 }
 
@@ -150,7 +151,7 @@ struct Built {
     joints: Vec<Joint>,
 }
 
-impl Importer<'_> {
+impl Importer {
     /// The line of the `link`-th link's element.
     fn link_line(&self, link: usize) -> Option<usize> {
         let name = &self.robot.links[link].name;
@@ -158,7 +159,7 @@ impl Importer<'_> {
             .iter()
             .filter(|l| l.name == *name)
             .count();
-        find_line(self.text, "link", name, n)
+        self.lines.line("link", name, n)
     }
     /// The line of the `joint`-th joint's element.
     fn joint_line(&self, joint: usize) -> Option<usize> {
@@ -167,7 +168,7 @@ impl Importer<'_> {
             .iter()
             .filter(|j| j.name == *name)
             .count();
-        find_line(self.text, "joint", name, n)
+        self.lines.line("joint", name, n)
     }
     /// The error `msg` at the `link`-th link's line.
     fn link_error(&self, link: usize, msg: String) -> UrdfError {
