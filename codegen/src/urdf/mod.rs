@@ -31,6 +31,11 @@
 //! a cycle, a non-finite number, a negative mass, a zero axis and unsupported joint types are
 //! reported as a [`UrdfError`] that names the file and, where the offending `<link>` or `<joint>`
 //! can be found in the text, its line. The importer does not panic on any input.
+//!
+//! # Layout
+//! Here: [`UrdfError`], [`from_urdf_str`], the checks of links and joints, the tree walk that
+//! merges fixed joints. `frames` holds the transforms and mass properties the walk composes,
+//! `lines` finds the lines of elements and of parse errors (urdf-rs gives none) with roxmltree.
 
 use std::collections::HashMap;
 use std::fmt;
