@@ -1,0 +1,54 @@
+//! The error context of lowering: [`Ctxt`] collects every problem found, each spanned at the
+//! offending token, and combines them into one `syn::Error` in source order (as serde_derive's
+//! `internals::Ctxt` does); [`num`] prints the numbers the messages quote.
+
+use std::fmt;
+
+use quote::ToTokens;
+
+/// Collects errors; [`Ctxt::check`] combines them (serde_derive's `internals::Ctxt`).
+#[derive(Default)]
+pub(super) struct Ctxt {
+    errors: Vec<syn::Error>,
+}
+
+impl Ctxt {
+    /// Records the error `msg`, spanned at the tokens of `at`.
+    pub(super) fn error(&mut self, at: impl ToTokens, msg: impl fmt::Display) {
+        self.errors.push(syn::Error::new_spanned(at, msg));
+    }
+    /// Whether any error was recorded.
+    pub(super) fn has_errors(&self) -> bool {
+        !self.errors.is_empty()
+    }
+    /// All errors combined in one, in source order where spans know their position.
+    pub(super) fn check(mut self) -> syn::Result<()> {
+        self.errors.sort_by_key(|e| {
+            let start = e.span().start();
+            (start.line, start.column)
+        });
+        let mut errors = self.errors.into_iter();
+        let Some(mut first) = errors.next() else {
+            return Ok(());
+        };
+        for e in errors {
+            first.combine(e);
+        }
+        Err(first)
+    }
+}
+
+/// A number for a message: shortest form, rounded to 9 significant decimals to hide round-off.
+pub(super) fn num(x: f64) -> String {
+    if x == 0.0 {
+        return "0".to_string();
+    }
+    let digits = 9 - x.abs().log10().floor() as i32;
+    let rounded = if (0..=300).contains(&digits) {
+        let p = 10f64.powi(digits);
+        (x * p).round() / p
+    } else {
+        x
+    };
+    format!("{rounded}")
+}

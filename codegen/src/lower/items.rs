@@ -1,0 +1,464 @@
+//! Items: the doc comments (the only attribute allowed), the settings (`gravity`, `scalar`,
+//! `outputs`, each once), the fields of a block (known, each once, the required ones present),
+//! bodies (`mass`, `com`, `inertia` as `diag(…)` or a 3×3 matrix; names unique, never `world`)
+//! and joints (unique names, a parent that is `world` or a body, a child that is a body, the
+//! placement). The joint kinds are in [`kinds`](super::kinds).
+
+use std::collections::hash_map::Entry;
+use std::collections::{HashMap, HashSet};
+
+use proc_macro2::Ident;
+use quote::ToTokens;
+use syn::punctuated::Punctuated;
+use syn::{Lit, Token};
+
+use super::{visibility, BodyDecl, InertiaDecl, JointDecl, Lower, Parent};
+use crate::model::{Placement, Value, DEFAULT_GRAVITY};
+use crate::options::{one_of, unknown_output, unknown_scalar, Options, Output, ScalarKind};
+use crate::parse::{BodyDef, ChainDef, Expr, Field, Item, JointDef, Setting};
+
+impl Lower {
+    /// The parameters, first: any item may use one, wherever it is declared.
+    pub(super) fn params(&mut self, def: &ChainDef) {
+        for item in &def.items {
+            if let Item::Param(p) = item {
+                self.docs(&p.attrs, "on a parameter");
+                self.param(&p.name, &p.default);
+            }
+        }
+    }
+
+    /// The settings, each given once: the gravity (`None` for `gravity: none`) and the
+    /// generator's options, with the chain's visibility and `doc`.
+    pub(super) fn settings(
+        &mut self,
+        def: &ChainDef,
+        doc: Vec<String>,
+    ) -> (Option<[Value; 3]>, Options) {
+        let mut gravity = Some(DEFAULT_GRAVITY);
+        let mut options = Options {
+            visibility: visibility(&def.vis),
+            doc,
+            ..Options::default()
+        };
+        let mut seen_settings: HashSet<String> = HashSet::new();
+        for item in &def.items {
+            if let Item::Setting(s) = item {
+                self.docs(&s.attrs, "on a setting");
+                let key = s.key.to_string();
+                if !seen_settings.insert(key.clone()) {
+                    self.cx
+                        .error(&s.key, format!("setting `{key}` is given twice"));
+                    continue;
+                }
+                self.setting(s, &mut gravity, &mut options);
+            }
+        }
+        (gravity, options)
+    }
+
+    /// The bodies and their indices by name; a second body of the same name is reported and
+    /// left out.
+    pub(super) fn bodies<'a>(
+        &mut self,
+        def: &'a ChainDef,
+    ) -> (Vec<BodyDecl<'a>>, HashMap<String, usize>) {
+        let mut bodies: Vec<BodyDecl> = Vec::new();
+        let mut body_index: HashMap<String, usize> = HashMap::new();
+        for item in &def.items {
+            if let Item::Body(b) = item {
+                self.docs(&b.attrs, "on a body");
+                let name = b.name.to_string();
+                let decl = self.body(b);
+                if name == "world" {
+                    self.cx.error(
+                        &b.name,
+                        "`world` is the fixed frame every chain hangs from, not a body: \
+                         expected another body name",
+                    );
+                } else if let Entry::Vacant(slot) = body_index.entry(name) {
+                    slot.insert(bodies.len());
+                    bodies.push(decl);
+                } else {
+                    self.cx
+                        .error(&b.name, format!("body `{}` is declared twice", b.name));
+                }
+            }
+        }
+        (bodies, body_index)
+    }
+
+    /// The joints, in declaration order; a second joint of the same name is reported.
+    pub(super) fn joints<'a>(
+        &mut self,
+        def: &'a ChainDef,
+        body_index: &HashMap<String, usize>,
+        bodies: &[BodyDecl],
+    ) -> Vec<JointDecl<'a>> {
+        let mut joints: Vec<JointDecl> = Vec::new();
+        let mut joint_names: HashSet<String> = HashSet::new();
+        for item in &def.items {
+            if let Item::Joint(j) = item {
+                self.docs(&j.attrs, "on a joint");
+                let name = j.name.to_string();
+                let duplicate = !joint_names.insert(name.clone());
+                if duplicate {
+                    self.cx
+                        .error(&j.name, format!("joint `{name}` is declared twice"));
+                }
+                let mut decl = self.joint(j, body_index, bodies);
+                decl.duplicate = duplicate;
+                joints.push(decl);
+            }
+        }
+        joints
+    }
+
+    /// The doc strings among `attrs`; any other attribute is an error.
+    pub(super) fn docs(&mut self, attrs: &[syn::Attribute], place: &str) -> Vec<String> {
+        let mut doc = Vec::new();
+        for attr in attrs {
+            let text = match &attr.meta {
+                syn::Meta::NameValue(nv) if attr.path().is_ident("doc") => match &nv.value {
+                    syn::Expr::Lit(syn::ExprLit {
+                        lit: Lit::Str(s), ..
+                    }) => Some(s.value()),
+                    _ => None,
+                },
+                _ => None,
+            };
+            match text {
+                Some(text) => doc.push(text),
+                None => {
+                    let path = attr.path().to_token_stream().to_string().replace(' ', "");
+                    self.cx.error(
+                        attr,
+                        format!(
+                            "unsupported attribute `#[{path}]` {place}: expected only doc \
+                             comments (`/// …`)"
+                        ),
+                    );
+                }
+            }
+        }
+        doc
+    }
+
+    /// One setting, checked, into `gravity` or `options`.
+    fn setting(&mut self, s: &Setting, gravity: &mut Option<[Value; 3]>, options: &mut Options) {
+        let v = &s.value;
+        match s.key.to_string().as_str() {
+            "gravity" => {
+                if matches!(v, Expr::Name(n) if n == "none") {
+                    *gravity = None;
+                } else if let Some(g) = self.vec3(v, "`gravity`", "`none` or ") {
+                    *gravity = Some(g);
+                }
+            }
+            "scalar" => {
+                let kind = match v {
+                    Expr::Name(n) => ScalarKind::from_name(&n.to_string()),
+                    _ => None,
+                };
+                match kind {
+                    Some(kind) => options.scalar = kind,
+                    None => self.cx.error(v, unknown_scalar(&v.to_string())),
+                }
+            }
+            "outputs" => {
+                let Expr::List(_, elems) = v else {
+                    self.cx.error(
+                        v,
+                        format!(
+                            "expected a list of outputs such as `[mass_matrix, bias]`, found `{v}`"
+                        ),
+                    );
+                    return;
+                };
+                let mut outputs = Vec::new();
+                for e in elems {
+                    let output = match e {
+                        Expr::Name(n) => Output::from_name(&n.to_string()),
+                        _ => None,
+                    };
+                    match output {
+                        Some(output) => outputs.push(output),
+                        None => self.cx.error(e, unknown_output(&e.to_string())),
+                    }
+                }
+                options.set_outputs(outputs);
+            }
+            other => self.cx.error(
+                &s.key,
+                format!(
+                    "unknown setting `{other}`: expected `gravity`, `scalar` or `outputs` \
+                     (or `param`, `body`, `joint` items)"
+                ),
+            ),
+        }
+    }
+
+    /// The fields of a block, by position in `allowed`; reports unknown and repeated fields.
+    fn fields<'f>(
+        &mut self,
+        fields: &'f Punctuated<Field, Token![,]>,
+        allowed: &[&str],
+        owner: &str,
+    ) -> Vec<Option<&'f Field>> {
+        let mut found: Vec<Option<&Field>> = vec![None; allowed.len()];
+        for f in fields {
+            let key = f.key.to_string();
+            match allowed.iter().position(|a| *a == key) {
+                Some(i) if found[i].is_some() => self
+                    .cx
+                    .error(&f.key, format!("field `{key}` is given twice in {owner}")),
+                Some(i) => found[i] = Some(f),
+                None => self.cx.error(
+                    &f.key,
+                    format!(
+                        "unknown field `{key}` in {owner}: expected {}",
+                        one_of(allowed)
+                    ),
+                ),
+            }
+        }
+        found
+    }
+
+    /// Reports the required `field` missing from `owner`, at its `name`.
+    fn missing(&mut self, name: &Ident, owner: &str, field: &str) {
+        self.cx.error(
+            name,
+            format!("{owner} is missing the required field `{field}`"),
+        );
+    }
+
+    /// A body: its mass, centre of mass (the origin if not given) and inertia.
+    fn body<'a>(&mut self, b: &'a BodyDef) -> BodyDecl<'a> {
+        let owner = format!("body `{}`", b.name);
+        let f = self.fields(&b.fields, &["mass", "com", "inertia"], &owner);
+        let mass = match f[0] {
+            Some(f) => self.value(&f.value).map(|v| (v, &f.value)),
+            None => {
+                self.missing(&b.name, &owner, "mass");
+                None
+            }
+        };
+        let com = f[1]
+            .and_then(|f| self.vec3(&f.value, "`com`", ""))
+            .unwrap_or([Value::Const(0.0); 3]);
+        let inertia = match f[2] {
+            Some(f) => self.inertia(&f.value),
+            None => {
+                self.missing(&b.name, &owner, "inertia");
+                None
+            }
+        };
+        BodyDecl {
+            def: b,
+            mass,
+            com,
+            inertia,
+        }
+    }
+
+    /// The inertia `e`: `diag(ixx, iyy, izz)` or the full matrix, by rows.
+    fn inertia<'a>(&mut self, e: &'a Expr) -> Option<InertiaDecl<'a>> {
+        let expected = "expected `diag(ixx, iyy, izz)` or `[[ixx, ixy, ixz], [ixy, iyy, iyz], \
+                        [ixz, iyz, izz]]` for `inertia`";
+        let zero = Value::Const(0.0);
+        match e {
+            Expr::Call(name, _, args) if name == "diag" && args.len() == 3 => {
+                let d: Vec<&Expr> = args.iter().collect();
+                let v: Vec<Option<Value>> = d.iter().map(|a| self.value(a)).collect();
+                let (Some(a), Some(b), Some(c)) = (v[0], v[1], v[2]) else {
+                    return None;
+                };
+                Some(InertiaDecl {
+                    value: [[a, zero, zero], [zero, b, zero], [zero, zero, c]],
+                    expr: e,
+                    diag: Some([d[0], d[1], d[2]]),
+                })
+            }
+            Expr::List(_, rows) if rows.len() == 3 => {
+                let mut value = [[zero; 3]; 3];
+                let mut ok = true;
+                for (i, row) in rows.iter().enumerate() {
+                    match row {
+                        Expr::List(_, elems) if elems.len() == 3 => {
+                            for (j, x) in elems.iter().enumerate() {
+                                match self.value(x) {
+                                    Some(v) => value[i][j] = v,
+                                    None => ok = false,
+                                }
+                            }
+                        }
+                        _ => {
+                            self.cx.error(
+                                row,
+                                format!(
+                                    "expected row {} of `inertia` to be a list of 3 numbers, \
+                                     found `{row}`",
+                                    i + 1
+                                ),
+                            );
+                            ok = false;
+                        }
+                    }
+                }
+                ok.then_some(InertiaDecl {
+                    value,
+                    expr: e,
+                    diag: None,
+                })
+            }
+            _ => {
+                self.cx.error(e, format!("{expected}, found `{e}`"));
+                None
+            }
+        }
+    }
+
+    /// A joint: its kind, its parent and child among `bodies` (`body_index` by name) and its
+    /// placement.
+    fn joint<'a>(
+        &mut self,
+        j: &'a JointDef,
+        body_index: &HashMap<String, usize>,
+        bodies: &[BodyDecl],
+    ) -> JointDecl<'a> {
+        let owner = format!("joint `{}`", j.name);
+        let kind = self.kind(&j.kind, &owner);
+        let f = self.fields(&j.fields, &["parent", "child", "xyz", "rpy"], &owner);
+        let (parent, parent_expr) = match f[0] {
+            None => {
+                self.missing(&j.name, &owner, "parent");
+                (Parent::Bad, None)
+            }
+            Some(f) => (
+                self.parent(&f.value, &owner, body_index, bodies),
+                Some(&f.value),
+            ),
+        };
+        let child = match f[1] {
+            None => {
+                self.missing(&j.name, &owner, "child");
+                None
+            }
+            Some(f) => self.child(&f.value, &owner, body_index, bodies),
+        };
+        let zero = [Value::Const(0.0); 3];
+        let xyz = f[2]
+            .and_then(|f| self.vec3(&f.value, "`xyz`", ""))
+            .unwrap_or(zero);
+        let rpy = f[3]
+            .and_then(|f| self.vec3(&f.value, "`rpy`", ""))
+            .unwrap_or(zero);
+        JointDecl {
+            def: j,
+            kind,
+            parent,
+            parent_expr,
+            child,
+            placement: Placement { xyz, rpy },
+            duplicate: false,
+        }
+    }
+
+    /// The parent `e` of the joint `owner`: `world` or a declared body.
+    fn parent(
+        &mut self,
+        e: &Expr,
+        owner: &str,
+        body_index: &HashMap<String, usize>,
+        bodies: &[BodyDecl],
+    ) -> Parent {
+        match e {
+            Expr::Name(n) if n == "world" => Parent::World,
+            Expr::Name(n) => match body_index.get(&n.to_string()) {
+                Some(&i) => Parent::Body(i),
+                None => {
+                    self.cx.error(
+                        n,
+                        format!(
+                            "unknown body `{n}` as parent of {owner}: expected `world` \
+                             or {}",
+                            body_list(bodies)
+                        ),
+                    );
+                    Parent::Bad
+                }
+            },
+            other => {
+                self.cx.error(
+                    other,
+                    format!(
+                        "expected `world` or a body name as parent of {owner}, found \
+                         `{other}`"
+                    ),
+                );
+                Parent::Bad
+            }
+        }
+    }
+
+    /// The child `e` of the joint `owner`: a declared body, never `world`.
+    fn child(
+        &mut self,
+        e: &Expr,
+        owner: &str,
+        body_index: &HashMap<String, usize>,
+        bodies: &[BodyDecl],
+    ) -> Option<usize> {
+        match e {
+            Expr::Name(n) if n == "world" => {
+                self.cx.error(
+                    n,
+                    format!(
+                        "`world` cannot be the child of {owner}: the world does not move; \
+                         expected a body"
+                    ),
+                );
+                None
+            }
+            Expr::Name(n) => match body_index.get(&n.to_string()) {
+                Some(&i) => Some(i),
+                None => {
+                    self.cx.error(
+                        n,
+                        format!(
+                            "unknown body `{n}` as child of {owner}: expected {}",
+                            body_list(bodies)
+                        ),
+                    );
+                    None
+                }
+            },
+            other => {
+                self.cx.error(
+                    other,
+                    format!("expected a body name as child of {owner}, found `{other}`"),
+                );
+                None
+            }
+        }
+    }
+}
+
+/// The declared bodies, for messages: "a body (`a`, `b`)" or "a body (none is declared)".
+fn body_list(bodies: &[BodyDecl]) -> String {
+    let names: Vec<String> = bodies.iter().map(|b| b.def.name.to_string()).collect();
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    if names.is_empty() {
+        "a body (none is declared)".to_string()
+    } else {
+        format!(
+            "a body ({})",
+            names
+                .iter()
+                .map(|n| format!("`{n}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    }
+}

@@ -1,0 +1,184 @@
+//! Lowering: check a [`ChainDef`] and build the [`Model`] it describes.
+//!
+//! Every problem is reported, not just the first: errors are collected as `syn::Error`s, each at
+//! the offending token, and combined into one (as serde_derive's `Ctxt` does), so the macro
+//! shows them all and [`parse_chain_str`](crate::load::parse_chain_str) lists them all with their
+//! line and column. Messages quote the user's names and say what was expected and what was found.
+//!
+//! What is checked: names (settings, fields, bodies, parameters, outputs, joint kinds, scalars,
+//! axes, Euler sequences), duplicates, the tree (every body the child of exactly one joint and
+//! reachable from `world`), numbers (finite; parameters only standing alone and never in an
+//! axis), masses (positive on every body that moves, never negative), and inertias (symmetric,
+//! positive definite, triangle inequality). Parameters are checked at their default values.
+//!
+//! Here: [`lower`] and the assembly of the [`Description`]. By concern: `context` (the error
+//! context and the numbers messages print), `numbers` (constant folding, parameters, vectors),
+//! `items` (settings, fields, bodies, joints), `kinds` (joint kinds, axes, Euler sequences),
+//! `tree` (parents, cycles, depth-first order) and `mass` (masses, inertias).
+
+mod context;
+mod items;
+mod kinds;
+mod mass;
+mod numbers;
+mod tree;
+
+use std::collections::HashMap;
+
+use quote::ToTokens;
+
+use crate::model::{Body, Joint, JointKind, Model, Param, Placement, Value};
+use crate::options::{Description, Visibility};
+use crate::parse::{BodyDef, ChainDef, Expr, JointDef};
+use context::Ctxt;
+
+/// Checks `def` and builds its [`Model`]: bodies and joints in depth-first pre-order from the
+/// world (children in joint declaration order), outputs sorted and deduplicated.
+///
+/// On failure the returned `syn::Error` combines every problem found, each spanned at the
+/// offending token (iterate it to see them one by one).
+pub fn lower(def: &ChainDef) -> syn::Result<Description> {
+    let mut lw = Lower::default();
+    let description = lw.chain(def);
+    lw.cx.check()?;
+    description.ok_or_else(|| syn::Error::new_spanned(&def.name, "internal error: no model built"))
+}
+
+/// The state of one lowering: the errors so far and the parameters declared.
+#[derive(Default)]
+struct Lower {
+    cx: Ctxt,
+    params: Vec<Param>,
+    /// Whether each parameter's default was valid (checks at defaults skip the others).
+    param_ok: Vec<bool>,
+    param_index: HashMap<String, usize>,
+}
+
+/// A parent as resolved: the world, a body (declaration index), or an error already reported.
+#[derive(Clone, Copy, PartialEq)]
+enum Parent {
+    World,
+    Body(usize),
+    Bad,
+}
+
+/// A body as declared, with its values read (`None` where an error was reported).
+struct BodyDecl<'a> {
+    def: &'a BodyDef,
+    mass: Option<(Value, &'a Expr)>,
+    com: [Value; 3],
+    inertia: Option<InertiaDecl<'a>>,
+}
+
+/// An inertia as declared: its elements and the expression they were read from.
+struct InertiaDecl<'a> {
+    value: [[Value; 3]; 3],
+    expr: &'a Expr,
+    /// The diagonal elements as written for `diag(…)`; `None` for a full matrix.
+    diag: Option<[&'a Expr; 3]>,
+}
+
+/// A joint as declared, its parent and child resolved to bodies (declaration indices).
+struct JointDecl<'a> {
+    def: &'a JointDef,
+    kind: Option<JointKind>,
+    parent: Parent,
+    parent_expr: Option<&'a Expr>,
+    child: Option<usize>,
+    placement: Placement,
+    /// Another joint of the same name came first (reported once, not again as two parents).
+    duplicate: bool,
+}
+
+impl Lower {
+    /// Checks every item of `def` and, if none has an error, builds its [`Description`].
+    fn chain(&mut self, def: &ChainDef) -> Option<Description> {
+        let doc = self.docs(&def.attrs, "before `chain`");
+        self.params(def);
+        let (gravity, options) = self.settings(def, doc);
+        let (bodies, body_index) = self.bodies(def);
+        let joints = self.joints(def, &body_index, &bodies);
+        if bodies.is_empty() && !self.cx.has_errors() {
+            self.cx.error(
+                &def.name,
+                format!(
+                    "chain `{}` has no bodies: expected at least one `body` and a `joint` \
+                     attaching it to `world`",
+                    def.name
+                ),
+            );
+        }
+
+        let (order, moving) = self.tree(&bodies, &joints);
+        for (i, b) in bodies.iter().enumerate() {
+            self.mass_properties(b, moving[i]);
+        }
+        if self.cx.has_errors() {
+            return None;
+        }
+
+        let (bodies, joints) = renumber(&bodies, &joints, &order)?;
+        let model = Model {
+            name: def.name.to_string(),
+            gravity,
+            params: std::mem::take(&mut self.params),
+            bodies,
+            joints,
+        };
+        Some(Description { model, options })
+    }
+}
+
+/// The model's bodies and joints, checked: the depth-first `order` of the joints is the order of
+/// their children, and parents are renumbered to match.
+fn renumber(
+    bodies: &[BodyDecl],
+    joints: &[JointDecl],
+    order: &[usize],
+) -> Option<(Vec<Body>, Vec<Joint>)> {
+    let mut new_index = vec![usize::MAX; bodies.len()];
+    for (k, &j) in order.iter().enumerate() {
+        new_index[joints[j].child?] = k;
+    }
+    let mut model_bodies = Vec::with_capacity(order.len());
+    let mut model_joints = Vec::with_capacity(order.len());
+    for &j in order {
+        let decl = &joints[j];
+        let child = decl.child?;
+        let b = &bodies[child];
+        let inertia = b.inertia.as_ref()?;
+        model_bodies.push(Body {
+            name: b.def.name.to_string(),
+            mass: b.mass?.0,
+            com: b.com,
+            inertia: inertia.value,
+        });
+        model_joints.push(Joint {
+            name: decl.def.name.to_string(),
+            kind: decl.kind?,
+            parent: match decl.parent {
+                Parent::World => None,
+                Parent::Body(p) => Some(new_index[p]),
+                Parent::Bad => return None,
+            },
+            placement: decl.placement,
+        });
+    }
+    Some((model_bodies, model_joints))
+}
+
+/// The visibility as written: none, `pub`, `pub(crate)`, `pub(in a::b)`.
+pub(crate) fn visibility(vis: &syn::Visibility) -> Visibility {
+    match vis {
+        syn::Visibility::Public(_) => Visibility::Public,
+        syn::Visibility::Inherited => Visibility::Private,
+        syn::Visibility::Restricted(r) => {
+            let path = r.path.to_token_stream().to_string().replace(' ', "");
+            if r.in_token.is_some() {
+                Visibility::Restricted(format!("in {path}"))
+            } else {
+                Visibility::Restricted(path)
+            }
+        }
+    }
+}

@@ -1,0 +1,520 @@
+//! URDF import: builds the same [`Model`] a `.chain` file lowers to from a URDF robot description.
+//!
+//! # Mapping
+//! - `revolute` and `continuous` joints become [`JointKind::Revolute`] (one angle; a `continuous`
+//!   joint is not stored as cos/sin as Pinocchio does), `prismatic` becomes
+//!   [`JointKind::Prismatic`]. The axis is normalized; URDF's default axis is `[1, 0, 0]`; a zero
+//!   axis is an error. Limits, dynamics, mimic and safety tags are ignored.
+//! - `floating` joints become [`JointKind::FreeEuler`] with the sequence [`EulerSeq::ZYX`].
+//! - `fixed` joints are merged: the child link's mass properties are added to the nearest body
+//!   above it (masses summed, centres of mass combined, inertias combined with the parallel-axis
+//!   theorem in that body's frame) and the joints below the child are re-attached to that body
+//!   with their placements composed. Links fixed to a fixed-base root are part of the world and
+//!   their mass is dropped.
+//! - `planar` and `spherical` joints are errors.
+//! - Frames are URDF's: a joint's `origin` (`xyz`, then `R = Rz(yaw)·Ry(pitch)·Rx(roll)`) is its
+//!   [`Placement`]; the axis is in the joint frame. A link's `inertial/origin` places the inertial
+//!   frame in the link frame: the centre of mass is its `xyz`, and the tensor, given in the
+//!   inertial frame, is `R·I·Rᵀ` in the link frame. A link without `<inertial>` is a massless
+//!   body (mass 0, zero inertia).
+//! - The root link (the one that is no joint's child) is fixed to the world and dropped: the joints
+//!   below it get `parent: None`. With `floating = true` the root is kept as the first body (with
+//!   its inertial) under a [`JointKind::FreeEuler`] `zyx` joint named `root_joint` with the
+//!   identity placement, so its 6 coordinates come first.
+//! - Joints and bodies are in depth-first order, the children of a link in document order.
+//! - The model's name is the robot's name in UpperCamelCase (`arm6_mixed` → `Arm6Mixed`),
+//!   gravity `[0, 0, −9.81]`; the [`Options`] are the defaults (a `pub` type in `f64`, the
+//!   default outputs) with a doc line naming the robot.
+//!
+//! # Errors
+//! Malformed XML, a missing required element, an unknown link, a link with two parents, two roots,
+//! a cycle, a non-finite number, a negative mass, a zero axis and unsupported joint types are
+//! reported as a [`UrdfError`] that names the file and, where the offending `<link>` or `<joint>`
+//! can be found in the text, its line. The importer does not panic on any input.
+//!
+//! # Layout
+//! Here: [`UrdfError`], [`from_urdf_str`], the checks of links and joints, the tree walk that
+//! merges fixed joints. `frames` holds the transforms and mass properties the walk composes,
+//! `lines` finds the lines of elements and of parse errors (urdf-rs gives none) with roxmltree.
+
+use std::collections::HashMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use articulated_dynamics::model::{
+    Body, EulerSeq, Joint, JointKind, Model, Placement, Value, DEFAULT_GRAVITY,
+};
+use articulated_dynamics::spatial::{Mat3, Vec3};
+
+use crate::options::{Description, Options};
+
+mod frames;
+mod lines;
+
+use frames::{matrix_rpy, rotate_inertia, MassProps, Transform};
+use lines::{parse_error_line, ElementLines};
+
+/// An error found while importing a URDF description.
+///
+/// Displays as `file:line: message` (or `file: message` when no line is known); a description
+/// given as a string is called `<urdf>`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UrdfError {
+    file: Option<PathBuf>,
+    line: Option<usize>,
+    message: String,
+}
+
+impl UrdfError {
+    fn new(message: impl Into<String>) -> Self {
+        UrdfError {
+            file: None,
+            line: None,
+            message: message.into(),
+        }
+    }
+    fn at(mut self, line: Option<usize>) -> Self {
+        self.line = line;
+        self
+    }
+    /// The same error, in the file `path` (for messages).
+    pub fn in_file(mut self, path: &Path) -> Self {
+        self.file = Some(path.to_path_buf());
+        self
+    }
+    /// The file the description was read from (`None` for [`from_urdf_str`] alone).
+    pub fn file(&self) -> Option<&Path> {
+        self.file.as_deref()
+    }
+    /// The 1-based line of the offending element, when it could be found.
+    pub fn line(&self) -> Option<usize> {
+        self.line
+    }
+    /// What is wrong, without the file and line.
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+}
+
+impl fmt::Display for UrdfError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.file {
+            Some(p) => write!(f, "{}", p.display())?,
+            None => write!(f, "<urdf>")?,
+        }
+        if let Some(l) = self.line {
+            write!(f, ":{l}")?;
+        }
+        write!(f, ": {}", self.message)
+    }
+}
+
+impl std::error::Error for UrdfError {}
+
+/// Builds the [`Description`] of a URDF robot given as text (see the [module docs](self)). With
+/// `floating`, a free `zyx` Euler base is put under the root link.
+///
+/// # Errors
+/// A [`UrdfError`] with the line of the offending element where it can be found.
+pub fn from_urdf_str(xml: &str, floating: bool) -> Result<Description, UrdfError> {
+    let robot = read_robot(xml)
+        .map_err(|e| UrdfError::new(format!("malformed URDF: {e}")).at(parse_error_line(xml)))?;
+    let lines = ElementLines::new(xml);
+    Importer { lines, robot }.build(floating)
+}
+
+/// urdf-rs's reader, with a panic deep in an XML library turned into an error.
+fn read_robot(xml: &str) -> Result<urdf_rs::Robot, String> {
+    match std::panic::catch_unwind(|| urdf_rs::read_from_string(xml)) {
+        Ok(Ok(robot)) => Ok(robot),
+        Ok(Err(e)) => Err(e.to_string()),
+        Err(_) => Err("the XML reader failed on this text".into()),
+    }
+}
+
+/// The importer of one robot, with the lines of its elements (for errors).
+struct Importer {
+    lines: ElementLines,
+    robot: urdf_rs::Robot,
+}
+
+/// The links' tree as the joints describe it: every joint's links defined, no link the child of
+/// two joints.
+struct Tree {
+    /// Per link, the joint whose child it is.
+    parent_joint: Vec<Option<usize>>,
+    /// Per link, the joints whose parent it is, in document order.
+    children: Vec<Vec<usize>>,
+    /// Per joint, its parent link and its child link.
+    joint_links: Vec<(usize, usize)>,
+}
+
+/// The bodies and joints of the model, as the walk builds them.
+#[derive(Default)]
+struct Built {
+    bodies: Vec<(String, MassProps)>,
+    joints: Vec<Joint>,
+}
+
+impl Importer {
+    /// The line of the `link`-th link's element.
+    fn link_line(&self, link: usize) -> Option<usize> {
+        let name = &self.robot.links[link].name;
+        let n = self.robot.links[..link]
+            .iter()
+            .filter(|l| l.name == *name)
+            .count();
+        self.lines.line("link", name, n)
+    }
+    /// The line of the `joint`-th joint's element.
+    fn joint_line(&self, joint: usize) -> Option<usize> {
+        let name = &self.robot.joints[joint].name;
+        let n = self.robot.joints[..joint]
+            .iter()
+            .filter(|j| j.name == *name)
+            .count();
+        self.lines.line("joint", name, n)
+    }
+    /// The error `msg` at the `link`-th link's line.
+    fn link_error(&self, link: usize, msg: String) -> UrdfError {
+        UrdfError::new(msg).at(self.link_line(link))
+    }
+    /// The error `msg` at the `joint`-th joint's line.
+    fn joint_error(&self, joint: usize, msg: String) -> UrdfError {
+        UrdfError::new(msg).at(self.joint_line(joint))
+    }
+
+    /// The link's mass properties in its own frame, checked.
+    fn link_mass(&self, link: usize) -> Result<MassProps, UrdfError> {
+        let l = &self.robot.links[link];
+        let inertial = &l.inertial;
+        let t = &inertial.inertia;
+        let numbers = [
+            inertial.mass.value,
+            t.ixx,
+            t.ixy,
+            t.ixz,
+            t.iyy,
+            t.iyz,
+            t.izz,
+        ]
+        .into_iter()
+        .chain(inertial.origin.xyz.0)
+        .chain(inertial.origin.rpy.0);
+        if numbers.clone().any(|x| !x.is_finite()) {
+            return Err(self.link_error(
+                link,
+                format!("link `{}`: its inertial has a non-finite number", l.name),
+            ));
+        }
+        if inertial.mass.value < 0.0 {
+            return Err(self.link_error(
+                link,
+                format!("link `{}`: negative mass {}", l.name, inertial.mass.value),
+            ));
+        }
+        let i_frame = Mat3([
+            [t.ixx, t.ixy, t.ixz],
+            [t.ixy, t.iyy, t.iyz],
+            [t.ixz, t.iyz, t.izz],
+        ]);
+        let [roll, pitch, yaw] = *inertial.origin.rpy;
+        let i = if [roll, pitch, yaw] == [0.0; 3] {
+            i_frame
+        } else {
+            rotate_inertia(&Mat3::rpy(roll, pitch, yaw), &i_frame)
+        };
+        Ok(MassProps {
+            m: inertial.mass.value,
+            c: Vec3(*inertial.origin.xyz),
+            i,
+        })
+    }
+
+    /// The joint's kind (for movable joints), checked; `None` for a fixed joint.
+    fn joint_kind(&self, joint: usize) -> Result<Option<JointKind>, UrdfError> {
+        use urdf_rs::JointType as T;
+        let j = &self.robot.joints[joint];
+        let numbers = j.origin.xyz.0.into_iter().chain(j.origin.rpy.0);
+        if numbers.chain(j.axis.xyz.0).any(|x| !x.is_finite()) {
+            return Err(self.joint_error(
+                joint,
+                format!(
+                    "joint `{}`: its origin or axis has a non-finite number",
+                    j.name
+                ),
+            ));
+        }
+        let axis = || -> Result<[f64; 3], UrdfError> {
+            let a = *j.axis.xyz;
+            let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+            if n < 1e-12 {
+                return Err(
+                    self.joint_error(joint, format!("joint `{}`: the axis {a:?} is zero", j.name))
+                );
+            }
+            Ok([a[0] / n, a[1] / n, a[2] / n])
+        };
+        Ok(match j.joint_type {
+            T::Revolute | T::Continuous => Some(JointKind::Revolute { axis: axis()? }),
+            T::Prismatic => Some(JointKind::Prismatic { axis: axis()? }),
+            T::Floating => Some(JointKind::FreeEuler { seq: EulerSeq::ZYX }),
+            T::Fixed => None,
+            T::Planar => {
+                return Err(self.joint_error(
+                    joint,
+                    format!(
+                        "joint `{}`: planar joints are not supported (write two prismatic \
+                         joints and a revolute joint through massless links)",
+                        j.name
+                    ),
+                ))
+            }
+            T::Spherical => {
+                return Err(self.joint_error(
+                    joint,
+                    format!(
+                        "joint `{}`: spherical joints are not URDF 1.0 and not supported \
+                         (write three revolute joints through massless links)",
+                        j.name
+                    ),
+                ))
+            }
+        })
+    }
+
+    /// The model: names checked, the tree checked, then walked from the root.
+    fn build(&self, floating: bool) -> Result<Description, UrdfError> {
+        if self.robot.links.is_empty() {
+            return Err(UrdfError::new(format!(
+                "robot `{}` has no links",
+                self.robot.name
+            )));
+        }
+        let tree = self.tree()?;
+        let root = self.root(&tree)?;
+        let built = self.walk(&tree, root, floating)?;
+        let model = Model {
+            name: camel_case(&self.robot.name),
+            gravity: Some(DEFAULT_GRAVITY),
+            params: Vec::new(),
+            bodies: built
+                .bodies
+                .into_iter()
+                .map(|(name, mp)| Body {
+                    name,
+                    mass: Value::Const(mp.m),
+                    com: mp.c.0.map(Value::Const),
+                    inertia: mp.i.0.map(|row| row.map(Value::Const)),
+                })
+                .collect(),
+            joints: built.joints,
+        };
+        model
+            .check()
+            .map_err(|e| UrdfError::new(format!("the imported model is invalid: {e}")))?;
+        let options = Options {
+            doc: vec![format!(
+                " Imported from the URDF robot `{}`.",
+                self.robot.name
+            )],
+            ..Options::default()
+        };
+        Ok(Description { model, options })
+    }
+
+    /// The tree the joints describe, with every link and joint name defined once, every link a
+    /// joint names defined, and no link the child of two joints.
+    fn tree(&self) -> Result<Tree, UrdfError> {
+        let links = &self.robot.links;
+        let joints = &self.robot.joints;
+        let mut link_index: HashMap<&str, usize> = HashMap::new();
+        for (k, l) in links.iter().enumerate() {
+            if link_index.insert(l.name.as_str(), k).is_some() {
+                return Err(self.link_error(k, format!("link `{}` is defined twice", l.name)));
+            }
+        }
+        let mut joint_names: HashMap<&str, usize> = HashMap::new();
+        for (k, j) in joints.iter().enumerate() {
+            if joint_names.insert(j.name.as_str(), k).is_some() {
+                return Err(self.joint_error(k, format!("joint `{}` is defined twice", j.name)));
+            }
+        }
+        let mut tree = Tree {
+            parent_joint: vec![None; links.len()],
+            children: vec![Vec::new(); links.len()],
+            joint_links: Vec::with_capacity(joints.len()),
+        };
+        for (k, j) in joints.iter().enumerate() {
+            let find = |name: &str, role: &str| {
+                link_index.get(name).copied().ok_or_else(|| {
+                    self.joint_error(
+                        k,
+                        format!(
+                            "joint `{}`: its {role} link `{name}` is not defined",
+                            j.name
+                        ),
+                    )
+                })
+            };
+            let p = find(&j.parent.link, "parent")?;
+            let c = find(&j.child.link, "child")?;
+            if let Some(other) = tree.parent_joint[c] {
+                return Err(self.joint_error(
+                    k,
+                    format!(
+                        "link `{}` has two parents: joints `{}` and `{}` both name it as child",
+                        links[c].name, joints[other].name, j.name
+                    ),
+                ));
+            }
+            tree.parent_joint[c] = Some(k);
+            tree.children[p].push(k);
+            tree.joint_links.push((p, c));
+        }
+        Ok(tree)
+    }
+
+    /// The one link that is no joint's child.
+    fn root(&self, tree: &Tree) -> Result<usize, UrdfError> {
+        let links = &self.robot.links;
+        let roots: Vec<usize> = (0..links.len())
+            .filter(|&k| tree.parent_joint[k].is_none())
+            .collect();
+        match roots.as_slice() {
+            [] => Err(self.cycle_error(tree, 0)),
+            [r] => Ok(*r),
+            [a, b, ..] => Err(self.link_error(
+                *b,
+                format!(
+                    "two root links (links that are no joint's child): `{}` and `{}`; a \
+                     URDF robot is one tree",
+                    links[*a].name, links[*b].name
+                ),
+            )),
+        }
+    }
+
+    /// The error for a cycle above link `start`: follow parents until a link repeats; that link
+    /// is on the cycle.
+    fn cycle_error(&self, tree: &Tree, start: usize) -> UrdfError {
+        let joints = &self.robot.joints;
+        let mut seen = vec![false; self.robot.links.len()];
+        let mut l = start;
+        while !seen[l] {
+            seen[l] = true;
+            match tree.parent_joint[l] {
+                Some(j) => l = tree.joint_links[j].0,
+                None => break,
+            }
+        }
+        let j = tree.parent_joint[l].unwrap_or(0);
+        self.joint_error(
+            j,
+            format!(
+                "the joints form a cycle through link `{}` (joint `{}`)",
+                self.robot.links[l].name,
+                joints.get(j).map_or("", |j| j.name.as_str())
+            ),
+        )
+    }
+
+    /// The bodies and joints in depth-first order from `root`, children in document order:
+    /// a movable joint starts a body, a fixed joint welds its child link to the body above (or,
+    /// above the first movable joint of a fixed base, to the world, dropping its mass).
+    fn walk(&self, tree: &Tree, root: usize, floating: bool) -> Result<Built, UrdfError> {
+        let joints = &self.robot.joints;
+        let mut built = Built::default();
+        let mut reached = vec![false; self.robot.links.len()];
+        reached[root] = true;
+        // (joint, body the joint's parent link is welded to, that link's frame in the body's).
+        let mut stack: Vec<(usize, Option<usize>, Transform)> = Vec::new();
+        let push_children = |stack: &mut Vec<_>, link: usize, body: Option<usize>, t: Transform| {
+            for &j in tree.children[link].iter().rev() {
+                stack.push((j, body, t));
+            }
+        };
+        let root_body = if floating {
+            let name = self.robot.links[root].name.clone();
+            built.bodies.push((name, self.link_mass(root)?));
+            built.joints.push(Joint {
+                name: "root_joint".into(),
+                kind: JointKind::FreeEuler { seq: EulerSeq::ZYX },
+                parent: None,
+                placement: Placement::IDENTITY,
+            });
+            Some(0)
+        } else {
+            self.link_mass(root)?; // checked, then dropped with the world
+            None
+        };
+        push_children(&mut stack, root, root_body, Transform::IDENTITY);
+        while let Some((j, body, t)) = stack.pop() {
+            let child = tree.joint_links[j].1;
+            if reached[child] {
+                return Err(self.cycle_error(tree, child));
+            }
+            reached[child] = true;
+            let kind = self.joint_kind(j)?;
+            let mass = self.link_mass(child)?;
+            let origin = Transform::from_pose(&joints[j].origin);
+            let frame = t.then(&origin);
+            match kind {
+                None => {
+                    if let Some(b) = body {
+                        let here = mass.transformed(&frame);
+                        built.bodies[b].1 = built.bodies[b].1.merged(&here);
+                    }
+                    push_children(&mut stack, child, body, frame);
+                }
+                Some(kind) => {
+                    let placement = if t.identity {
+                        placement(*joints[j].origin.xyz, *joints[j].origin.rpy)
+                    } else {
+                        placement(frame.p.0, matrix_rpy(&frame.r))
+                    };
+                    let b = built.bodies.len();
+                    built
+                        .bodies
+                        .push((self.robot.links[child].name.clone(), mass));
+                    built.joints.push(Joint {
+                        name: joints[j].name.clone(),
+                        kind,
+                        parent: body,
+                        placement,
+                    });
+                    push_children(&mut stack, child, Some(b), Transform::IDENTITY);
+                }
+            }
+        }
+        if let Some(k) = reached.iter().position(|r| !r) {
+            return Err(self.cycle_error(tree, k));
+        }
+        Ok(built)
+    }
+}
+
+/// A placement of constants.
+fn placement(xyz: [f64; 3], rpy: [f64; 3]) -> Placement {
+    Placement {
+        xyz: xyz.map(Value::Const),
+        rpy: rpy.map(Value::Const),
+    }
+}
+
+/// `arm6_mixed` → `Arm6Mixed`; non-alphanumeric characters separate words. A name that would not
+/// start with a letter is prefixed with `Robot`.
+fn camel_case(name: &str) -> String {
+    let mut out = String::new();
+    for word in name.split(|c: char| !c.is_ascii_alphanumeric()) {
+        let mut chars = word.chars();
+        if let Some(first) = chars.next() {
+            out.push(first.to_ascii_uppercase());
+            out.extend(chars);
+        }
+    }
+    if !out.starts_with(|c: char| c.is_ascii_alphabetic()) {
+        out.insert_str(0, "Robot");
+    }
+    out
+}
