@@ -44,47 +44,8 @@ pub struct Arm7;
 #[chain(file = "../models/tree.chain")]
 pub struct Tree;
 
-/// One of the five generated functions.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Output {
-    /// `M(q)`.
-    MassMatrix,
-    /// `N(q, q̇)·q̇`, without gravity.
-    Bias,
-    /// `g(q)`.
-    Gravity,
-    /// `τ = M·a + N·q̇ + g`.
-    InverseDynamics,
-    /// `q̈ = M⁻¹·(τ − N·q̇ − g)`.
-    ForwardDynamics,
-}
-
-impl Output {
-    /// All five, in the order of the tables.
-    pub const ALL: [Output; 5] = [
-        Output::MassMatrix,
-        Output::Bias,
-        Output::Gravity,
-        Output::InverseDynamics,
-        Output::ForwardDynamics,
-    ];
-
-    /// The function's name (`mass_matrix`, …), as in the benchmark ids.
-    pub fn name(self) -> &'static str {
-        match self {
-            Output::MassMatrix => "mass_matrix",
-            Output::Bias => "bias",
-            Output::Gravity => "gravity",
-            Output::InverseDynamics => "inverse_dynamics",
-            Output::ForwardDynamics => "forward_dynamics",
-        }
-    }
-
-    /// The output called `name`, if any.
-    pub fn from_name(name: &str) -> Option<Output> {
-        Output::ALL.into_iter().find(|o| o.name() == name)
-    }
-}
+/// The generated functions, named as in the description grammar and the benchmark ids.
+pub use articulated_codegen::options::Output;
 
 /// Which implementation runs a call.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -240,7 +201,7 @@ pub trait Visit {
     /// Called once per output, in the order of [`Output::ALL`].
     ///
     /// `bare` is given for forward dynamics only: the reference's recursion alone
-    /// ([`articulated::reference::aba`] on its tree), without what [`Reference::forward_dynamics`]
+    /// ([`articulated::reference::aba()`] on its tree), without what [`Reference::forward_dynamics`]
     /// adds around it (input checks, pivot checks, and an `O(n³)` eigenvalue check of `M` built
     /// by CRBA), so the algorithms can be compared like for like.
     fn visit<G: FnMut(usize), R: FnMut(usize)>(
@@ -255,7 +216,7 @@ pub trait Visit {
 }
 
 /// Hands `visitor` the generated and reference closures of every output of model `M`, on
-/// `states` (from [`states`]) and `r` (from [`reference`]).
+/// `states` (from [`states`]) and `r` (from [`reference()`]).
 pub fn each_kernel<M, V, const NQ: usize, const NV: usize>(
     states: &[State<NQ, NV>],
     r: &Reference,

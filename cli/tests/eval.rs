@@ -6,6 +6,7 @@ mod common;
 use common::repo;
 use std::path::Path;
 
+use articulated_dynamics::random::Rng;
 use serde_json::Value;
 
 /// Runs `articulated eval`; (exit success, stdout, stderr).
@@ -226,16 +227,10 @@ fn every_shipped_model_evaluates() {
     }
 }
 
-/// `count` numbers in `[-scale, scale]` from a fixed sequence (a 64-bit LCG), as `--x` text.
-fn pseudo_random(seed: &mut u64, count: usize, scale: f64) -> String {
+/// `count` numbers in `[-scale, scale)` from a seeded stream, as `--x` text.
+fn pseudo_random(rng: &mut Rng, count: usize, scale: f64) -> String {
     (0..count)
-        .map(|_| {
-            *seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let unit = (*seed >> 11) as f64 / (1u64 << 53) as f64;
-            format!("{:e}", scale * (2.0 * unit - 1.0))
-        })
+        .map(|_| format!("{:e}", rng.symmetric(scale)))
         .collect::<Vec<_>>()
         .join(",")
 }
@@ -243,7 +238,7 @@ fn pseudo_random(seed: &mut u64, count: usize, scale: f64) -> String {
 /// Every shipped model (`.chain` and `.urdf`, and the URDF under a free base) at the neutral
 /// configuration and at three seeded states: for each, the `eval` arguments.
 fn shipped_states() -> Vec<Vec<String>> {
-    let mut seed = 2005_u64;
+    let mut rng = Rng::new(2005);
     let mut all = Vec::new();
     for m in articulated_models::ALL {
         let mut files: Vec<(&str, bool)> = vec![(m.chain, false)];
@@ -264,10 +259,10 @@ fn shipped_states() -> Vec<Vec<String>> {
                 let mut args = base.clone();
                 for (flag, n, scale) in [("--q", nq, 1.0), ("--v", nv, 2.0), ("--a", nv, 3.0)] {
                     args.push(flag.to_string());
-                    args.push(pseudo_random(&mut seed, n, scale));
+                    args.push(pseudo_random(&mut rng, n, scale));
                 }
                 args.push("--tau".to_string());
-                args.push(pseudo_random(&mut seed, nv, 10.0));
+                args.push(pseudo_random(&mut rng, nv, 10.0));
                 all.push(args);
             }
         }

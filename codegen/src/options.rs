@@ -2,10 +2,10 @@
 //! scalar, the outputs. Every front end states them the same way: the settings of a `.chain`
 //! file or of `chain!{}` (`scalar: f32;`, `outputs: [mass_matrix, bias];`), the keys of
 //! `#[chain(…, scalar = f32, outputs = [mass_matrix, bias])]`, the methods of
-//! [`Builder`](crate::Builder), and `articulated expand --scalar … --outputs …`.
+//! [`crate::Builder`], and `articulated expand --scalar … --outputs …`.
 //!
 //! The physics (bodies, joints, gravity, parameters) is the
-//! [`Model`](articulated_dynamics::model::Model), which the reference dynamics reads too; a
+//! [`articulated_dynamics::model::Model`], which the reference dynamics reads too; a
 //! [`Description`] is the two together, what every front end produces.
 
 use std::fmt;

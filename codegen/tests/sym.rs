@@ -2,6 +2,7 @@
 //! same generic code run on `f64`, operation counts, dead-code elimination, nested traces.
 
 use articulated_codegen::sym::{trace, Graph, Node, OpCounts, Sym, Var};
+use articulated_dynamics::random::Rng;
 use articulated_dynamics::Scalar;
 
 fn q(i: usize) -> Sym {
@@ -246,24 +247,6 @@ fn run<T: Scalar>(steps: &[Step], inputs: &[T]) -> Vec<T> {
     v
 }
 
-/// xorshift64*: deterministic, no dependency.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 fn random_program(rng: &mut Rng, len: usize) -> Vec<Step> {
     let base = N_INPUTS + CONSTANTS.len();
     (0..len)
@@ -292,7 +275,7 @@ fn random_program(rng: &mut Rng, len: usize) -> Vec<Step> {
 
 #[test]
 fn eval_equals_the_same_code_run_on_f64() {
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
     let mut compared = 0;
     for _ in 0..200 {
         let steps = random_program(&mut rng, 40);
@@ -302,7 +285,7 @@ fn eval_equals_the_same_code_run_on_f64() {
         });
         assert_no_foldable_pattern(&graph);
         for _ in 0..3 {
-            let x: Vec<f64> = (0..N_INPUTS).map(|_| rng.uniform(-2.0, 2.0)).collect();
+            let x: Vec<f64> = (0..N_INPUTS).map(|_| rng.range(-2.0, 2.0)).collect();
             let direct = run(&steps, &x);
             let symbolic = graph.eval(&outputs, |v| match v {
                 Var::Q(i) => x[i],

@@ -7,23 +7,13 @@ mod common;
 
 use articulated::reference::Reference;
 use articulated_codegen::load::load_model;
+use articulated_dynamics::random::Rng;
 use common::rel_err;
 use std::path::Path;
 
-/// splitmix64: a seeded stream of uniform numbers in [-1, 1).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-    fn vec(&mut self, n: usize, scale: f64) -> Vec<f64> {
-        (0..n).map(|_| scale * self.next()).collect()
-    }
+/// `n` numbers uniform in `[-scale, scale)`.
+fn uniform(rng: &mut Rng, n: usize, scale: f64) -> Vec<f64> {
+    (0..n).map(|_| rng.symmetric(scale)).collect()
 }
 
 #[test]
@@ -38,12 +28,12 @@ fn chain_and_urdf_files_describe_the_same_dynamics() {
             Reference::new(&from_urdf).unwrap(),
         );
         assert_eq!((a.nq(), a.nv()), (b.nq(), b.nv()), "{}", files.name);
-        let mut rng = Rng(7);
+        let mut rng = Rng::new(7);
         let mut worst = 0.0_f64;
         for _ in 0..8 {
-            let q = rng.vec(a.nq(), 3.0);
-            let v = rng.vec(a.nv(), 2.0);
-            let acc = rng.vec(a.nv(), 2.0);
+            let q = uniform(&mut rng, a.nq(), 3.0);
+            let v = uniform(&mut rng, a.nv(), 2.0);
+            let acc = uniform(&mut rng, a.nv(), 2.0);
             let checks = [
                 (
                     a.mass_matrix(&q).unwrap().as_slice().to_vec(),

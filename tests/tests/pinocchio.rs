@@ -21,6 +21,7 @@ use std::path::{Path, PathBuf};
 use articulated::model::Model;
 use articulated::reference::{Error, Reference, Wrench};
 use articulated_codegen::load::load_model;
+use articulated_dynamics::random::Rng;
 use serde_json::Value as Json;
 
 const TOL: f64 = 1e-10;
@@ -183,19 +184,9 @@ fn arm7_matches_pinocchio_including_joint_wrenches() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
-/// A small deterministic generator (xorshift64*), so the states need no dependency.
-struct Rng(u64);
-impl Rng {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        let x = self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11;
-        lo + (hi - lo) * (x as f64 / (1u64 << 53) as f64)
-    }
-    fn vec(&mut self, n: usize, lo: f64, hi: f64) -> Vec<f64> {
-        (0..n).map(|_| self.uniform(lo, hi)).collect()
-    }
+/// `n` numbers uniform in `[lo, hi)`.
+fn uniform(rng: &mut Rng, n: usize, lo: f64, hi: f64) -> Vec<f64> {
+    (0..n).map(|_| rng.range(lo, hi)).collect()
 }
 
 #[test]
@@ -217,11 +208,11 @@ fn arm7_chain_file_and_urdf_describe_the_same_dynamics() {
         Reference::new(&urdf).unwrap(),
     );
     assert_eq!((rc.nq(), rc.nv()), (ru.nq(), ru.nv()));
-    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut rng = Rng::new(0x9E37_79B9_7F4A_7C15);
     let mut worst = [0.0f64; 3];
     for _ in 0..20 {
-        let q = rng.vec(ru.nq(), -3.0, 3.0);
-        let v = rng.vec(ru.nv(), -2.0, 2.0);
+        let q = uniform(&mut rng, ru.nq(), -3.0, 3.0);
+        let v = uniform(&mut rng, ru.nv(), -2.0, 2.0);
         let (mc, mu) = (rc.mass_matrix(&q).unwrap(), ru.mass_matrix(&q).unwrap());
         worst[0] = worst[0].max(rel_err(mc.as_slice(), mu.as_slice()));
         let (bc, bu) = (rc.bias(&q, &v).unwrap(), ru.bias(&q, &v).unwrap());

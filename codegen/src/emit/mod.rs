@@ -3,11 +3,11 @@
 //! [`straight_line`] turns the nodes some outputs need into one `let` per operation, in
 //! dependency order, plus one expression per output; the caller wraps them in a function body.
 //! [`format()`] pretty-prints a whole item list. The steps, one file each:
-//! - [`names`]: each local named after what it holds (the recursions' labels, `s_q3`/`c_q3`,
+//! - `names`: each local named after what it holds (the recursions' labels, `s_q3`/`c_q3`,
 //!   the terms of a labelled value after it);
-//! - [`fusion`]: products fused into their sum as `mul_add` (f64 and f32);
-//! - [`sines`]: the math calls per scalar, and the joint angles' sines and cosines in one call;
-//! - [`literals`]: constants as a person writes them and clippy accepts them.
+//! - `fusion`: products fused into their sum as `mul_add` (f64 and f32);
+//! - `sines`: the math calls per scalar, and the joint angles' sines and cosines in one call;
+//! - `literals`: constants as a person writes them and clippy accepts them.
 //!
 //! The emitted code allocates nothing, has no `unsafe`, cannot panic, and compiles under
 //! `#![no_std]` without `alloc`, in each [`ScalarKind`]: `f64` and `f32` (literals suffixed

@@ -2,7 +2,7 @@
 //! `#[derive(Chain)]` (the `articulated-macros` crate is a shim that calls these).
 //!
 //! On an error the expansion is a `compile_error!` at the offending token, plus a stand-in for
-//! what the macro would have declared ([`fallback`]), so the user sees one error and not a
+//! what the macro would have declared (`fallback.rs`), so the user sees one error and not a
 //! cascade.
 
 mod attr;

@@ -1,8 +1,8 @@
 //! From a [`Model`] and its [`Options`] to Rust: each requested output traced
 //! ([`crate::trace`]), emitted as straight-line code ([`crate::emit`]), and wrapped in the type
 //! and trait impls the runtime defines (`articulated::{Chain, MassMatrix, Bias, Gravity,
-//! InverseDynamics, ForwardDynamics}`): one function per output in [`function`], their docs in
-//! [`docs`], the type, its constants, its parameter struct and its `Chain` impl here.
+//! InverseDynamics, ForwardDynamics}`): one function per output in `function.rs`, their docs in
+//! `docs.rs`, the type, its constants, its parameter struct and its `Chain` impl here.
 
 mod docs;
 mod function;

@@ -1,4 +1,4 @@
-//! Passes over a traced graph that keep its values: [`reassociate`] (sums regrouped by arrival
+//! Passes over a traced graph that keep its values: [`reassociate`](mod@reassociate) (sums regrouped by arrival
 //! time, a shorter critical path for the same operations) and [`round_constants_to_f32`] (what
 //! `f32` code needs before it is emitted).
 

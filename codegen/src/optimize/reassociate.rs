@@ -9,10 +9,10 @@
 //! `−` and `−x` whose inner nodes feed nothing else) is rebuilt by Huffman's rule on arrival
 //! times: the two terms that are ready first are added first, so the latest term is added last,
 //! once. The number of additions is unchanged (a sum of `k` terms takes `k − 1` of them whatever
-//! the order), and negations are never added (see [`rebuild_sum`]); hash-consing may find some
+//! the order), and negations are never added (see `rebuild_sum`); hash-consing may find some
 //! of the new partial sums already in the graph.
 //!
-//! Arrival times follow a rough latency model of a current out-of-order core ([`Latency`]):
+//! Arrival times follow a rough latency model of a current out-of-order core (`Latency`):
 //! three cycles for an addition or a product, more for a quotient, a square root or a sine.
 //! It only has to rank terms: the real schedule is the CPU's.
 //!

@@ -25,7 +25,7 @@ use articulated_dynamics::reference::{crba_with, NodeJoint, Tree};
 use articulated_dynamics::spatial::{Inertia, Mat3, Transform, Vec3};
 use articulated_dynamics::Scalar;
 
-/// `M(q)`, row-major `nv × nv`, as [`articulated_dynamics::reference::crba`] computes it (see
+/// `M(q)`, row-major `nv × nv`, as [`articulated_dynamics::reference::crba()`] computes it (see
 /// the [module docs](self)). `axis(u)` is `Some(k)` when the revolute axis `u` is `±e_k` and
 /// should be applied by double angles.
 pub fn crba<T: Scalar>(

@@ -14,7 +14,7 @@
 //! - [`forward`]: forward dynamics by ABA or by CRBA + `LᵀDL`.
 //!
 //! Every [`Variant`] of an output is traced; [`trace`] keeps the one with the fewest operations
-//! (the first of equals), then regroups its sums by arrival time ([`crate::optimize::reassociate`]). All
+//! (the first of equals), then regroups its sums by arrival time ([`crate::optimize::reassociate()`]). All
 //! variants compute the same values (each formulation's tests hold it to the reference); they
 //! round differently.
 
@@ -135,7 +135,7 @@ impl Traced {
     }
 
     /// The same values with every sum regrouped so that late terms are added last
-    /// ([`crate::optimize::reassociate`]): no more operations, a shorter critical path.
+    /// ([`crate::optimize::reassociate()`]): no more operations, a shorter critical path.
     fn reassociated(self) -> Traced {
         let (graph, mut all) = reassociate(&self.graph, &self.all_outputs());
         let pivots = self.pivots.as_ref().map(|_| {

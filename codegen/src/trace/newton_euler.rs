@@ -30,17 +30,17 @@
 //! acceleration, RBDA §5.3). The backward pass is the spatial one, `f_p += X_upᵀ·f_i`, and
 //! `τ_i = Sᵢᵀ·f_i`.
 
-use articulated_dynamics::reference::Tree;
+use articulated_dynamics::reference::{project, transmit, Tree};
 use articulated_dynamics::spatial::{Force, Mat3, Vec3};
 use articulated_dynamics::Scalar;
 
 /// `τ = M(q)·a + N(q, q̇)·q̇ (+ g(q) with `with_gravity`)`, as
-/// [`articulated_dynamics::reference::rnea`] computes it, by the classical-acceleration
+/// [`articulated_dynamics::reference::rnea()`] computes it, by the classical-acceleration
 /// Newton–Euler recursion (see the [module docs](self)).
 ///
 /// Labels ([`Scalar::label`]), per node `n`: `n_w_x, …` (`ω`), `n_dw_x, …` (`ω̇`), `n_dv_x, …`
-/// (`V̇`), `n_u_xx, …` (`U`), the transmitted couple `n_n_x, …` and force `n_f_x, …`, and the
-/// same in the parent's frame `n_up_n_x, …`, `n_up_f_x, …`.
+/// (`V̇`), `n_u_xx, …` (`U`), and those of the backward pass
+/// ([`articulated_dynamics::reference::transmit`]).
 pub fn classical_rnea<T: Scalar>(
     tree: &Tree<T>,
     q: &[T],
@@ -82,19 +82,8 @@ pub fn classical_rnea<T: Scalar>(
         accel.push(acc);
         u.push(u_i);
     }
-    for (i, node) in tree.nodes.iter().enumerate().rev() {
-        let n = &node.name;
-        f[i] = f[i].label(format_args!("{n}_n"), format_args!("{n}_f"));
-        if let Some(p) = node.parent {
-            let up = x_up[i].inv_apply_force(f[i]);
-            f[p] = f[p] + up.label(format_args!("{n}_up_n"), format_args!("{n}_up_f"));
-        }
-    }
-    let mut tau = vec![T::zero(); tree.nv];
-    for (node, f_i) in tree.nodes.iter().zip(&f) {
-        node.s_tr_mul(*f_i, &mut tau);
-    }
-    tau
+    transmit(tree, &x_up, &mut f);
+    project(tree, &f)
 }
 
 /// `U = (ω̇×) + (ω×)(ω×)`, written as `(ω̇×) + ω·ωᵀ − |ω|²·1` so the diagonal is

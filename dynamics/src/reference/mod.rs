@@ -37,7 +37,7 @@ use nalgebra::{DMatrix, DVector};
 pub use aba::{aba, AbaOutput};
 pub use crba::{crba, crba_with};
 pub use ltdl::ltdl_solve;
-pub use rnea::{joint_forces, node_forces, rnea};
+pub use rnea::{joint_forces, node_forces, project, rnea, transmit};
 pub use tree::{Node, NodeJoint, Tree};
 
 use crate::model::{JointKind, Model, ModelError};

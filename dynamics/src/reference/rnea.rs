@@ -5,7 +5,7 @@ use alloc::vec::Vec;
 
 use super::tree::Tree;
 use crate::scalar::Scalar;
-use crate::spatial::Force;
+use crate::spatial::{Force, Transform};
 
 /// The spatial forces `f[i]` each tree node's joint transmits from the parent to the node, in the
 /// node's frame, about its origin (RBDA Table 5.1, lines 10 and 15), for the state `(q, v, a)`.
@@ -16,8 +16,7 @@ use crate::spatial::Force;
 /// `f_i = I_i·a_i + v_i ×f (I_i·v_i)`; backward pass: `f_λ += X_upᵀ·f_i`.
 ///
 /// Labels ([`Scalar::label`]), per node `n`: velocity `n_w_x, …` (angular) and `n_v_x, …`
-/// (linear), acceleration `n_dw_x, …` and `n_dv_x, …`, the transmitted couple `n_n_x, …` and
-/// force `n_f_x, …`, and the same in the parent's frame `n_up_n_x, …`, `n_up_f_x, …`.
+/// (linear), acceleration `n_dw_x, …` and `n_dv_x, …`, and those of [`transmit`].
 pub fn node_forces<T: Scalar>(
     tree: &Tree<T>,
     q: &[T],
@@ -48,6 +47,15 @@ pub fn node_forces<T: Scalar>(
         vel.push(v_i);
         acc.push(a_i);
     }
+    transmit(tree, &x_up, &mut f);
+    f
+}
+
+/// The backward pass of Newton–Euler (RBDA Table 5.1, lines 13–16): each node's own force `f_i`
+/// becomes the force its joint transmits, `f_λ += X_upᵀ·f_i` from the leaves in. Labels
+/// ([`Scalar::label`]): `n_n_x, …` and `n_f_x, …` for the transmitted couple and force, `n_up_n_x,
+/// …` and `n_up_f_x, …` for the same in the parent's frame.
+pub fn transmit<T: Scalar>(tree: &Tree<T>, x_up: &[Transform<T>], f: &mut [Force<T>]) {
     for (i, node) in tree.nodes.iter().enumerate().rev() {
         let n = &node.name;
         f[i] = f[i].label(format_args!("{n}_n"), format_args!("{n}_f"));
@@ -56,19 +64,23 @@ pub fn node_forces<T: Scalar>(
             f[p] = f[p] + up.label(format_args!("{n}_up_n"), format_args!("{n}_up_f"));
         }
     }
-    f
+}
+
+/// The generalized forces `τ_i = Sᵢᵀ·f_i` of the transmitted forces `f` (RBDA Table 5.1,
+/// line 14).
+pub fn project<T: Scalar>(tree: &Tree<T>, f: &[Force<T>]) -> Vec<T> {
+    let mut tau = alloc::vec![T::zero(); tree.nv];
+    for (node, f_i) in tree.nodes.iter().zip(f) {
+        node.s_tr_mul(*f_i, &mut tau);
+    }
+    tau
 }
 
 /// Inverse dynamics by RNEA: `τ_i = Sᵢᵀ·f_i` (RBDA Table 5.1, line 14). With `with_gravity` this
 /// is `M·a + N·q̇ + g`; without, `M·a + N·q̇`. So `bias = rnea(q, v, 0, false)` and
 /// `gravity = rnea(q, 0, 0, true)`.
 pub fn rnea<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T], a: &[T], with_gravity: bool) -> Vec<T> {
-    let f = node_forces(tree, q, v, a, with_gravity);
-    let mut tau = alloc::vec![T::zero(); tree.nv];
-    for (node, f_i) in tree.nodes.iter().zip(&f) {
-        node.s_tr_mul(*f_i, &mut tau);
-    }
-    tau
+    project(tree, &node_forces(tree, q, v, a, with_gravity))
 }
 
 /// The spatial force each **model** joint transmits (the parent on the child), in the child body
