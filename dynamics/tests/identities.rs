@@ -1,4 +1,4 @@
-//! Identities the dynamics must satisfy, on random trees with every joint kind (DESIGN §7).
+//! Identities the dynamics must satisfy, on random trees with every joint kind (ARCHITECTURE.md, "Measuring").
 
 mod common;
 

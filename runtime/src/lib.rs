@@ -16,8 +16,98 @@
 //! `core`, nalgebra's fixed-size types and `libm`.
 //!
 //! # Conventions
-//! SI units. Spatial vectors are **angular first** (Featherstone): a motion is `[ω; v]`, a force
-//! `[n; f]`. Pinocchio orders them linear first; convert when comparing.
+//! Each is checked by the example under it (ARCHITECTURE.md lists them all).
+//!
+//! **Spatial vectors are angular first** (Featherstone): a motion is `[ω; v]`, a force `[n; f]`.
+//! Pinocchio orders them linear first; swap the halves when comparing.
+//!
+//! ```
+//! use articulated::spatial::{Mat3, Motion, Transform, Vec3};
+//! // Spinning at 1 rad/s about the z axis through the origin, in world coordinates.
+//! let spin = Motion::new(Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 0.0, 0.0));
+//! // In a frame 1 m along x (same axes), the point at its origin moves at ω × r = (0, 1, 0).
+//! let there = Transform::from_pose(Mat3::identity(), Vec3::new(1.0, 0.0, 0.0));
+//! let seen = there.apply_motion(spin);
+//! assert_eq!(seen.ang.0, [0.0, 0.0, 1.0]); // angular first
+//! assert_eq!(seen.lin.0, [0.0, 1.0, 0.0]); // then the linear velocity of the origin
+//! ```
+//!
+//! **`bias` is `N(q, q̇)·q̇` without gravity**; `gravity(q)` holds the chain still, and
+//! `τ = M·a + bias + gravity` (Pinocchio's `nonLinearEffects` is `bias + gravity`).
+//!
+//! ```
+//! use articulated::nalgebra::SVector;
+//! use articulated::prelude::*;
+//!
+//! articulated::chain! {
+//!     chain Pendulum {
+//!         body bob { mass: 2.0, com: [0.0, 0.0, -0.5], inertia: diag(0.01, 0.01, 0.01) }
+//!         joint pivot: revolute(y) { parent: world, child: bob }
+//!     }
+//! }
+//! let (q, v, zero) = (SVector::from([0.3]), SVector::from([4.0]), SVector::zeros());
+//! // One joint, a constant M: no velocity-product terms, whatever the velocity.
+//! assert_eq!(Pendulum::bias(&q, &v)[0], 0.0);
+//! // Gravity pulls the bob back: m·g·l·sin q.
+//! let g = Pendulum::gravity(&q)[0];
+//! assert!((g - 2.0 * 9.81 * 0.5 * 0.3_f64.sin()).abs() < 1e-12);
+//! assert!((Pendulum::inverse_dynamics(&q, &v, &zero)[0] - g).abs() < 1e-12);
+//! ```
+//!
+//! **Euler angles are intrinsic**: `spherical(xyz)` is `R = Rx(θ1)·Ry(θ2)·Rz(θ3)`, three
+//! revolute joints x, y, z through massless frames (how URDF writes a spherical joint).
+//!
+//! ```
+//! use articulated::nalgebra::{Rotation3, SVector, Vector3};
+//! use articulated::prelude::*;
+//!
+//! articulated::chain! {
+//!     chain Ball {
+//!         body arm { mass: 1.0, com: [0.3, 0.0, 1.0], inertia: diag(0.1, 0.1, 0.1) }
+//!         joint ball: spherical(xyz) { parent: world, child: arm }
+//!     }
+//! }
+//! // The potential energy m·g·z of the centre of mass for R = Rx(θ1)·Ry(θ2)·Rz(θ3) …
+//! let potential = |q: [f64; 3]| {
+//!     let r = Rotation3::from_axis_angle(&Vector3::x_axis(), q[0])
+//!         * Rotation3::from_axis_angle(&Vector3::y_axis(), q[1])
+//!         * Rotation3::from_axis_angle(&Vector3::z_axis(), q[2]);
+//!     9.81 * (r * Vector3::new(0.3, 0.0, 1.0)).z
+//! };
+//! // … has the generated gravity as its gradient.
+//! let q = [0.4, -0.3, 1.1];
+//! let g = Ball::gravity(&SVector::from(q));
+//! for k in 0..3 {
+//!     let (mut up, mut down) = (q, q);
+//!     up[k] += 1e-6;
+//!     down[k] -= 1e-6;
+//!     assert!((g[k] - (potential(up) - potential(down)) / 2e-6).abs() < 1e-6);
+//! }
+//! ```
+//!
+//! **Coordinates follow the joints depth first from the world**, children in declaration
+//! order, whatever order the items come in.
+//!
+//! ```
+//! use articulated::nalgebra::SVector;
+//! use articulated::prelude::*;
+//!
+//! articulated::chain! {
+//!     chain Tree {
+//!         body a { mass: 1.0, com: [0.0, 0.0, -1.0], inertia: diag(0.1, 0.1, 0.1) }
+//!         body b { mass: 1.0, com: [0.0, 0.0, -1.0], inertia: diag(0.1, 0.1, 0.1) }
+//!         body c { mass: 1.0, com: [0.0, 0.0, -1.0], inertia: diag(0.1, 0.1, 0.1) }
+//!         joint jb: revolute(y) { parent: a, child: b, xyz: [0.0, 0.0, -1.0] }
+//!         joint jc: revolute(y) { parent: world, child: c }
+//!         joint ja: revolute(y) { parent: world, child: a }
+//!     }
+//! }
+//! // The world's children in declaration order (jc, then ja), then ja's child jb: q = [jc, ja, jb].
+//! let g = Tree::gravity(&SVector::from([0.3, 0.0, 0.0]));
+//! assert!(g[0] != 0.0 && g[1] == 0.0 && g[2] == 0.0); // only c hangs off the vertical
+//! let g = Tree::gravity(&SVector::from([0.0, 0.0, 0.3]));
+//! assert!(g[0] == 0.0 && g[1] != 0.0 && g[2] != 0.0); // b, through a, loads ja and jb
+//! ```
 #![cfg_attr(not(feature = "std"), no_std)]
 
 #[cfg(feature = "alloc")]
@@ -35,6 +125,7 @@ pub mod math;
 pub mod samples;
 
 pub use articulated_dynamics::scalar::{self, Scalar};
+pub use articulated_dynamics::spatial;
 #[cfg(feature = "alloc")]
 pub use articulated_dynamics::{model, reference};
 pub use articulated_macros::{chain, Chain};
@@ -51,3 +142,8 @@ pub mod prelude {
         SingularMassMatrix,
     };
 }
+
+/// The README's examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+pub struct ReadmeDoctests;

@@ -17,29 +17,11 @@
 //! [`SINCOS_FAST_LIMIT`], infinities and NaN to [`libm::sincos`]; joint angles always take it
 //! the same way.
 //!
-//! What that buys, measured on that VM (`cargo run --release -p articulated-bench --bin
-//! sincos_table [-- --instructions]`, which also runs this module's previous version, commit
-//! a7ea426, as `baseline-array`; `cargo bench -p articulated-bench --bench math`; the VM's
-//! speed drifts by up to 1.5× over minutes, so only figures from one run compare):
-//!
-//! - several angles, [`sincos_array`]: faster. With no branch per angle the compiler runs the
-//!   angles two by two in SSE2 instructions, with one shared check for the fallback: 61.0
-//!   instructions per angle, loop included, against libm's 105.1 (74.4 for the previous
-//!   version). Seven angles per iteration: 5.0 ns per angle against libm's 6.5 and the
-//!   previous version's 6.5 (three runs on a quiet VM, each within 0.1 ns of these; on a
-//!   loaded one the ratio to the previous version went up to 0.88). In the generated 7-DOF dynamics
-//!   (`arm7`, six angles): inverse dynamics 1476 instructions per call instead of 1561, and
-//!   107 ns instead of 118 (timed in one process against a copy of the same code built with
-//!   the previous version); mass matrix 996 instructions instead of 1127, bias 1288 instead
-//!   of 1430, forward dynamics 2596 instead of 2676.
-//! - one angle, [`sincos`]: **not** faster than libm, although it now takes fewer
-//!   instructions (99 per call in a loop, libm 113): one call per iteration 8.4 ns against
-//!   7.2, the latency of a chain of calls 22.5 ns against 18.3 (the previous version: 24.7
-//!   against 18.5, in another run).
-//!   Doing the whole reduction every time costs more than libm's branches, which the
-//!   processor predicts or recovers from cheaply even on random angles, and inlining saves
-//!   only the call. It is kept for single angles where a branch-free, inlined path matters
-//!   more than speed, and it is what [`sincos_array`] computes for each angle.
+//! What that buys: for several angles ([`sincos_array`]) about 60 instructions per angle
+//! against libm's 105, and the generated dynamics that call it a few per cent faster; for one
+//! angle ([`sincos`]) fewer instructions but **more time** than libm, whose branches the
+//! processor predicts cheaply. The measured figures, with the commands that reproduce them,
+//! are in `bench/README.md` ("Sine and cosine").
 //!
 //! # The algorithm
 //!

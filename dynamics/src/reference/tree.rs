@@ -3,7 +3,7 @@
 //! frames.
 //!
 //! A [`JointKind::SphericalEuler`] joint with sequence `[a1, a2, a3]` becomes three revolute nodes
-//! about `a1`, `a2`, `a3` (`R = R1(θ1)·R2(θ2)·R3(θ3)`, DESIGN §2); a [`JointKind::FreeEuler`]
+//! about `a1`, `a2`, `a3` (`R = R1(θ1)·R2(θ2)·R3(θ3)`, ARCHITECTURE.md, "Conventions"); a [`JointKind::FreeEuler`]
 //! becomes three prismatic nodes along the joint frame's x, y, z, then the three revolutes. The
 //! intermediate nodes carry no inertia. Every node's motion subspace `S` is then constant in its
 //! own (child) frame, so the velocity-product term of the joint is `c_J = 0` and the bias

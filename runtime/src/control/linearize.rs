@@ -19,7 +19,7 @@
 //! rounded so that `x_j ± h_j` are exactly representable (so the divisor is the true step).
 //!
 //! These are finite differences: **they will be replaced by exact derivatives** when the
-//! generator emits `forward_dynamics_derivatives` (the outputs planned in DESIGN.md §4).
+//! generator emits `forward_dynamics_derivatives` (planned in the open issue on generated derivatives).
 
 use core::fmt;
 
