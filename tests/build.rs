@@ -11,6 +11,7 @@
 
 use std::fmt::Write as _;
 
+use articulated_codegen::options::Output;
 use articulated_dynamics::random::random_model;
 
 /// `(type name, seed, bodies)`. Sizes from 2 to 30 bodies; the 30-body tree dominates the
@@ -41,7 +42,10 @@ fn main() {
             model.nv()
         )
         .unwrap();
-        builder = builder.model(model).name(name);
+        // The five default outputs and the joint wrenches (from the free ends down: the trees
+        // branch, so not bottom-up).
+        let outputs = Output::DEFAULT.into_iter().chain([Output::JointWrenches]);
+        builder = builder.model(model).name(name).outputs(outputs);
     }
     list.push_str("    };\n}\n");
     builder

@@ -86,7 +86,8 @@ pub trait Model<const NQ: usize, const NV: usize>:
 {
     /// Its files in `articulated-models` (the generated type comes from `FILES.chain`).
     const FILES: ModelFiles;
-    /// The generator's operation counts of `output` (`C::<OUTPUT>_OPS`).
+    /// The generator's operation counts of `output` (`C::<OUTPUT>_OPS`); zero for an output
+    /// the benchmarks' chains are not generated with (only the five default ones are).
     fn ops(output: Output) -> OpCounts;
 }
 
@@ -101,6 +102,7 @@ macro_rules! model {
                     Output::Gravity => $ty::GRAVITY_OPS,
                     Output::InverseDynamics => $ty::INVERSE_DYNAMICS_OPS,
                     Output::ForwardDynamics => $ty::FORWARD_DYNAMICS_OPS,
+                    Output::JointWrenches | Output::JointWrenchesBottomUp => OpCounts::default(),
                 }
             }
         }

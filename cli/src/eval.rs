@@ -70,6 +70,8 @@ impl State {
             Var::A(i) => self.a[i],
             Var::Tau(i) => self.tau[i],
             Var::Param(i) => self.params[i],
+            // Only joint wrenches bottom-up read a base wrench, and `eval` does not print them.
+            Var::Base(_) => 0.0,
         }
     }
 }

@@ -190,7 +190,7 @@ impl Builder {
             let g = generate(&chain.model, &chain.options).map_err(failed)?;
             out.push_str(&format!("// {} from {label}\n", chain.model.name));
             for f in &g.functions {
-                out.push_str(&format!("//   {:<17} {}\n", f.output.name(), f.ops));
+                out.push_str(&format!("//   {:<24} {}\n", f.output.name(), f.ops));
             }
             out.push_str(&emit::format(g.tokens).map_err(failed)?);
             out.push('\n');

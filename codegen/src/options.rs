@@ -63,16 +63,23 @@ pub enum Output {
     InverseDynamics,
     /// `forward_dynamics(q, v, tau)`: `q̈`, or an error where `M` is singular.
     ForwardDynamics,
+    /// `joint_wrenches(q, v, a)`: the wrench each joint transmits, from the free ends down.
+    JointWrenches,
+    /// `joint_wrenches_bottom_up(q, v, a, base)`: the same from the base up, starting from the
+    /// wrench the world exerts on the root body (a serial chain only).
+    JointWrenchesBottomUp,
 }
 
 impl Output {
     /// Every output, with its name in the grammar, in the order the generator emits them.
-    pub const ALL: [(Output, &'static str); 5] = [
+    pub const ALL: [(Output, &'static str); 7] = [
         (Output::MassMatrix, "mass_matrix"),
         (Output::Bias, "bias"),
         (Output::Gravity, "gravity"),
         (Output::InverseDynamics, "inverse_dynamics"),
         (Output::ForwardDynamics, "forward_dynamics"),
+        (Output::JointWrenches, "joint_wrenches"),
+        (Output::JointWrenchesBottomUp, "joint_wrenches_bottom_up"),
     ];
 
     /// The outputs generated when a description names none.
@@ -92,6 +99,8 @@ impl Output {
             Output::Gravity => "gravity",
             Output::InverseDynamics => "inverse_dynamics",
             Output::ForwardDynamics => "forward_dynamics",
+            Output::JointWrenches => "joint_wrenches",
+            Output::JointWrenchesBottomUp => "joint_wrenches_bottom_up",
         }
     }
 

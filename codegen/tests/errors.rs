@@ -91,7 +91,7 @@ fn unknown_output() {
         2,
         24,
         "unknown output `mas_matrix`: expected one of `mass_matrix`, `bias`, `gravity`, \
-         `inverse_dynamics` or `forward_dynamics`",
+         `inverse_dynamics`, `forward_dynamics`, `joint_wrenches` or `joint_wrenches_bottom_up`",
     );
 }
 

@@ -320,6 +320,19 @@ impl Model {
             k < at
         })
     }
+    /// Whether the bodies form a serial chain: one joint on the world, and no body with two
+    /// children.
+    pub fn is_serial(&self) -> bool {
+        let mut children = alloc::vec![0usize; self.nb()];
+        let mut roots = 0;
+        for j in &self.joints {
+            match j.parent {
+                Some(p) => children[p] += 1,
+                None => roots += 1,
+            }
+        }
+        roots <= 1 && children.iter().all(|&c| c <= 1)
+    }
     /// Index of the body called `name`.
     pub fn body_index(&self, name: &str) -> Option<usize> {
         self.bodies.iter().position(|b| b.name == name)

@@ -11,6 +11,8 @@
 //! | [`Gravity`] | `C::gravity(&q)` | `g(q)`, the generalized force that holds the chain still |
 //! | [`InverseDynamics`] | `C::inverse_dynamics(&q, &v, &a)` | `τ = M·a + N·q̇ + g` |
 //! | [`ForwardDynamics`] | `C::forward_dynamics(&q, &v, &tau)` | `q̈`, or [`SingularMassMatrix`] |
+//! | [`JointWrenches`] | `C::joint_wrenches(&q, &v, &a)` | each joint's wrench, `6 × NB` |
+//! | [`JointWrenchesBottomUp`] | `C::joint_wrenches_bottom_up(&q, &v, &a, &base)` | the same from a base wrench up |
 //!
 //! Each takes and returns nalgebra fixed-size types and allocates nothing. A chain with runtime
 //! parameters takes them through the `_with` twin of each function (`C::mass_matrix_with(&q,
@@ -166,6 +168,56 @@ pub trait ForwardDynamics<T, const NQ: usize, const NV: usize>: Chain<T> {
         tau: &SVector<T, NV>,
     ) -> Result<SVector<T, NV>, SingularMassMatrix> {
         Self::forward_dynamics_with(q, v, tau, &Self::default_params())
+    }
+}
+
+/// The wrench each joint transmits (Hemami's joint couple and reaction force), from the free
+/// ends down: what the parent exerts on the child across the joint, in the child's frame about
+/// its origin, `[n; f]` (angular first), gravity included. One column per joint in joint order
+/// (`NB` joints, fixed ones included). The backward pass of Newton–Euler (Featherstone 2008,
+/// RBDA §5.3).
+pub trait JointWrenches<T, const NQ: usize, const NV: usize, const NB: usize>: Chain<T> {
+    /// The wrenches at `(q, v, a)` for the parameters `p`.
+    fn joint_wrenches_with(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        a: &SVector<T, NV>,
+        p: &Self::Params,
+    ) -> SMatrix<T, 6, NB>;
+    /// The wrenches at `(q, v, a)` with the default parameters.
+    fn joint_wrenches(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        a: &SVector<T, NV>,
+    ) -> SMatrix<T, 6, NB> {
+        Self::joint_wrenches_with(q, v, a, &Self::default_params())
+    }
+}
+
+/// The wrench each joint transmits, as [`JointWrenches`], but from the base up (Hemami, Dariush &
+/// Barin 2005, §5: "the sequence can start from the ground upwards"): from `base`, the wrench
+/// the world exerts on the root body (a measured ground reaction, in the root body's frame about
+/// its origin), body by body up a serial chain. With the true base wrench both agree; on measured
+/// motion their difference is the consistency check of the data.
+pub trait JointWrenchesBottomUp<T, const NQ: usize, const NV: usize, const NB: usize>:
+    Chain<T>
+{
+    /// The wrenches at `(q, v, a)` from `base`, for the parameters `p`.
+    fn joint_wrenches_bottom_up_with(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        a: &SVector<T, NV>,
+        base: &SVector<T, 6>,
+        p: &Self::Params,
+    ) -> SMatrix<T, 6, NB>;
+    /// The wrenches at `(q, v, a)` from `base`, with the default parameters.
+    fn joint_wrenches_bottom_up(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        a: &SVector<T, NV>,
+        base: &SVector<T, 6>,
+    ) -> SMatrix<T, 6, NB> {
+        Self::joint_wrenches_bottom_up_with(q, v, a, base, &Self::default_params())
     }
 }
 

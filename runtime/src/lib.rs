@@ -138,8 +138,8 @@ pub use nalgebra;
 /// `use articulated::prelude::*;` brings the traits of generated chains into scope.
 pub mod prelude {
     pub use crate::{
-        Bias, Chain, Coordinates, ForwardDynamics, Gravity, InverseDynamics, MassMatrix, OpCounts,
-        SingularMassMatrix,
+        Bias, Chain, Coordinates, ForwardDynamics, Gravity, InverseDynamics, JointWrenches,
+        JointWrenchesBottomUp, MassMatrix, OpCounts, SingularMassMatrix,
     };
 }
 

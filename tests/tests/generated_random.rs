@@ -17,9 +17,11 @@ mod common;
 use std::collections::BTreeSet;
 
 use articulated::model::JointKind;
+use articulated::nalgebra::SVector;
+use articulated::prelude::*;
 use articulated::reference::Reference;
 use articulated_dynamics::random::{random_model, random_state};
-use common::check_chain;
+use common::{check_chain, rel_err};
 
 /// The generated trees, exactly as the Builder wrote them.
 mod trees {
@@ -30,6 +32,36 @@ include!(concat!(env!("OUT_DIR"), "/random_trees_list.rs"));
 
 /// Random states per tree.
 const CASES: u32 = 32;
+
+/// The generated joint wrenches against the reference's at random states, to 1e-12 of the
+/// largest entry.
+fn check_wrenches<C, const NQ: usize, const NV: usize, const NB: usize>(
+    label: &str,
+    r: &Reference,
+    state: impl Fn(u64) -> (Vec<f64>, Vec<f64>, Vec<f64>),
+) where
+    C: JointWrenches<f64, NQ, NV, NB>,
+{
+    for seed in 0..u64::from(CASES) {
+        let (q, v, a) = state(seed);
+        let want: Vec<f64> = r
+            .joint_wrenches(&q, &v, &a)
+            .unwrap()
+            .iter()
+            .flat_map(|w| w.couple.into_iter().chain(w.force))
+            .collect();
+        let got = C::joint_wrenches(
+            &SVector::from_column_slice(&q),
+            &SVector::from_column_slice(&v),
+            &SVector::from_column_slice(&a),
+        );
+        let e = rel_err(got.as_slice(), &want);
+        assert!(
+            e < 1e-12,
+            "{label} seed {seed}: joint wrenches off by {e:e}"
+        );
+    }
+}
 
 #[test]
 fn random_trees_match_the_reference() {
@@ -57,13 +89,17 @@ fn random_trees_match_the_reference() {
                 random_state(&model, s)
             });
             assert_eq!(w.states, CASES as usize);
+            check_wrenches::<trees::$name, $nq, $nv, { trees::$name::NB }>(&label, &r, |s| {
+                random_state(&model, s)
+            });
             println!(
-                "    ops: mass_matrix {} | bias {} | gravity {} | inverse_dynamics {} | forward_dynamics {}",
+                "    ops: mass_matrix {} | bias {} | gravity {} | inverse_dynamics {} | forward_dynamics {} | joint_wrenches {}",
                 trees::$name::MASS_MATRIX_OPS.total(),
                 trees::$name::BIAS_OPS.total(),
                 trees::$name::GRAVITY_OPS.total(),
                 trees::$name::INVERSE_DYNAMICS_OPS.total(),
                 trees::$name::FORWARD_DYNAMICS_OPS.total(),
+                trees::$name::JOINT_WRENCHES_OPS.total(),
             );
         }};
     }

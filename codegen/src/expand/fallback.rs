@@ -14,6 +14,8 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
     let v = quote!(::articulated::nalgebra::SVector<T, N>);
     let m = quote!(::articulated::nalgebra::SMatrix<T, N, N>);
     let fd = quote!(::core::result::Result<#v, ::articulated::SingularMassMatrix>);
+    let w = quote!(::articulated::nalgebra::SMatrix<T, 6, N>);
+    let v6 = quote!(::articulated::nalgebra::SVector<T, 6>);
     let never = quote!({ ::core::unreachable!() });
     let name_str = name.to_string();
     quote! {
@@ -22,6 +24,8 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
             pub const NQ: usize = 0;
             /// Stand-in after an error in the description.
             pub const NV: usize = 0;
+            /// Stand-in after an error in the description.
+            pub const NB: usize = 0;
         }
         impl<T> ::articulated::Chain<T> for #name {
             const NAME: &'static str = #name_str;
@@ -43,6 +47,12 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
         }
         impl #sizes ::articulated::ForwardDynamics<T, N, N> for #name {
             fn forward_dynamics_with(_: &#v, _: &#v, _: &#v, _: &()) -> #fd #never
+        }
+        impl #sizes ::articulated::JointWrenches<T, N, N, N> for #name {
+            fn joint_wrenches_with(_: &#v, _: &#v, _: &#v, _: &()) -> #w #never
+        }
+        impl #sizes ::articulated::JointWrenchesBottomUp<T, N, N, N> for #name {
+            fn joint_wrenches_bottom_up_with(_: &#v, _: &#v, _: &#v, _: &#v6, _: &()) -> #w #never
         }
     }
 }

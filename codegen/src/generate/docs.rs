@@ -92,6 +92,19 @@ fn equation(output: Output) -> &'static str {
         Output::ForwardDynamics => {
             "`q̈ = M(q)⁻¹·(τ − N(q, q̇)·q̇ − g(q))`; an error where `M(q)` is singular."
         }
+        Output::JointWrenches => {
+            "The wrench `[n; f]` each joint transmits at `(q, v, a)`, gravity included: what the \
+             parent exerts on the child, in the child's frame about its origin (Hemami's couple \
+             and reaction force), one column per joint in joint order. From the free ends down \
+             (the backward pass of Newton–Euler)."
+        }
+        Output::JointWrenchesBottomUp => {
+            "The wrench `[n; f]` each joint transmits at `(q, v, a)`, from the base up (Hemami, \
+             Dariush & Barin 2005, §5): `base` is the wrench the world exerts on the root body, \
+             in its frame about its origin (a measured ground reaction). With the true base \
+             wrench it equals `joint_wrenches`; on measured motion their difference checks the \
+             data."
+        }
     }
 }
 
@@ -109,6 +122,10 @@ fn formulation(traced: &Traced) -> String {
             rnea_name(specialized)
         ),
         (Output::MassMatrix, _) => format!("By {}", crba_name(specialized)),
+        (Output::JointWrenchesBottomUp, _) => format!(
+            "Each body's own force by {}, then up the chain",
+            rnea_name(specialized)
+        ),
         _ => format!("By {}", rnea_name(specialized)),
     };
     let regrouped = if variant.regrouped {

@@ -34,15 +34,18 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
     let (sq, sv) = (cx.vector_type(cx.nq), cx.vector_type(cx.nv));
     let statements = &emitted.statements;
     let dq = destructure("q", &used.q);
-    let (dv, da, dtau) = (
+    let (dv, da, dtau, dbase) = (
         destructure("v", &used.v),
         destructure("a", &used.a),
         destructure("tau", &used.tau),
+        destructure("base", &used.base),
     );
+    let nb = Literal::usize_unsuffixed(cx.model.nb());
     let values = &emitted.outputs[..traced.values.len()];
     Ok(match traced.output {
         Output::MassMatrix => {
-            let m = matrix(cx, values);
+            // nalgebra stores columns; M is symmetric, so its row-major entries are its columns.
+            let m = columns(cx, values, cx.nv);
             quote! {
                 impl #generics ::articulated::MassMatrix<#scalar, #nq, #nv> for #name {
                     #(#doc)*
@@ -95,6 +98,38 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
                 }
             }
         }
+        Output::JointWrenches => {
+            let w = columns(cx, values, 6);
+            quote! {
+                impl #generics ::articulated::JointWrenches<#scalar, #nq, #nv, #nb> for #name {
+                    #(#doc)*
+                    fn joint_wrenches_with(q: &#sq, v: &#sv, a: &#sv, #p_arg: &#params_ty)
+                        -> ::articulated::nalgebra::SMatrix<#scalar, 6, #nb> {
+                        #dq #dv #da
+                        #statements
+                        #w
+                    }
+                }
+            }
+        }
+        Output::JointWrenchesBottomUp => {
+            let w = columns(cx, values, 6);
+            let s6 = cx.vector_type(6);
+            quote! {
+                impl #generics ::articulated::JointWrenchesBottomUp<#scalar, #nq, #nv, #nb>
+                    for #name
+                {
+                    #(#doc)*
+                    fn joint_wrenches_bottom_up_with(
+                        q: &#sq, v: &#sv, a: &#sv, base: &#s6, #p_arg: &#params_ty,
+                    ) -> ::articulated::nalgebra::SMatrix<#scalar, 6, #nb> {
+                        #dq #dv #da #dbase
+                        #statements
+                        #w
+                    }
+                }
+            }
+        }
         Output::ForwardDynamics => {
             let checks = pivot_checks(cx, traced, &emitted);
             let finite = values.iter().enumerate().map(|(k, x)| {
@@ -133,16 +168,16 @@ fn vector(cx: &Context, values: &[TokenStream]) -> TokenStream {
     }
 }
 
-/// `M` from its row-major entries. nalgebra stores columns: column `j` is `M[·][j]`; `M` is
-/// symmetric, so row-major entries read as columns give the same matrix.
-fn matrix(cx: &Context, values: &[TokenStream]) -> TokenStream {
-    let (scalar, nv) = (&cx.scalar, Literal::usize_unsuffixed(cx.nv));
-    let cols = (0..cx.nv).map(|j| {
-        let col = (0..cx.nv).map(|i| &values[j * cx.nv + i]);
-        quote!([#(#col),*])
-    });
+/// A matrix of `rows` rows from its entries column by column.
+fn columns(cx: &Context, values: &[TokenStream], rows: usize) -> TokenStream {
+    let scalar = &cx.scalar;
+    let (r, c) = (
+        Literal::usize_unsuffixed(rows),
+        Literal::usize_unsuffixed(values.len() / rows),
+    );
+    let cols = values.chunks(rows).map(|col| quote!([#(#col),*]));
     quote! {
-        ::articulated::nalgebra::SMatrix::<#scalar, #nv, #nv>::from_array_storage(
+        ::articulated::nalgebra::SMatrix::<#scalar, #r, #c>::from_array_storage(
             ::articulated::nalgebra::ArrayStorage([#(#cols),*])
         )
     }
@@ -228,6 +263,7 @@ struct Used {
     v: Vec<bool>,
     a: Vec<bool>,
     tau: Vec<bool>,
+    base: Vec<bool>,
     params: bool,
 }
 
@@ -238,6 +274,14 @@ impl Used {
             v: vec![false; nv],
             a: vec![false; nv],
             tau: vec![false; nv],
+            base: vec![
+                false;
+                if t.output == Output::JointWrenchesBottomUp {
+                    6
+                } else {
+                    0
+                }
+            ],
             params: false,
         };
         for s in t.graph.live(&t.all_outputs()) {
@@ -247,6 +291,7 @@ impl Used {
                     Var::V(i) => u.v[i] = true,
                     Var::A(i) => u.a[i] = true,
                     Var::Tau(i) => u.tau[i] = true,
+                    Var::Base(i) => u.base[i] = true,
                     Var::Param(_) => u.params = true,
                 }
             }

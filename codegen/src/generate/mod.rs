@@ -68,7 +68,7 @@ pub fn generate_file(model: &Model, options: &Options, source: &str) -> syn::Res
          // `articulated expand {source}`.\n//\n"
     );
     for f in &g.functions {
-        header.push_str(&format!("// {:<17} {}\n", f.output.name(), f.ops));
+        header.push_str(&format!("// {:<24} {}\n", f.output.name(), f.ops));
     }
     Ok(format!("{header}\n{body}"))
 }
@@ -160,6 +160,7 @@ impl<'a> Context<'a> {
             Var::V(i) => format_ident!("v{}", i),
             Var::A(i) => format_ident!("a{}", i),
             Var::Tau(i) => format_ident!("tau{}", i),
+            Var::Base(i) => format_ident!("base{}", i),
             Var::Param(i) => {
                 let id = &self.param_idents[i];
                 return quote!(p.#id);
@@ -170,6 +171,21 @@ impl<'a> Context<'a> {
 
     /// The type, its constants, its parameters, its `Chain` impl and one impl per output.
     fn generate(&self, with_struct: bool) -> syn::Result<Generated> {
+        let bottom_up = self
+            .options
+            .outputs
+            .contains(&Output::JointWrenchesBottomUp);
+        if bottom_up && !self.model.is_serial() {
+            return Err(syn::Error::new(
+                Span::call_site(),
+                format!(
+                    "`joint_wrenches_bottom_up` needs a serial chain, and `{}` branches: where a \
+                     body has two children, how the wrench splits between them is not \
+                     determined; use `joint_wrenches` (from the free ends down)",
+                    self.model.name
+                ),
+            ));
+        }
         let mut items = Vec::new();
         let mut consts = Vec::new();
         let mut functions = Vec::new();
@@ -190,10 +206,11 @@ impl<'a> Context<'a> {
         } else {
             quote!()
         };
-        let (name, nq, nv) = (
+        let (name, nq, nv, nb) = (
             &self.name,
             Literal::usize_unsuffixed(self.nq),
             Literal::usize_unsuffixed(self.nv),
+            Literal::usize_unsuffixed(self.model.nb()),
         );
         let params_item = self.params_item();
         let chain_impl = self.chain_impl();
@@ -204,6 +221,8 @@ impl<'a> Context<'a> {
                 pub const NQ: usize = #nq;
                 /// Number of velocity coordinates.
                 pub const NV: usize = #nv;
+                /// Number of bodies (and of joints, fixed ones included).
+                pub const NB: usize = #nb;
                 #(#consts)*
             }
             #params_item

@@ -66,6 +66,9 @@ pub enum Var {
     Tau(usize),
     /// Runtime parameter `i` of the model.
     Param(usize),
+    /// Component `i` of the wrench the world exerts on the root body (`[n; f]`), for joint
+    /// wrenches bottom-up.
+    Base(usize),
 }
 
 impl fmt::Display for Var {
@@ -77,6 +80,7 @@ impl fmt::Display for Var {
             Var::A(i) => write!(f, "a{i}"),
             Var::Tau(i) => write!(f, "tau{i}"),
             Var::Param(i) => write!(f, "p{i}"),
+            Var::Base(i) => write!(f, "base{i}"),
         }
     }
 }

@@ -27,6 +27,7 @@ use std::fmt;
 
 use articulated_dynamics::model::Model;
 use articulated_dynamics::reference::{self, Tree};
+use articulated_dynamics::spatial::{Force, Transform, Vec3};
 use articulated_dynamics::Scalar;
 
 use crate::optimize::reassociate;
@@ -176,12 +177,18 @@ impl Traced {
 /// Traces `output` of `model` every way there is and keeps the fewest operations (see the
 /// [module docs](self)).
 pub fn trace(model: &Model, output: Output) -> Traced {
+    // Regrouping moves inertia between bodies: the joint wrenches change, so they never use it.
+    let regroupings: &[bool] = match output {
+        Output::JointWrenches | Output::JointWrenchesBottomUp => &[false],
+        _ => &[false, true],
+    };
     let traced: Vec<Traced> = match output {
         Output::ForwardDynamics => forward::variants()
             .map(|variant| forward::trace_variant(model, variant))
             .collect(),
-        _ => [false, true]
-            .into_iter()
+        _ => regroupings
+            .iter()
+            .copied()
             .flat_map(|regrouped| {
                 [Formulation::Reference, Formulation::Specialized].map(|formulation| Variant {
                     regrouped,
@@ -224,6 +231,13 @@ fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
             Output::Bias => rnea(form, &tree, &q, &v, &zero, false),
             Output::Gravity => rnea(form, &tree, &q, &zero, &zero, true),
             Output::InverseDynamics => rnea(form, &tree, &q, &v, &a, true),
+            Output::JointWrenches => wrench_entries(&joint_wrenches(form, &tree, &q, &v, &a)),
+            Output::JointWrenchesBottomUp => {
+                let (x_up, h) = inertial_forces(form, &tree, &q, &v, &a);
+                let b = inputs(6, Var::Base);
+                let base = Force::new(Vec3([b[0], b[1], b[2]]), Vec3([b[3], b[4], b[5]]));
+                wrench_entries(&reference::bottom_up(&tree, &x_up, &h, base))
+            }
             Output::ForwardDynamics => unreachable!("traced by `forward`"),
         };
         label_outputs(output, values, tree.nv)
@@ -247,6 +261,8 @@ fn label_outputs(output: Output, values: Vec<Sym>, nv: usize) -> Vec<Sym> {
         Output::Gravity => "g",
         Output::InverseDynamics => "tau",
         Output::ForwardDynamics => "qdd",
+        // The recursions label every wrench; nothing is left unnamed.
+        Output::JointWrenches | Output::JointWrenchesBottomUp => return values,
     };
     values
         .into_iter()
@@ -289,6 +305,40 @@ pub(crate) fn rnea(
         Formulation::Specialized => newton_euler::classical_rnea(tree, q, v, a, with_gravity),
         Formulation::Reference => reference::rnea(tree, q, v, a, with_gravity),
     }
+}
+
+/// The wrench each model joint transmits by `form`, with gravity.
+fn joint_wrenches(
+    form: Formulation,
+    tree: &Tree<Sym>,
+    q: &[Sym],
+    v: &[Sym],
+    a: &[Sym],
+) -> Vec<Force<Sym>> {
+    let f = match form {
+        Formulation::Specialized => newton_euler::classical_node_forces(tree, q, v, a, true),
+        Formulation::Reference => reference::node_forces(tree, q, v, a, true),
+    };
+    tree.body_node.iter().map(|&n| f[n]).collect()
+}
+
+/// `X_up` and each body's own force by `form`, with gravity.
+fn inertial_forces(
+    form: Formulation,
+    tree: &Tree<Sym>,
+    q: &[Sym],
+    v: &[Sym],
+    a: &[Sym],
+) -> (Vec<Transform<Sym>>, Vec<Force<Sym>>) {
+    match form {
+        Formulation::Specialized => newton_euler::classical_inertial_forces(tree, q, v, a, true),
+        Formulation::Reference => reference::inertial_forces(tree, q, v, a, true),
+    }
+}
+
+/// Wrenches as their entries, each `[n; f]` in turn (the columns of a `6 × NB` matrix).
+fn wrench_entries(wrenches: &[Force<Sym>]) -> Vec<Sym> {
+    wrenches.iter().flat_map(|w| w.to_array()).collect()
 }
 
 /// `M(q)` by `form`, row-major.

@@ -31,7 +31,7 @@
 //! `τ_i = Sᵢᵀ·f_i`.
 
 use articulated_dynamics::reference::{project, transmit, Tree};
-use articulated_dynamics::spatial::{Force, Mat3, Vec3};
+use articulated_dynamics::spatial::{Force, Mat3, Transform, Vec3};
 use articulated_dynamics::Scalar;
 
 /// `τ = M(q)·a + N(q, q̇)·q̇ (+ g(q) with `with_gravity`)`, as
@@ -48,6 +48,32 @@ pub fn classical_rnea<T: Scalar>(
     a: &[T],
     with_gravity: bool,
 ) -> Vec<T> {
+    project(tree, &classical_node_forces(tree, q, v, a, with_gravity))
+}
+
+/// The forces each node's joint transmits, as [`articulated_dynamics::reference::node_forces`]
+/// computes them, by the classical-acceleration recursion.
+pub fn classical_node_forces<T: Scalar>(
+    tree: &Tree<T>,
+    q: &[T],
+    v: &[T],
+    a: &[T],
+    with_gravity: bool,
+) -> Vec<Force<T>> {
+    let (x_up, mut f) = classical_inertial_forces(tree, q, v, a, with_gravity);
+    transmit(tree, &x_up, &mut f);
+    f
+}
+
+/// The forward pass: `X_up` and each body's own force about its origin, as
+/// [`articulated_dynamics::reference::inertial_forces`] computes them.
+pub fn classical_inertial_forces<T: Scalar>(
+    tree: &Tree<T>,
+    q: &[T],
+    v: &[T],
+    a: &[T],
+    with_gravity: bool,
+) -> (Vec<Transform<T>>, Vec<Force<T>>) {
     let x_up = tree.x_up(q);
     let n = tree.nodes.len();
     let mut omega: Vec<Vec3<T>> = Vec::with_capacity(n);
@@ -82,8 +108,7 @@ pub fn classical_rnea<T: Scalar>(
         accel.push(acc);
         u.push(u_i);
     }
-    transmit(tree, &x_up, &mut f);
-    project(tree, &f)
+    (x_up, f)
 }
 
 /// `U = (ω̇×) + (ω×)(ω×)`, written as `(ω̇×) + ω·ωᵀ − |ω|²·1` so the diagonal is

@@ -37,10 +37,11 @@ use nalgebra::{DMatrix, DVector};
 pub use aba::{aba, AbaOutput};
 pub use crba::{crba, crba_with};
 pub use ltdl::ltdl_solve;
-pub use rnea::{joint_forces, node_forces, project, rnea, transmit};
+pub use rnea::{bottom_up, inertial_forces, joint_forces, node_forces, project, rnea, transmit};
 pub use tree::{Node, NodeJoint, Tree};
 
 use crate::model::{JointKind, Model, ModelError};
+use crate::spatial::{Force, Vec3};
 
 /// What can go wrong in the reference dynamics. No function of [`Reference`] panics.
 #[derive(Debug, Clone, PartialEq)]
@@ -88,6 +89,9 @@ pub enum Error {
     /// Forward dynamics found the mass matrix singular at this state (a massless leaf, an Euler
     /// joint at gimbal lock, …).
     Singular(Singularity),
+    /// Joint wrenches bottom-up need a serial chain: this model has a body with two children
+    /// (or two roots), where the split of the remainder is not determined.
+    NotSerial,
     /// A result overflowed to infinity or NaN although the inputs were finite (huge inputs).
     NonFiniteResult {
         /// Which output (`"mass_matrix"`, `"bias"`, …).
@@ -125,6 +129,10 @@ impl fmt::Display for Error {
             }
             Error::InvalidModel(e) => write!(f, "invalid model: {e}"),
             Error::Singular(s) => write!(f, "{s}"),
+            Error::NotSerial => write!(
+                f,
+                "joint wrenches bottom-up need a serial chain, and this model branches"
+            ),
             Error::NonFiniteResult { output } => write!(
                 f,
                 "`{output}` overflowed to a non-finite value (inputs too large)"
@@ -277,6 +285,27 @@ pub fn check_q(model: &Model, q: &[f64]) -> Result<(), Error> {
         at += j.kind.nq();
     }
     Ok(())
+}
+
+/// Spatial forces as [`Wrench`]es, all finite.
+fn wrenches(f: &[Force<f64>]) -> Result<Vec<Wrench>, Error> {
+    let out: Vec<Wrench> = f
+        .iter()
+        .map(|f| Wrench {
+            couple: f.ang.0,
+            force: f.lin.0,
+        })
+        .collect();
+    let finite = out
+        .iter()
+        .all(|w| w.couple.iter().chain(&w.force).all(|x| x.is_finite()));
+    if finite {
+        Ok(out)
+    } else {
+        Err(Error::NonFiniteResult {
+            output: "joint_wrenches",
+        })
+    }
 }
 
 fn finite(output: &'static str, x: Vec<f64>) -> Result<Vec<f64>, Error> {
@@ -434,24 +463,32 @@ impl Reference {
         check_q(&self.model, q)?;
         check_vector("v", v, self.nv())?;
         check_vector("a", a, self.nv())?;
-        let f = joint_forces(&self.tree, q, v, a);
-        let out: Vec<Wrench> = f
-            .iter()
-            .map(|f| Wrench {
-                couple: f.ang.0,
-                force: f.lin.0,
-            })
-            .collect();
-        if out
-            .iter()
-            .all(|w| w.couple.iter().chain(&w.force).all(|x| x.is_finite()))
-        {
-            Ok(out)
-        } else {
-            Err(Error::NonFiniteResult {
-                output: "joint_wrenches",
-            })
+        wrenches(&joint_forces(&self.tree, q, v, a))
+    }
+
+    /// The wrench each model joint transmits at `(q, v, a)`, computed bottom-up from the wrench
+    /// `base` the world exerts on the root body (a measured ground reaction; in the root body's
+    /// frame about its origin), as Hemami, Dariush & Barin (2005) do from the ground upwards
+    /// ([`bottom_up`]). With the true base wrench it equals [`Reference::joint_wrenches`].
+    ///
+    /// # Errors
+    /// [`Error::NotSerial`] for a model that branches; as [`Reference::joint_wrenches`].
+    pub fn joint_wrenches_bottom_up(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        base: Wrench,
+    ) -> Result<Vec<Wrench>, Error> {
+        check_q(&self.model, q)?;
+        check_vector("v", v, self.nv())?;
+        check_vector("a", a, self.nv())?;
+        if !self.model.is_serial() {
+            return Err(Error::NotSerial);
         }
+        let (x_up, h) = inertial_forces(&self.tree, q, v, a, true);
+        let base = Force::new(Vec3(base.couple), Vec3(base.force));
+        wrenches(&bottom_up(&self.tree, &x_up, &h, base))
     }
 
     fn joint_of_v(&self, k: usize) -> String {

@@ -24,6 +24,21 @@ pub fn node_forces<T: Scalar>(
     a: &[T],
     with_gravity: bool,
 ) -> Vec<Force<T>> {
+    let (x_up, mut f) = inertial_forces(tree, q, v, a, with_gravity);
+    transmit(tree, &x_up, &mut f);
+    f
+}
+
+/// The forward pass of [`node_forces`]: the transforms `X_up` and, per node, the net force its
+/// body needs for its motion, `f_i = I_i·a_i + v_i ×f (I_i·v_i)` (gravity included as a base
+/// acceleration with `with_gravity`), in the node's frame about its origin.
+pub fn inertial_forces<T: Scalar>(
+    tree: &Tree<T>,
+    q: &[T],
+    v: &[T],
+    a: &[T],
+    with_gravity: bool,
+) -> (Vec<Transform<T>>, Vec<Force<T>>) {
     let x_up = tree.x_up(q);
     let a0 = tree.base_acceleration(with_gravity);
     let mut vel = Vec::with_capacity(tree.nodes.len());
@@ -47,8 +62,7 @@ pub fn node_forces<T: Scalar>(
         vel.push(v_i);
         acc.push(a_i);
     }
-    transmit(tree, &x_up, &mut f);
-    f
+    (x_up, f)
 }
 
 /// The backward pass of Newton–Euler (RBDA Table 5.1, lines 13–16): each node's own force `f_i`
@@ -64,6 +78,38 @@ pub fn transmit<T: Scalar>(tree: &Tree<T>, x_up: &[Transform<T>], f: &mut [Force
             f[p] = f[p] + up.label(format_args!("{n}_up_n"), format_args!("{n}_up_f"));
         }
     }
+}
+
+/// Hemami's other way round (Hemami, Dariush & Barin 2005, §5: "the sequence can start from the
+/// ground upwards"): from the wrench `base` the world exerts on the root body (a measured ground
+/// reaction), in the root body's frame about its origin, the wrench each further joint transmits,
+/// body by body up a serial chain: `f_c = X_up[c]·(f_i − h_i)` with `h_i` the body's
+/// [`inertial_forces`]. Returns one wrench per model joint, as [`joint_forces`].
+///
+/// Given the true base wrench this equals [`joint_forces`]; on measured motion their difference
+/// is the consistency check of the data. Needs a serial chain
+/// ([`Model::is_serial`](crate::model::Model::is_serial)): where a
+/// body has two children, how the remainder splits between them is not determined.
+pub fn bottom_up<T: Scalar>(
+    tree: &Tree<T>,
+    x_up: &[Transform<T>],
+    inertial: &[Force<T>],
+    base: Force<T>,
+) -> Vec<Force<T>> {
+    let mut f = alloc::vec![Force::zero(); tree.nodes.len()];
+    let Some(&root) = tree.body_node.first() else {
+        return Vec::new();
+    };
+    f[root] = base;
+    for (c, node) in tree.nodes.iter().enumerate().skip(root + 1) {
+        if let Some(i) = node.parent {
+            let n = &node.name;
+            f[c] = x_up[c]
+                .apply_force(f[i] - inertial[i])
+                .label(format_args!("{n}_n"), format_args!("{n}_f"));
+        }
+    }
+    tree.body_node.iter().map(|&b| f[b]).collect()
 }
 
 /// The generalized forces `τ_i = Sᵢᵀ·f_i` of the transmitted forces `f` (RBDA Table 5.1,
