@@ -114,7 +114,7 @@ fn k<T: RealField + Copy>(x: f64) -> T {
 }
 
 /// Hamilton product `a ⊗ b` of quaternions `[w, x, y, z]`.
-pub(crate) fn quat_mul<T: RealField + Copy>(a: [T; 4], b: [T; 4]) -> [T; 4] {
+pub fn quat_mul<T: RealField + Copy>(a: [T; 4], b: [T; 4]) -> [T; 4] {
     let [aw, ax, ay, az] = a;
     let [bw, bx, by, bz] = b;
     [

@@ -53,7 +53,7 @@ use core::marker::PhantomData;
 use core::str::FromStr;
 
 use nalgebra::allocator::Allocator;
-use nalgebra::{Const, DefaultAllocator, Dim, DimMin, OVector, RealField, SVector, Scalar, U1};
+use nalgebra::{Const, DefaultAllocator, Dim, OVector, RealField, SVector, Scalar, U1};
 
 pub use dopri5::{Dopri5, Dopri5Stats};
 pub use euler::{Euler, SymplecticEuler};
@@ -504,8 +504,7 @@ where
     }
 }
 
-impl<T: RealField + Copy, Q: Dim, V: Dim + DimMin<V, Output = V>> Integrator<T, Q, V>
-    for Stepper<T, Q, V>
+impl<T: RealField + Copy, Q: Dim, V: Dim> Integrator<T, Q, V> for Stepper<T, Q, V>
 where
     DefaultAllocator: Allocator<Q> + Allocator<V> + Allocator<V, V>,
 {
