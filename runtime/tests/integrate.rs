@@ -998,7 +998,11 @@ fn a_failed_newton_solve_is_a_fault() {
     let mut system = ControlledChain::<f64, TwoLink, _>::new(
         move |_t: f64, _q: &SVector<f64, 6>, _v: &SVector<f64, 6>| {
             calls += 1;
-            SVector::<f64, 6>::from_element(if calls.is_multiple_of(2) { 500.0 } else { -500.0 })
+            SVector::<f64, 6>::from_element(if calls.is_multiple_of(2) {
+                500.0
+            } else {
+                -500.0
+            })
         },
     );
     let fault = Simulation::new(0.0, 1.0, 0.01)
