@@ -229,8 +229,8 @@ pub fn integrate_in_place<T: RealField + Copy>(coords: &[Coordinates], q: &mut [
     for c in coords {
         match *c {
             Coordinates::Vector(n) => {
-                for (x, d) in q.iter_mut().skip(iq).zip(delta.iter().skip(iv)).take(n) {
-                    *x += *d;
+                if let (Some(x), Some(d)) = (q.get_mut(iq..iq + n), delta.get(iv..iv + n)) {
+                    x.iter_mut().zip(d).for_each(|(x, d)| *x += *d);
                 }
             }
             Coordinates::Quaternion => {
@@ -270,9 +270,14 @@ pub fn difference_into<T: RealField + Copy>(
     for c in coords {
         match *c {
             Coordinates::Vector(n) => {
-                let pairs = q0.iter().skip(iq).zip(q1.iter().skip(iq));
-                for (d, (a, b)) in delta.iter_mut().skip(iv).zip(pairs).take(n) {
-                    *d = *b - *a;
+                if let (Some(d), Some(a), Some(b)) = (
+                    delta.get_mut(iv..iv + n),
+                    q0.get(iq..iq + n),
+                    q1.get(iq..iq + n),
+                ) {
+                    for (d, (a, b)) in d.iter_mut().zip(a.iter().zip(b)) {
+                        *d = *b - *a;
+                    }
                 }
             }
             Coordinates::Quaternion => {
@@ -311,8 +316,8 @@ pub fn local_velocity_into<T: RealField + Copy>(
     for c in coords {
         match *c {
             Coordinates::Vector(n) => {
-                for (o, x) in out.iter_mut().skip(iv).zip(v.iter().skip(iv)).take(n) {
-                    *o = *x;
+                if let (Some(o), Some(x)) = (out.get_mut(iv..iv + n), v.get(iv..iv + n)) {
+                    o.copy_from_slice(x);
                 }
             }
             Coordinates::Quaternion => {

@@ -4,7 +4,7 @@
 //! [`derive@Chain`]), the traits generated chains implement ([`MassMatrix`], [`Bias`],
 //! [`Gravity`], [`InverseDynamics`], [`ForwardDynamics`]; bring them in with
 //! `use articulated::prelude::*;`), and, with the `alloc` feature (on through `std`, the
-//! default), the chain [`model`] and the interpreted [`reference`] dynamics.
+//! default), the chain [`model`] and the interpreted [`reference`](mod@reference) dynamics.
 //!
 //! Without default features it is `#![no_std]` and needs no allocator: generated code uses only
 //! `core`, nalgebra's fixed-size types and `libm`.

@@ -16,7 +16,7 @@ use articulated::integrate::{
     Rk4, SecondOrder, State, Stepper, SymplecticEuler,
 };
 use articulated::nalgebra::{
-    Const, Matrix3, Quaternion, SVector, UnitQuaternion, Vector3, Vector4,
+    Const, DVector, Dyn, Matrix3, Quaternion, SVector, UnitQuaternion, Vector3, Vector4,
 };
 use articulated::prelude::*;
 use articulated::simulate::Simulation;
@@ -1198,6 +1198,75 @@ fn csv_has_the_header_and_reads_back_exactly() {
         .write_csv(&mut bytes, 2, 1)
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(bytes, b"t,q0,q1,v0\n");
+}
+
+/// The two-link on the reference dynamics, sizes known only at run time (`Dyn`): what the
+/// CLI's `simulate` steps.
+struct ReferenceTwoLink {
+    reference: Reference,
+    coordinates: [Coordinates; 2],
+}
+
+impl SecondOrder<f64, Dyn, Dyn> for ReferenceTwoLink {
+    fn coordinates(&self) -> &[Coordinates] {
+        &self.coordinates
+    }
+
+    fn acceleration(
+        &mut self,
+        _t: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+    ) -> Result<DVector<f64>, Cause<f64>> {
+        let tau = vec![0.0; v.len()];
+        self.reference
+            .forward_dynamics(q.as_slice(), v.as_slice(), &tau)
+            .map_err(|_| Cause::System("the reference's forward dynamics failed"))
+    }
+}
+
+#[test]
+fn the_same_methods_step_a_runtime_sized_system() {
+    let mut reference = ReferenceTwoLink {
+        reference: Reference::new(&two_link_model()).unwrap_or_else(|e| panic!("{e}")),
+        coordinates: [Coordinates::Vector(3), Coordinates::Vector(3)],
+    };
+    let mut generated = ControlledChain::<f64, TwoLink, _>::unforced();
+    let start = two_link_swing();
+    let dyn_start = State::new(
+        0.0,
+        DVector::from_column_slice(start.q.as_slice()),
+        DVector::from_column_slice(start.v.as_slice()),
+    );
+    for method in all_methods() {
+        let a = Simulation::new(0.0, 0.5, 0.01)
+            .run(
+                &mut reference,
+                &mut Stepper::new(method, 1e-9, 1e-9),
+                dyn_start.clone(),
+                |_| Ok(()),
+                |_, _| {},
+            )
+            .unwrap_or_else(|f| panic!("{f}"));
+        let b = run(
+            &mut generated,
+            &mut Stepper::new(method, 1e-9, 1e-9),
+            start,
+            0.5,
+            0.01,
+        );
+        let d = (0..6)
+            .map(|i| (a.q[i] - b.q[i]).abs().max((a.v[i] - b.v[i]).abs()))
+            .fold(0.0, f64::max);
+        println!("{method:>18}: reference (Dyn) vs generated (Const) after 0.5 s: {d:.1e}");
+        assert!(d < 1e-12, "{method}: {d:e}");
+    }
+    // A run-time size that does not fit the coordinates is a fault, not a panic.
+    let short = State::new(0.0, DVector::zeros(5), DVector::zeros(6));
+    let fault = Rk4
+        .advance(&mut reference, &mut short.clone(), 0.1, 0)
+        .expect_err("5 positions for 6");
+    assert!(matches!(fault.cause, Cause::Coordinates(_)), "{fault}");
 }
 
 #[test]

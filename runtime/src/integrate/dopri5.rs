@@ -4,7 +4,8 @@ use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector, RealField, Scalar};
 
 use super::{
-    begin, evaluate, k, retract, stage, zeros_like, Cause, Fault, Integrator, SecondOrder, State,
+    begin, evaluate, k, local_velocity, retract, zeros_like, Cause, Fault, Integrator, SecondOrder,
+    State,
 };
 use crate::Coordinates;
 
@@ -165,21 +166,36 @@ where
     }
 }
 
-/// `h·Σ_j c_j·k_j` over the first `c.len()` slopes.
+/// `(h·Σ_j c_j·kθ_j, v + h·Σ_j c_j·kv_j)` over the first `c.len()` slopes, in one pass (zero
+/// weights skipped): a stage's local coordinates and velocity, or with `v = 0` the error
+/// estimate.
 #[inline]
-fn combine<T, V>(h: T, c: &[f64], ks: &[OVector<T, V>], like: &OVector<T, V>) -> OVector<T, V>
+fn combine<T, V>(
+    h: T,
+    c: &[f64],
+    kq: &[OVector<T, V>],
+    kv: &[OVector<T, V>],
+    v: &OVector<T, V>,
+) -> (OVector<T, V>, OVector<T, V>)
 where
     T: RealField + Copy,
     V: Dim,
     DefaultAllocator: Allocator<V>,
 {
-    let mut out = zeros_like(like);
-    for (cj, kj) in c.iter().zip(ks) {
+    let mut theta = zeros_like(v);
+    let mut vel = v.clone();
+    for ((cj, qj), vj) in c.iter().zip(kq).zip(kv) {
         if *cj != 0.0 {
-            out.axpy(h * k(*cj), kj, T::one());
+            let s = h * k(*cj);
+            let (t, w) = (theta.as_mut_slice(), vel.as_mut_slice());
+            let pairs = qj.as_slice().iter().zip(vj.as_slice());
+            for ((t, w), (x, y)) in t.iter_mut().zip(w.iter_mut()).zip(pairs) {
+                *t += s * *x;
+                *w += s * *y;
+            }
         }
     }
-    out
+    (theta, vel)
 }
 
 /// The RMS error norm of the module's tolerance model.
@@ -253,7 +269,7 @@ where
         step: usize,
     ) -> Result<(), Fault<T>> {
         let at = |t| move |cause| Fault { t, step, cause };
-        begin(system, state, t_to).map_err(at(state.t))?;
+        let (_, vs) = begin(system, state, t_to, false).map_err(at(state.t))?;
         let mut cur = state.clone();
         let mut a0 = match self.fsal.take() {
             Some((s, a)) if s == *state => a,
@@ -305,30 +321,30 @@ where
             kq[0] = cur.v.clone();
             kv[0] = a0.clone();
             let mut failed = None;
+            // The seventh stage is at the new state (its weights are b): keep it.
+            let (mut q_new, mut v_new) = (cur.q.clone(), cur.v.clone());
             for i in 1..7 {
-                let theta = combine(h_try, &A[i][..i], &kq[..i], &cur.v);
-                let vel = &cur.v + combine(h_try, &A[i][..i], &kv[..i], &cur.v);
+                let (theta, vel) = combine(h_try, &A[i][..i], &kq[..i], &kv[..i], &cur.v);
                 let ti = cur.t + h_try * k(C[i]);
+                let coords = system.coordinates();
+                let qi = retract(coords, vs, &cur.q, &theta);
+                kq[i] = local_velocity(coords, vs, &theta, &vel);
                 self.stats.evaluations += 1;
-                match stage(system, ti, &cur.q, &theta, &vel) {
-                    Ok((a, b)) => {
-                        kq[i] = a;
-                        kv[i] = b;
-                    }
+                match evaluate(system, ti, &qi, &vel) {
+                    Ok(a) => kv[i] = a,
                     Err(cause) => {
                         failed = Some(Fault { t: ti, step, cause });
                         break;
                     }
                 }
+                if i == 6 {
+                    (q_new, v_new) = (qi, vel);
+                }
             }
             if let Some(f) = failed {
                 break Err(f);
             }
-            let theta = combine(h_try, &A[6], &kq[..6], &cur.v);
-            let v_new = &cur.v + combine(h_try, &A[6], &kv[..6], &cur.v);
-            let q_new = retract(system.coordinates(), &cur.q, &theta);
-            let err_theta = combine(h_try, &E, &kq, &cur.v);
-            let err_v = combine(h_try, &E, &kv, &cur.v);
+            let (err_theta, err_v) = combine(h_try, &E, &kq, &kv, &zeros_like(&cur.v));
             let err = error_norm(
                 system.coordinates(),
                 self.rtol,
@@ -341,7 +357,10 @@ where
             let fac_max = if after_reject { T::one() } else { self.fac_max };
             if err <= T::one() {
                 self.stats.accepted += 1;
-                let fac = if err > T::zero() {
+                // safety·err^(−1/5) ≥ fac_max exactly when err ≤ (safety/fac_max)⁵: no power
+                // needed then.
+                let r = self.safety / fac_max;
+                let fac = if err > r * r * r * r * r {
                     (self.safety * err.powf(k(-0.2))).max(self.fac_min)
                 } else {
                     fac_max

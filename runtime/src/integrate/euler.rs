@@ -32,9 +32,9 @@ where
     ) -> Result<(), Fault<T>> {
         let t = state.t;
         let fault = |cause| Fault { t, step, cause };
-        let h = begin(system, state, t_to).map_err(fault)?;
+        let (h, vs) = begin(system, state, t_to, false).map_err(fault)?;
         let a = evaluate(system, t, &state.q, &state.v).map_err(fault)?;
-        let q = retract(system.coordinates(), &state.q, &scaled(&state.v, h));
+        let q = retract(system.coordinates(), vs, &state.q, &scaled(&state.v, h));
         let v = &state.v + a * h;
         commit(state, t_to, q, v, step)
     }
@@ -53,10 +53,10 @@ where
     ) -> Result<(), Fault<T>> {
         let t = state.t;
         let fault = |cause| Fault { t, step, cause };
-        let h = begin(system, state, t_to).map_err(fault)?;
+        let (h, vs) = begin(system, state, t_to, false).map_err(fault)?;
         let a = evaluate(system, t, &state.q, &state.v).map_err(fault)?;
         let v = &state.v + a * h;
-        let q = retract(system.coordinates(), &state.q, &scaled(&v, h));
+        let q = retract(system.coordinates(), vs, &state.q, &scaled(&v, h));
         commit(state, t_to, q, v, step)
     }
 }

@@ -140,6 +140,7 @@ where
 /// `a(t_m, q_n ⊕ (h/2)·w(u), u)`.
 fn midpoint_acceleration<T, Q, V, S>(
     system: &mut S,
+    vs: bool,
     t_m: T,
     half: T,
     q: &OVector<T, Q>,
@@ -153,8 +154,8 @@ where
     DefaultAllocator: Allocator<Q> + Allocator<V>,
 {
     let coords = system.coordinates();
-    let w = local_velocity(coords, &scaled(u, half), u);
-    let q_m = retract(coords, q, &scaled(&w, half));
+    let w = local_velocity(coords, vs, &scaled(u, half), u);
+    let q_m = retract(coords, vs, q, &scaled(&w, half));
     evaluate(system, t_m, &q_m, u)
 }
 
@@ -173,7 +174,7 @@ where
         step: usize,
     ) -> Result<(), Fault<T>> {
         let t = state.t;
-        let h = begin(system, state, t_to).map_err(|cause| Fault { t, step, cause })?;
+        let (h, vs) = begin(system, state, t_to, true).map_err(|cause| Fault { t, step, cause })?;
         let half = h * k(0.5);
         let t_m = t + half;
         let fault = |cause| Fault {
@@ -189,7 +190,7 @@ where
         let mut jac = OMatrix::<T, V, V>::identity_generic(dim, dim);
         let mut pivots = OVector::<usize, V>::from_element_generic(dim, nalgebra::U1, 0);
         let mut u = v.clone();
-        let mut a_u = midpoint_acceleration(system, t_m, half, q, &u).map_err(fault)?;
+        let mut a_u = midpoint_acceleration(system, vs, t_m, half, q, &u).map_err(fault)?;
         self.stats.evaluations += 1;
         // The Newton matrix at the current iterate; refreshed when convergence is slow.
         let mut refresh = true;
@@ -206,7 +207,7 @@ where
                     let d = sqrt_eps * u[j].abs().max(T::one());
                     let mut uj = u.clone();
                     uj[j] += d;
-                    let aj = midpoint_acceleration(system, t_m, half, q, &uj).map_err(fault)?;
+                    let aj = midpoint_acceleration(system, vs, t_m, half, q, &uj).map_err(fault)?;
                     self.stats.evaluations += 1;
                     let col = (aj - &a_u) * (half / d);
                     let mut c = jac.column_mut(j);
@@ -248,7 +249,7 @@ where
                 _ => {}
             }
             previous = Some(size);
-            a_u = match midpoint_acceleration(system, t_m, half, q, &u) {
+            a_u = match midpoint_acceleration(system, vs, t_m, half, q, &u) {
                 Ok(a) => a,
                 // An iterate that left the finite numbers is Newton's failure, not the state's.
                 Err(Cause::NonFinite {
@@ -261,8 +262,8 @@ where
         }
 
         let coords = system.coordinates();
-        let w = local_velocity(coords, &scaled(&u, half), &u);
-        let q_new = retract(coords, q, &scaled(&w, h));
+        let w = local_velocity(coords, vs, &scaled(&u, half), &u);
+        let q_new = retract(coords, vs, q, &scaled(&w, h));
         let v_new = scaled(&u, k(2.0)) - v;
         commit(state, t_to, q_new, v_new, step)
     }

@@ -102,6 +102,11 @@ where
     fn coordinates(&self) -> &[Coordinates];
     /// `v̇ = a(t, q, v)`.
     ///
+    /// The integrators look at `q` and `v` for non-finite entries only when this fails or
+    /// returns a non-finite value (so a non-finite input should make it do one or the other,
+    /// as generated chains do; otherwise the fault is reported when the step's result is
+    /// checked, at the step's end time).
+    ///
     /// # Errors
     /// Whatever keeps it from being computed: [`Cause::SingularMassMatrix`], a non-finite
     /// control ([`Cause::NonFinite`] with [`Quantity::Control`]), [`Cause::System`].
@@ -126,7 +131,8 @@ where
 ///     }
 /// }
 /// // A damper: τ = −0.1·v.
-/// let mut system = ControlledChain::<f64, Pendulum, _>::new(|_t, _q, v: &SVector<f64, 1>| -v * 0.1);
+/// let damper = |_t: f64, _q: &SVector<f64, 1>, v: &SVector<f64, 1>| -v * 0.1;
+/// let mut system = ControlledChain::<f64, Pendulum, _>::new(damper);
 /// let mut state = State::new(0.0, SVector::<f64, 1>::new(0.5), SVector::<f64, 1>::zeros());
 /// Rk4.advance(&mut system, &mut state, 0.01, 0).unwrap();
 /// assert!(state.q[0] < 0.5);
@@ -210,13 +216,17 @@ where
         v: &SVector<T, NV>,
     ) -> Result<SVector<T, NV>, Cause<T>> {
         let tau = (self.controller)(t, q, v);
-        if let Some(index) = first_non_finite(tau.as_slice()) {
-            return Err(Cause::NonFinite {
-                quantity: Quantity::Control,
-                index,
-            });
-        }
-        C::forward_dynamics_with(q, v, &tau, &self.params).map_err(Cause::SingularMassMatrix)
+        // A non-finite τ makes q̈ non-finite, which the generated code reports as singular:
+        // τ is looked at only then, to name the right cause.
+        C::forward_dynamics_with(q, v, &tau, &self.params).map_err(|e| {
+            match first_non_finite(tau.as_slice()) {
+                Some(index) => Cause::NonFinite {
+                    quantity: Quantity::Control,
+                    index,
+                },
+                None => Cause::SingularMassMatrix(e),
+            }
+        })
     }
 }
 
@@ -533,10 +543,17 @@ pub(crate) fn k<T: RealField + Copy>(x: f64) -> T {
     nalgebra::convert(x)
 }
 
-/// The index of the first non-finite entry.
+/// The index of the first non-finite entry. The common case, all finite, is one branch-free
+/// pass (`x − x` is 0 for a finite `x`, NaN otherwise).
 #[inline]
 pub(crate) fn first_non_finite<T: RealField + Copy>(x: &[T]) -> Option<usize> {
-    x.iter().position(|x| !x.is_finite())
+    #[allow(clippy::eq_op)] // x − x is not always 0: that is the point.
+    let finite = x.iter().fold(true, |ok, &x| ok & ((x - x) == T::zero()));
+    if finite {
+        None
+    } else {
+        x.iter().position(|x| !x.is_finite())
+    }
 }
 
 /// Checks a state: `q` then `v`.
@@ -557,9 +574,16 @@ pub(crate) fn check_state<T: RealField + Copy>(q: &[T], v: &[T]) -> Result<(), C
     Ok(())
 }
 
-/// What every `advance` checks first: the coordinates fit, the state is finite, `t_to` is
-/// finite and after `state.t`. Returns the step `t_to − t`.
-pub(crate) fn begin<T, Q, V, S>(system: &S, state: &State<T, Q, V>, t_to: T) -> Result<T, Cause<T>>
+/// What every `advance` checks first: the coordinates fit, `t_to` is finite and after
+/// `state.t`, and with `check`, the state is finite (the methods whose first evaluation is at
+/// the state itself leave that to [`evaluate`]). Returns the step `t_to − t` and whether all
+/// coordinates are vectors.
+pub(crate) fn begin<T, Q, V, S>(
+    system: &S,
+    state: &State<T, Q, V>,
+    t_to: T,
+    check: bool,
+) -> Result<(T, bool), Cause<T>>
 where
     T: RealField + Copy,
     Q: Dim,
@@ -567,16 +591,36 @@ where
     S: SecondOrder<T, Q, V> + ?Sized,
     DefaultAllocator: Allocator<Q> + Allocator<V>,
 {
-    configuration::check(system.coordinates(), state.q.len(), state.v.len())
-        .map_err(Cause::Coordinates)?;
+    // One pass over the joints: sizes and whether all are vectors.
+    let (nq, nv, vector_space) =
+        system
+            .coordinates()
+            .iter()
+            .fold((0, 0, true), |(nq, nv, vs), c| {
+                (
+                    nq + c.nq(),
+                    nv + c.nv(),
+                    vs & matches!(c, Coordinates::Vector(_)),
+                )
+            });
+    if (nq, nv) != (state.q.len(), state.v.len()) {
+        return Err(Cause::Coordinates(SizeMismatch {
+            nq,
+            nv,
+            expected_nq: state.q.len(),
+            expected_nv: state.v.len(),
+        }));
+    }
     if !(state.t.is_finite() && t_to.is_finite() && t_to > state.t) {
         return Err(Cause::InvalidTime);
     }
-    check_state(state.q.as_slice(), state.v.as_slice())?;
-    Ok(t_to - state.t)
+    if check {
+        check_state(state.q.as_slice(), state.v.as_slice())?;
+    }
+    Ok((t_to - state.t, vector_space))
 }
 
-/// `a(t, q, v)` with its inputs and output checked.
+/// `a(t, q, v)`, an error naming the first non-finite input or output.
 #[inline]
 pub(crate) fn evaluate<T, Q, V, S>(
     system: &mut S,
@@ -591,7 +635,33 @@ where
     S: SecondOrder<T, Q, V> + ?Sized,
     DefaultAllocator: Allocator<Q> + Allocator<V>,
 {
-    check_state(q.as_slice(), v.as_slice())?;
+    // A non-finite q or v makes the acceleration fail or come out non-finite (the generated
+    // forward dynamics propagates NaN), so the inputs are checked only then, to name the first
+    // non-finite quantity: q, v, then what the system found (τ, the acceleration).
+    match accelerate(system, t, q, v) {
+        Ok(a) => Ok(a),
+        Err(cause) => {
+            check_state(q.as_slice(), v.as_slice())?;
+            Err(cause)
+        }
+    }
+}
+
+/// `a(t, q, v)` with its output checked, for inputs known to be finite.
+#[inline]
+pub(crate) fn accelerate<T, Q, V, S>(
+    system: &mut S,
+    t: T,
+    q: &OVector<T, Q>,
+    v: &OVector<T, V>,
+) -> Result<OVector<T, V>, Cause<T>>
+where
+    T: RealField + Copy,
+    Q: Dim,
+    V: Dim,
+    S: SecondOrder<T, Q, V> + ?Sized,
+    DefaultAllocator: Allocator<Q> + Allocator<V>,
+{
     let a = system.acceleration(t, q, v)?;
     match first_non_finite(a.as_slice()) {
         Some(index) => Err(Cause::NonFinite {
@@ -606,6 +676,7 @@ where
 #[inline]
 pub(crate) fn retract<T, Q, V>(
     coords: &[Coordinates],
+    vector_space: bool,
     q: &OVector<T, Q>,
     theta: &OVector<T, V>,
 ) -> OVector<T, Q>
@@ -616,7 +687,14 @@ where
     DefaultAllocator: Allocator<Q> + Allocator<V>,
 {
     let mut out = q.clone();
-    configuration::integrate_in_place(coords, out.as_mut_slice(), theta.as_slice());
+    if vector_space {
+        let x = out.as_mut_slice();
+        x.iter_mut()
+            .zip(theta.as_slice())
+            .for_each(|(x, d)| *x += *d);
+    } else {
+        configuration::integrate_in_place(coords, out.as_mut_slice(), theta.as_slice());
+    }
     out
 }
 
@@ -624,6 +702,7 @@ where
 #[inline]
 pub(crate) fn local_velocity<T, V>(
     coords: &[Coordinates],
+    vector_space: bool,
     theta: &OVector<T, V>,
     vel: &OVector<T, V>,
 ) -> OVector<T, V>
@@ -633,7 +712,7 @@ where
     DefaultAllocator: Allocator<V>,
 {
     let mut out = vel.clone();
-    if !configuration::is_vector_space(coords) {
+    if !vector_space {
         configuration::local_velocity_into(
             coords,
             theta.as_slice(),
@@ -652,6 +731,7 @@ pub(crate) type Slopes<T, V> = (OVector<T, V>, OVector<T, V>);
 #[inline]
 pub(crate) fn stage<T, Q, V, S>(
     system: &mut S,
+    vector_space: bool,
     t: T,
     q_n: &OVector<T, Q>,
     theta: &OVector<T, V>,
@@ -665,8 +745,8 @@ where
     DefaultAllocator: Allocator<Q> + Allocator<V>,
 {
     let coords = system.coordinates();
-    let q = retract(coords, q_n, theta);
-    let k_theta = local_velocity(coords, theta, vel);
+    let q = retract(coords, vector_space, q_n, theta);
+    let k_theta = local_velocity(coords, vector_space, theta, vel);
     let k_v = evaluate(system, t, &q, vel)?;
     Ok((k_theta, k_v))
 }

@@ -26,7 +26,8 @@ where
         step: usize,
     ) -> Result<(), Fault<T>> {
         let t = state.t;
-        let h = begin(system, state, t_to).map_err(|cause| Fault { t, step, cause })?;
+        let (h, vs) =
+            begin(system, state, t_to, false).map_err(|cause| Fault { t, step, cause })?;
         let half = h * k(0.5);
         let at = |t| move |cause| Fault { t, step, cause };
         let (q, v) = (&state.q, &state.v);
@@ -35,6 +36,7 @@ where
         let kq1 = v;
         let (kq2, kv2) = stage(
             system,
+            vs,
             t + half,
             q,
             &scaled(kq1, half),
@@ -43,19 +45,27 @@ where
         .map_err(at(t + half))?;
         let (kq3, kv3) = stage(
             system,
+            vs,
             t + half,
             q,
             &scaled(&kq2, half),
             &(v + scaled(&kv2, half)),
         )
         .map_err(at(t + half))?;
-        let (kq4, kv4) =
-            stage(system, t_to, q, &scaled(&kq3, h), &(v + scaled(&kv3, h))).map_err(at(t_to))?;
+        let (kq4, kv4) = stage(
+            system,
+            vs,
+            t_to,
+            q,
+            &scaled(&kq3, h),
+            &(v + scaled(&kv3, h)),
+        )
+        .map_err(at(t_to))?;
         let sixth = h * k(1.0 / 6.0);
         let third = h * k(1.0 / 3.0);
         let theta = kq1 * sixth + kq2 * third + kq3 * third + kq4 * sixth;
         let v_new = v + kv1 * sixth + kv2 * third + kv3 * third + kv4 * sixth;
-        let q_new = retract(system.coordinates(), q, &theta);
+        let q_new = retract(system.coordinates(), vs, q, &theta);
         commit(state, t_to, q_new, v_new, step)
     }
 }
