@@ -686,8 +686,8 @@ fn implicit_midpoint_keeps_the_two_link_energy_bounded() {
         st.evaluations as f64 / st.steps as f64
     );
     assert!(first < 1e-4, "{first:e}");
-    assert!(last < 1.5 * first, "energy drifts: {first:e} -> {last:e}");
-    // RK4 at the same step, for contrast: its error grows steadily (not asserted here).
+    // A drift grows the error in proportion to time: the last tenth would be ~10× the first.
+    assert!(last < 2.0 * first, "energy drifts: {first:e} -> {last:e}");
 }
 
 #[test]
@@ -697,11 +697,41 @@ fn implicit_midpoint_keeps_the_two_link_energy_bounded_over_a_million_steps() {
     let errors = energy_errors(&mut method, 1_000_000, 1e-3, 100);
     let (first, last) = first_and_last_tenth(&errors);
     let worst = errors.iter().copied().fold(0.0, f64::max);
+    let tenths: Vec<String> = errors
+        .chunks(errors.len() / 10)
+        .map(|c| format!("{:.2e}", c.iter().copied().fold(0.0, f64::max)))
+        .collect();
+    let st = method.stats();
     println!(
         "implicit midpoint, dt = 1e-3, 1e6 steps (1000 s): worst relative energy error \
-         {first:.3e} in the first tenth, {last:.3e} in the last, {worst:.3e} overall"
+         {first:.3e} in the first tenth, {last:.3e} in the last, {worst:.3e} overall; per \
+         tenth: {}; {:.2} evaluations per step",
+        tenths.join(" "),
+        st.evaluations as f64 / st.steps as f64
     );
-    assert!(last < 1.5 * first, "energy drifts: {first:e} -> {last:e}");
+    // The error's envelope follows the slow exchange of energy between the swing's modes (over
+    // 4e6 steps its mean rises to 2.8e-6 and falls back to 0.7e-6), so a later tenth may exceed
+    // the first without any drift; a drift that added the first tenth's error every tenth
+    // would end 10× above it.
+    assert!(worst < 3.0 * first, "energy drifts: {first:e} -> {worst:e}");
+}
+
+#[test]
+#[ignore = "2e5 steps of two methods: run with --release -- --ignored --nocapture"]
+fn at_a_large_step_rk4_drifts_and_the_implicit_midpoint_does_not() {
+    // dt = 0.02 over 4000 s: RK4's energy error grows in proportion to time, the midpoint's
+    // stays bounded.
+    let rk4 = energy_errors(&mut Rk4, 200_000, 0.02, 10);
+    let midpoint = energy_errors(&mut ImplicitMidpoint::new(), 200_000, 0.02, 10);
+    let (r_first, r_last) = first_and_last_tenth(&rk4);
+    let (m_first, m_last) = first_and_last_tenth(&midpoint);
+    println!(
+        "dt = 0.02, 2e5 steps (4000 s), worst relative energy error in the first and last \
+         tenth: rk4 {r_first:.2e} -> {r_last:.2e}, implicit midpoint {m_first:.2e} -> \
+         {m_last:.2e}"
+    );
+    assert!(r_last > 5.0 * r_first);
+    assert!(m_last < 2.0 * m_first);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -34,7 +34,8 @@ pub struct MidpointStats {
 /// forward differences with steps `√ε·max(1, |u_j|)`, computed once per step at `u = v_n`
 /// (`NV + 1` evaluations) and LU-factorized with partial pivoting; then simplified Newton
 /// iterations (one evaluation each) until the correction is below
-/// `tolerance·(|u|∞ + |v_n|∞)`, or stops shrinking at rounding level (below `√ε` times that).
+/// `tolerance·(|u|∞ + |v_n|∞)`, or stops shrinking at rounding level (below `1000ε` times
+/// that).
 /// When a correction is more than a quarter of the one before (slow convergence, a large
 /// step), the Jacobian is recomputed at the current iterate. No convergence in
 /// `max_iterations`, a correction that grows although the Jacobian is fresh, or a singular
@@ -241,7 +242,9 @@ where
             }
             match previous {
                 // Stalled at rounding level: converged as far as it can.
-                Some(p) if size >= p * k(0.5) && size <= sqrt_eps * scale => break,
+                Some(p) if size >= p * k(0.5) && size <= T::default_epsilon() * k(1e3) * scale => {
+                    break
+                }
                 // Growing although the matrix was fresh: Newton diverges.
                 Some(p) if size > p && fresh => return Err(failed(Some(size))),
                 // Slow (or growing on an old matrix): refresh the matrix at the next iterate.
