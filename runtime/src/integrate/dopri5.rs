@@ -271,8 +271,8 @@ where
         let at = |t| move |cause| Fault { t, step, cause };
         let (_, vs) = begin(system, state, t_to, false).map_err(at(state.t))?;
         let mut cur = state.clone();
-        let mut a0 = match self.fsal.take() {
-            Some((s, a)) if s == *state => a,
+        let mut a0 = match &self.fsal {
+            Some((s, a)) if s == state => a.clone(),
             _ => {
                 self.stats.evaluations += 1;
                 evaluate(system, cur.t, &cur.q, &cur.v).map_err(at(cur.t))?
@@ -386,8 +386,14 @@ where
             }
         };
         self.next_step = Some(h);
+        match &mut self.fsal {
+            Some((s, a)) => {
+                s.clone_from(&cur);
+                a.clone_from(&a0);
+            }
+            None => self.fsal = Some((cur.clone(), a0)),
+        }
         *state = cur;
-        self.fsal = Some((state.clone(), a0));
         result
     }
 }

@@ -116,6 +116,14 @@ where
         q: &OVector<T, Q>,
         v: &OVector<T, V>,
     ) -> Result<OVector<T, V>, Cause<T>>;
+
+    /// Whether [`acceleration`](SecondOrder::acceleration) never returns a non-finite value
+    /// in `Ok` (then the integrators do not check it again). `false` unless overridden; true for
+    /// [`ControlledChain`], whose generated forward dynamics reports a non-finite result as an
+    /// error.
+    fn finite_acceleration(&self) -> bool {
+        false
+    }
 }
 
 /// A generated chain `C` under a controller `τ = controller(t, q, v)`, with its parameters:
@@ -206,6 +214,12 @@ where
 {
     fn coordinates(&self) -> &[Coordinates] {
         C::COORDINATES
+    }
+
+    #[inline]
+    fn finite_acceleration(&self) -> bool {
+        // `ForwardDynamics` returns `SingularMassMatrix` for a non-finite result.
+        true
     }
 
     #[inline]
@@ -663,6 +677,9 @@ where
     DefaultAllocator: Allocator<Q> + Allocator<V>,
 {
     let a = system.acceleration(t, q, v)?;
+    if system.finite_acceleration() {
+        return Ok(a);
+    }
     match first_non_finite(a.as_slice()) {
         Some(index) => Err(Cause::NonFinite {
             quantity: Quantity::Acceleration,
