@@ -58,6 +58,10 @@ const E: [f64; 7] = [
 /// The state at the end of the last accepted step and its acceleration (FSAL).
 type Kept<T, Q, V> = (State<T, Q, V>, OVector<T, V>);
 
+/// The seven stages' slopes `kθ` and `kv`, kept between calls so that a step does not set
+/// them up anew.
+type Slopes<T, V> = ([OVector<T, V>; 7], [OVector<T, V>; 7]);
+
 /// Counters of a [`Dopri5`] since it was made (or [`Dopri5::reset`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Dopri5Stats {
@@ -123,6 +127,7 @@ where
     pub max_steps: usize,
     next_step: Option<T>,
     fsal: Option<Kept<T, Q, V>>,
+    slopes: Option<Slopes<T, V>>,
     stats: Dopri5Stats,
 }
 
@@ -144,6 +149,7 @@ where
             max_steps: 1_000_000,
             next_step: None,
             fsal: None,
+            slopes: None,
             stats: Dopri5Stats::default(),
         }
     }
@@ -169,7 +175,7 @@ where
 /// `(h·Σ_j c_j·kθ_j, v + h·Σ_j c_j·kv_j)` over the first `c.len()` slopes, in one pass (zero
 /// weights skipped): a stage's local coordinates and velocity, or with `v = 0` the error
 /// estimate.
-#[inline]
+#[inline(always)]
 fn combine<T, V>(
     h: T,
     c: &[f64],
@@ -202,6 +208,7 @@ where
 #[allow(clippy::too_many_arguments)]
 fn error_norm<T, Q, V>(
     coords: &[Coordinates],
+    vector_space: bool,
     rtol: T,
     atol: T,
     (q0, v0): (&OVector<T, Q>, &OVector<T, V>),
@@ -226,6 +233,12 @@ where
     };
     for i in 0..nv {
         add(err_v[i], v0[i].abs().max(v1[i].abs()));
+    }
+    if vector_space {
+        for i in 0..nv {
+            add(err_theta[i], q0[i].abs().max(q1[i].abs()));
+        }
+        return (sum / k(2.0 * nv as f64)).sqrt();
     }
     let (mut iq, mut iv) = (0, 0);
     for c in coords {
@@ -285,8 +298,16 @@ where
             .min(self.max_step);
         let mut after_reject = false;
         let mut steps = 0;
-        let mut kq: [OVector<T, V>; 7] = core::array::from_fn(|_| zeros_like(&cur.v));
-        let mut kv: [OVector<T, V>; 7] = core::array::from_fn(|_| zeros_like(&cur.v));
+        // Sizes fixed at compile time always fit; a run-time size may have changed.
+        if !matches!(&self.slopes, Some((kq, _)) if kq[0].len() == cur.v.len()) {
+            self.slopes = None;
+        }
+        let (kq, kv) = self.slopes.get_or_insert_with(|| {
+            (
+                core::array::from_fn(|_| zeros_like(&cur.v)),
+                core::array::from_fn(|_| zeros_like(&cur.v)),
+            )
+        });
         let result = loop {
             let remaining = t_to - cur.t;
             if remaining <= T::zero() {
@@ -328,7 +349,9 @@ where
                 let ti = cur.t + h_try * k(C[i]);
                 let coords = system.coordinates();
                 let qi = retract(coords, vs, &cur.q, &theta);
-                kq[i] = local_velocity(coords, vs, &theta, &vel);
+                if !vs {
+                    kq[i] = local_velocity(coords, vs, &theta, &vel);
+                }
                 self.stats.evaluations += 1;
                 match evaluate(system, ti, &qi, &vel) {
                     Ok(a) => kv[i] = a,
@@ -337,16 +360,23 @@ where
                         break;
                     }
                 }
+                // In a vector space θ̇ = v: the stage's slope is its velocity.
                 if i == 6 {
+                    if vs {
+                        kq[i].clone_from(&vel);
+                    }
                     (q_new, v_new) = (qi, vel);
+                } else if vs {
+                    kq[i] = vel;
                 }
             }
             if let Some(f) = failed {
                 break Err(f);
             }
-            let (err_theta, err_v) = combine(h_try, &E, &kq, &kv, &zeros_like(&cur.v));
+            let (err_theta, err_v) = combine(h_try, &E, &kq[..], &kv[..], &zeros_like(&cur.v));
             let err = error_norm(
                 system.coordinates(),
+                vs,
                 self.rtol,
                 self.atol,
                 (&cur.q, &cur.v),

@@ -635,7 +635,7 @@ where
 }
 
 /// `a(t, q, v)`, an error naming the first non-finite input or output.
-#[inline]
+#[inline(always)]
 pub(crate) fn evaluate<T, Q, V, S>(
     system: &mut S,
     t: T,
@@ -662,7 +662,7 @@ where
 }
 
 /// `a(t, q, v)` with its output checked, for inputs known to be finite.
-#[inline]
+#[inline(always)]
 pub(crate) fn accelerate<T, Q, V, S>(
     system: &mut S,
     t: T,
@@ -690,7 +690,7 @@ where
 }
 
 /// `q ⊕ θ`.
-#[inline]
+#[inline(always)]
 pub(crate) fn retract<T, Q, V>(
     coords: &[Coordinates],
     vector_space: bool,
@@ -716,7 +716,7 @@ where
 }
 
 /// `θ̇` at `θ` for the velocity `vel` ([`configuration::local_velocity_into`]).
-#[inline]
+#[inline(always)]
 pub(crate) fn local_velocity<T, V>(
     coords: &[Coordinates],
     vector_space: bool,
@@ -745,7 +745,7 @@ pub(crate) type Slopes<T, V> = (OVector<T, V>, OVector<T, V>);
 
 /// One stage of a Runge–Kutta–Munthe-Kaas method at the local coordinates `θ` and velocity
 /// `vel`: the slopes `(θ̇, v̇)` at `(t, q_n ⊕ θ, vel)`.
-#[inline]
+#[inline(always)]
 pub(crate) fn stage<T, Q, V, S>(
     system: &mut S,
     vector_space: bool,
