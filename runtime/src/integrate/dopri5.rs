@@ -172,9 +172,35 @@ where
     }
 }
 
-/// `(h·Σ_j c_j·kθ_j, v + h·Σ_j c_j·kv_j)` over the first `c.len()` slopes, in one pass (zero
-/// weights skipped): a stage's local coordinates and velocity, or with `v = 0` the error
-/// estimate.
+/// `x += h·Σ_j c_j·kθ_j` and `w += h·Σ_j c_j·kv_j` over the first `c.len()` slopes, in one
+/// pass (zero weights skipped).
+#[inline(always)]
+fn accumulate<T, V>(
+    h: T,
+    c: &[f64],
+    kq: &[OVector<T, V>],
+    kv: &[OVector<T, V>],
+    x: &mut [T],
+    w: &mut [T],
+) where
+    T: RealField + Copy,
+    V: Dim,
+    DefaultAllocator: Allocator<V>,
+{
+    for ((cj, qj), vj) in c.iter().zip(kq).zip(kv) {
+        if *cj != 0.0 {
+            let s = h * k(*cj);
+            let pairs = qj.as_slice().iter().zip(vj.as_slice());
+            for ((x, w), (a, b)) in x.iter_mut().zip(w.iter_mut()).zip(pairs) {
+                *x += s * *a;
+                *w += s * *b;
+            }
+        }
+    }
+}
+
+/// `(h·Σ_j c_j·kθ_j, v + h·Σ_j c_j·kv_j)`: a stage's local coordinates and velocity, or with
+/// `v = 0` the error estimate.
 #[inline(always)]
 fn combine<T, V>(
     h: T,
@@ -190,17 +216,7 @@ where
 {
     let mut theta = zeros_like(v);
     let mut vel = v.clone();
-    for ((cj, qj), vj) in c.iter().zip(kq).zip(kv) {
-        if *cj != 0.0 {
-            let s = h * k(*cj);
-            let (t, w) = (theta.as_mut_slice(), vel.as_mut_slice());
-            let pairs = qj.as_slice().iter().zip(vj.as_slice());
-            for ((t, w), (x, y)) in t.iter_mut().zip(w.iter_mut()).zip(pairs) {
-                *t += s * *x;
-                *w += s * *y;
-            }
-        }
-    }
+    accumulate(h, c, kq, kv, theta.as_mut_slice(), vel.as_mut_slice());
     (theta, vel)
 }
 
@@ -226,20 +242,24 @@ where
     if nv == 0 {
         return T::zero();
     }
-    let mut sum = T::zero();
+    // Σ (e_i / (atol + rtol·max(|a_i|, |b_i|)))² over three slices.
+    let squares = |e: &[T], a: &[T], b: &[T]| {
+        let mut sum = T::zero();
+        for (e, (a, b)) in e.iter().zip(a.iter().zip(b)) {
+            let r = *e / (atol + rtol * a.abs().max(b.abs()));
+            sum += r * r;
+        }
+        sum
+    };
+    let mut sum = squares(err_v.as_slice(), v0.as_slice(), v1.as_slice());
+    if vector_space {
+        sum += squares(err_theta.as_slice(), q0.as_slice(), q1.as_slice());
+        return (sum / k(2.0 * nv as f64)).sqrt();
+    }
     let mut add = |e: T, y: T| {
         let r = e / (atol + rtol * y);
         sum += r * r;
     };
-    for i in 0..nv {
-        add(err_v[i], v0[i].abs().max(v1[i].abs()));
-    }
-    if vector_space {
-        for i in 0..nv {
-            add(err_theta[i], q0[i].abs().max(q1[i].abs()));
-        }
-        return (sum / k(2.0 * nv as f64)).sqrt();
-    }
     let (mut iq, mut iv) = (0, 0);
     for c in coords {
         match *c {
@@ -341,35 +361,50 @@ where
             }
             kq[0] = cur.v.clone();
             kv[0] = a0.clone();
-            let mut failed = None;
             // The seventh stage is at the new state (its weights are b): keep it.
             let (mut q_new, mut v_new) = (cur.q.clone(), cur.v.clone());
-            for i in 1..7 {
-                let (theta, vel) = combine(h_try, &A[i][..i], &kq[..i], &kv[..i], &cur.v);
-                let ti = cur.t + h_try * k(C[i]);
-                let coords = system.coordinates();
-                let qi = retract(coords, vs, &cur.q, &theta);
-                if !vs {
-                    kq[i] = local_velocity(coords, vs, &theta, &vel);
-                }
-                self.stats.evaluations += 1;
-                match evaluate(system, ti, &qi, &vel) {
-                    Ok(a) => kv[i] = a,
-                    Err(cause) => {
-                        failed = Some(Fault { t: ti, step, cause });
-                        break;
+            // Stages 2 to 7, written out so that each one's weights are constants.
+            macro_rules! stage {
+                ($out:lifetime, $i:literal) => {{
+                    let ti = cur.t + h_try * k(C[$i]);
+                    let (qi, vel) = if vs {
+                        // q ⊕ θ = q + θ: sum straight into q.
+                        let (mut qi, mut vel) = (cur.q.clone(), cur.v.clone());
+                        let (x, w) = (qi.as_mut_slice(), vel.as_mut_slice());
+                        accumulate(h_try, &A[$i][..$i], &kq[..$i], &kv[..$i], x, w);
+                        (qi, vel)
+                    } else {
+                        let (theta, vel) =
+                            combine(h_try, &A[$i][..$i], &kq[..$i], &kv[..$i], &cur.v);
+                        let coords = system.coordinates();
+                        kq[$i] = local_velocity(coords, vs, &theta, &vel);
+                        (retract(coords, vs, &cur.q, &theta), vel)
+                    };
+                    self.stats.evaluations += 1;
+                    match evaluate(system, ti, &qi, &vel) {
+                        Ok(a) => kv[$i] = a,
+                        Err(cause) => break $out Some(Fault { t: ti, step, cause }),
                     }
-                }
-                // In a vector space θ̇ = v: the stage's slope is its velocity.
-                if i == 6 {
-                    if vs {
-                        kq[i].clone_from(&vel);
+                    // In a vector space θ̇ = v: the stage's slope is its velocity.
+                    if $i == 6 {
+                        if vs {
+                            kq[$i].clone_from(&vel);
+                        }
+                        (q_new, v_new) = (qi, vel);
+                    } else if vs {
+                        kq[$i] = vel;
                     }
-                    (q_new, v_new) = (qi, vel);
-                } else if vs {
-                    kq[i] = vel;
-                }
+                }};
             }
+            let failed = 'stages: {
+                stage!('stages, 1);
+                stage!('stages, 2);
+                stage!('stages, 3);
+                stage!('stages, 4);
+                stage!('stages, 5);
+                stage!('stages, 6);
+                None
+            };
             if let Some(f) = failed {
                 break Err(f);
             }
