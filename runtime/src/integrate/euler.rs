@@ -7,7 +7,7 @@ use super::{begin, commit, evaluate, retract, scaled, Fault, Integrator, SecondO
 
 /// Explicit Euler: `v̇_n = a(t_n, q_n, v_n)`, `q_{n+1} = q_n ⊕ h·v_n`, `v_{n+1} = v_n + h·v̇_n`.
 /// Order 1, one evaluation per step. On quaternion joints this is the Lie–Euler method
-/// (Hairer, Lubich & Wanner 2006, §IV.8.1).
+/// (Hairer, Lubich & Wanner 2006, §IV.8).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Euler;
 

@@ -20,8 +20,9 @@ pub struct MidpointStats {
 }
 
 /// The implicit midpoint rule (the one-stage Gauss method; Hairer, Lubich & Wanner 2006,
-/// *Geometric Numerical Integration*, 2nd ed., §II.1.1 and §VI.3): order 2, symmetric, for
-/// long horizons (why this method: [the module docs](super)).
+/// *Geometric Numerical Integration*, 2nd ed., ch. II (Gauss methods) and ch. V (symmetric
+/// methods)): order 2, symmetric, for long horizons (why this method: [the module
+/// docs](super)).
 ///
 /// With the midpoint velocity `u = (v_n + v_{n+1})/2` as unknown, a step solves
 /// `u = v_n + (h/2)·a(t_n + h/2, q_n ⊕ (h/2)·w(u), u)` and sets `v_{n+1} = 2u − v_n`,

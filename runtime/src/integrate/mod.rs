@@ -28,7 +28,7 @@
 //! and conserves quadratic invariants exactly. In the variables `(q, v)` it is not symplectic
 //! where `M` depends on `q`; its energy stays bounded without drift because a symmetric method
 //! applied to a reversible system (a mechanical system is, under `v → −v`) has no secular drift
-//! on (near-)integrable motions (Hairer, Lubich & Wanner 2006, §XI.3 and ch. V). Outside that
+//! on (near-)integrable motions (Hairer, Lubich & Wanner 2006, ch. XI and ch. V). Outside that
 //! regime (chaotic swings) no such guarantee is proved; the tests measure it on the two-link.
 //!
 //! # Errors
