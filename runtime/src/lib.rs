@@ -6,14 +6,21 @@
 //! `use articulated::prelude::*;`), and, with the `alloc` feature (on through `std`, the
 //! default), the chain [`model`] and the interpreted [`reference`](mod@reference) dynamics.
 //!
-//! The runtime half of Hemami, Dariush & Barin (2005) works on any generated chain:
-//! [`differentiate`] (Savitzky–Golay derivatives of sampled signals on their actual times, and
-//! `(q, q̇, q̈) → (v, v̇)`), [`samples`] (trajectory CSV, `std`), [`invert`] (the inverse plant:
-//! the couples behind a sampled motion, §5) and [`control`] (linearization, Riccati/LQR,
-//! computed torque, §4).
-//!
 //! Without default features it is `#![no_std]` and needs no allocator: generated code uses only
 //! `core`, nalgebra's fixed-size types and `libm`.
+//!
+//! # The runtime: Hemami, Dariush & Barin (2005) on any generated chain
+//! - To move a chain in time: its [`configuration`] space (quaternion joints on their
+//!   manifold), the [`integrate`] methods (explicit and symplectic Euler, RK4, adaptive
+//!   Dormand–Prince 5(4), implicit midpoint for long horizons) over any
+//!   [`integrate::SecondOrder`] system such as a generated chain under a controller
+//!   ([`integrate::ControlledChain`]), a [`simulate`] loop that records states into a buffer or
+//!   a [`trajectory::Trajectory`], and the [`trajectory`]'s CSV form. All of it is
+//!   allocation-free on fixed-size chains and works under `no_std`.
+//! - To recover the couples behind a motion (§5): [`differentiate`] (Savitzky–Golay
+//!   derivatives of sampled signals on their actual times, and `(q, q̇, q̈) → (v, v̇)`),
+//!   [`samples`] (reading a trajectory CSV, `std`) and [`invert`] (the inverse plant).
+//! - To stabilize (§4): [`control`] (linearization, Riccati/LQR, computed torque).
 //!
 //! # Conventions
 //! Each is checked by the example under it (ARCHITECTURE.md lists them all).
@@ -113,9 +120,11 @@
 #[cfg(feature = "alloc")]
 extern crate alloc;
 
+pub mod configuration;
 pub mod control;
 pub mod differentiate;
 mod generated;
+pub mod integrate;
 pub mod invert;
 /// Sine and cosine together for generated code, branch-free and inlinable, with libm's kernels
 /// and accuracy: [`math::sincos_array`] (several angles, faster than [`libm::sincos`]),
@@ -123,6 +132,8 @@ pub mod invert;
 pub mod math;
 #[cfg(feature = "std")]
 pub mod samples;
+pub mod simulate;
+pub mod trajectory;
 
 pub use articulated_dynamics::scalar::{self, Scalar};
 pub use articulated_dynamics::spatial;
@@ -135,8 +146,14 @@ pub use libm;
 /// Re-exported for generated code and users (the fixed-size vectors and matrices).
 pub use nalgebra;
 
-/// `use articulated::prelude::*;` brings the traits of generated chains into scope.
+/// `use articulated::prelude::*;` brings the traits of generated chains into scope, and what
+/// a simulation needs.
 pub mod prelude {
+    pub use crate::integrate::{
+        ControlledChain, Dopri5, Euler, ImplicitMidpoint, Integrator, Rk4, SecondOrder, State,
+        SymplecticEuler,
+    };
+    pub use crate::simulate::Simulation;
     pub use crate::{
         Bias, Chain, Coordinates, ForwardDynamics, Gravity, InverseDynamics, JointWrenches,
         JointWrenchesBottomUp, MassMatrix, OpCounts, SingularMassMatrix,
