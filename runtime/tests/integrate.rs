@@ -77,13 +77,14 @@ model!(Massless, MASSLESS, {
 });
 
 fn parse(text: &str, name: &str) -> Model {
-    articulated_codegen::lower::parse_chain_str(text, Path::new(name))
+    articulated_codegen::load::parse_chain_str(text, Path::new(name))
         .unwrap_or_else(|e| panic!("{name}: {e}"))
+        .model
 }
 
 fn two_link_model() -> Model {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/two_link.chain");
-    articulated_codegen::lower::load_chain_file(&path).unwrap_or_else(|e| panic!("{e}"))
+    articulated_codegen::load::load_model(&path, false).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn quat(axis: [f64; 3], angle: f64) -> [f64; 4] {
