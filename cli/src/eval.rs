@@ -11,34 +11,7 @@ use articulated_codegen::trace::trace;
 use nalgebra::{DMatrix, DVector};
 use serde_json::Value;
 
-use crate::{Engine, EvalArgs};
-
-/// Parses a comma-separated vector of `len` finite numbers; `what` names it in errors.
-fn parse_vector(text: &str, what: &str, len: usize) -> Result<Vec<f64>, String> {
-    let text = text.trim();
-    let items: Vec<&str> = if text.is_empty() {
-        Vec::new()
-    } else {
-        text.split(',').map(str::trim).collect()
-    };
-    if items.len() != len {
-        return Err(format!(
-            "error: --{what} has {} values, but the model needs {len}",
-            items.len()
-        ));
-    }
-    items
-        .iter()
-        .enumerate()
-        .map(|(i, s)| match s.parse::<f64>() {
-            Ok(x) if x.is_finite() => Ok(x),
-            Ok(x) => Err(format!(
-                "error: --{what}[{i}] is {x}: values must be finite"
-            )),
-            Err(_) => Err(format!("error: --{what}[{i}] = `{s}` is not a number")),
-        })
-        .collect()
-}
+use crate::{parse_vector, Engine, EvalArgs};
 
 fn matrix_rows(m: &DMatrix<f64>) -> Value {
     Value::Array(

@@ -4,6 +4,9 @@
 //! articulated eval models/two_link.chain --q 0.1,0.2,0,0,0.3,0
 //! articulated eval models/two_link.chain --engine symbolic
 //! articulated expand models/two_link.chain > two_link.rs
+//! articulated simulate models/two_link.chain --t-end 5 --dt 0.001 --integrator rk4 \
+//!     --q0 0.1,0,0,0,0,0 --out swing.csv --plot swing.svg
+//! articulated invert models/two_link.chain swing.csv --out couples.csv
 //! ```
 
 use std::io::Write;
@@ -14,6 +17,8 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 mod eval;
 mod expand;
+mod invert;
+mod simulate;
 
 /// Rigid-body dynamics from a chain description (`.chain` or `.urdf`).
 #[derive(Parser, Debug)]
@@ -30,6 +35,12 @@ enum Command {
     /// Print the formatted Rust that `chain!`/`#[derive(Chain)]` would emit for a model, with
     /// each function's operation counts in a header.
     Expand(ExpandArgs),
+    /// Simulate a chain left to itself (τ = 0) from an initial state; write the trajectory as
+    /// CSV (`t,q0,…,v0,…`, one row per step, the initial state included) and optionally a plot.
+    Simulate(SimulateArgs),
+    /// Recover the joint couples behind a sampled motion (the `t` and `q…` columns of a
+    /// trajectory CSV): smoothed derivatives, then inverse dynamics; write `t,tau0,…`.
+    Invert(InvertArgs),
 }
 
 /// Which implementation evaluates the model.
@@ -91,11 +102,106 @@ pub struct ExpandArgs {
     pub outputs: Option<String>,
 }
 
+/// Arguments of `articulated simulate`.
+#[derive(clap::Args, Debug)]
+pub struct SimulateArgs {
+    /// The model: a `.chain` or `.urdf` file.
+    pub model: PathBuf,
+    /// End time (s); the simulation starts at 0.
+    #[arg(long)]
+    pub t_end: f64,
+    /// Time step (s); for `dopri5`, the first step and the spacing of the recorded states.
+    #[arg(long)]
+    pub dt: f64,
+    /// `euler`, `symplectic-euler`, `rk4`, `dopri5` (adaptive, error-controlled) or
+    /// `implicit-midpoint` (long horizons: its energy error stays bounded).
+    #[arg(long, default_value = "rk4")]
+    pub integrator: String,
+    /// Initial positions, comma-separated (default: the neutral configuration).
+    #[arg(long, allow_hyphen_values = true)]
+    pub q0: Option<String>,
+    /// Initial velocities, comma-separated (default: zero).
+    #[arg(long, allow_hyphen_values = true)]
+    pub v0: Option<String>,
+    /// Runtime parameter values in declaration order, comma-separated (default: the file's).
+    #[arg(long, allow_hyphen_values = true)]
+    pub params: Option<String>,
+    /// Put a free base (translation, then Euler angles zyx) under a URDF root.
+    #[arg(long)]
+    pub floating: bool,
+    /// `dopri5`: relative tolerance per component.
+    #[arg(long, default_value_t = 1e-9)]
+    pub rtol: f64,
+    /// `dopri5`: absolute tolerance per component.
+    #[arg(long, default_value_t = 1e-9)]
+    pub atol: f64,
+    /// The trajectory CSV to write (whole or not at all).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// An SVG plot of the positions and the energies against time.
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+}
+
+/// Arguments of `articulated invert`.
+#[derive(clap::Args, Debug)]
+pub struct InvertArgs {
+    /// The model: a `.chain` or `.urdf` file.
+    pub model: PathBuf,
+    /// The sampled motion: a CSV with a header naming `t` and `q0`, `q1`, … (other columns are
+    /// ignored); times strictly increasing, not necessarily uniform.
+    pub trajectory: PathBuf,
+    /// The couples CSV to write (`t,tau0,…`; whole or not at all).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Samples on each side of the differentiation window (Savitzky–Golay).
+    #[arg(long, default_value_t = 5)]
+    pub half_window: usize,
+    /// Degree of the polynomial fitted in each window.
+    #[arg(long, default_value_t = 4)]
+    pub degree: usize,
+    /// Runtime parameter values in declaration order, comma-separated (default: the file's).
+    #[arg(long, allow_hyphen_values = true)]
+    pub params: Option<String>,
+    /// Put a free base (translation, then Euler angles zyx) under a URDF root.
+    #[arg(long)]
+    pub floating: bool,
+}
+
+/// Parses a comma-separated vector of `len` finite numbers; `what` names it in errors.
+pub fn parse_vector(text: &str, what: &str, len: usize) -> Result<Vec<f64>, String> {
+    let text = text.trim();
+    let items: Vec<&str> = if text.is_empty() {
+        Vec::new()
+    } else {
+        text.split(',').map(str::trim).collect()
+    };
+    if items.len() != len {
+        return Err(format!(
+            "error: --{what} has {} values, but the model needs {len}",
+            items.len()
+        ));
+    }
+    items
+        .iter()
+        .enumerate()
+        .map(|(i, s)| match s.parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            Ok(x) => Err(format!(
+                "error: --{what}[{i}] is {x}: values must be finite"
+            )),
+            Err(_) => Err(format!("error: --{what}[{i}] = `{s}` is not a number")),
+        })
+        .collect()
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Eval(args) => eval::run(args),
         Command::Expand(args) => expand::run(args),
+        Command::Simulate(args) => simulate::run(args),
+        Command::Invert(args) => invert::run(args),
     };
     match result {
         Ok(text) => {

@@ -58,3 +58,36 @@ fn report_max_errors() {
     );
     assert!(worst.0 < TOL && worst.1 < TOL && worst.2 < TOL, "{worst:?}");
 }
+
+/// The reference's energies (`½·vᵀ·M·v`; the centres of mass through its spatial transforms)
+/// against the same from Wieber's body Jacobians and centres of mass: `Σ ½·m·|J_t·v|² +
+/// ½·(J_R·v)ᵀ·I·(J_R·v)` and `−Σ m·gᵀ·x`.
+#[test]
+fn energies_match_the_body_jacobians() {
+    for seed in 0..100u64 {
+        let model = random_model(seed, 1 + (seed as usize % 12));
+        let r = Reference::new(&model).unwrap();
+        let (q, v, _) = random_state(&model, seed);
+        let bodies = jacobian::body_jacobians(&model, &[], &q, &v).unwrap();
+        let v_ = nalgebra::DVector::from_column_slice(&v);
+        let g = nalgebra::Vector3::new(0.0, 0.0, -9.81);
+        let (mut kinetic, mut potential, mut scale) = (0.0, 0.0, 0.0f64);
+        for b in &bodies {
+            let (vc, w) = (&b.jt * &v_, &b.jr * &v_);
+            let w = nalgebra::Vector3::new(w[0], w[1], w[2]);
+            kinetic += 0.5 * b.mass * vc.norm_squared() + 0.5 * w.dot(&(b.inertia * w));
+            potential -= b.mass * g.dot(&b.com);
+            scale = scale.max(b.mass * 9.81 * b.com.norm());
+        }
+        let k = r.kinetic_energy(&q, &v).unwrap();
+        assert!(
+            (k - kinetic).abs() <= 1e-12 * kinetic.max(1e-300),
+            "seed {seed}: {k} vs {kinetic}"
+        );
+        let p = r.potential_energy(&q).unwrap();
+        assert!(
+            (p - potential).abs() <= 1e-12 * scale.max(1e-300),
+            "seed {seed}: {p} vs {potential}"
+        );
+    }
+}

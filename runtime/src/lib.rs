@@ -123,13 +123,19 @@ extern crate alloc;
 pub mod configuration;
 pub mod control;
 pub mod differentiate;
+#[cfg(feature = "std")]
+pub mod files;
 mod generated;
 pub mod integrate;
+#[cfg(feature = "alloc")]
+pub mod interpreted;
 pub mod invert;
 /// Sine and cosine together for generated code, branch-free and inlinable, with libm's kernels
 /// and accuracy: [`math::sincos_array`] (several angles, faster than [`libm::sincos`]),
 /// [`math::sincos`] and [`math::sincosf`] (one angle, slower than libm).
 pub mod math;
+#[cfg(feature = "plot")]
+pub mod plot;
 #[cfg(feature = "std")]
 pub mod samples;
 pub mod simulate;

@@ -41,7 +41,7 @@ pub use rnea::{bottom_up, inertial_forces, joint_forces, node_forces, project, r
 pub use tree::{Node, NodeJoint, Tree};
 
 use crate::model::{JointKind, Model, ModelError};
-use crate::spatial::{Force, Vec3};
+use crate::spatial::{Force, Transform, Vec3};
 
 /// What can go wrong in the reference dynamics. No function of [`Reference`] panics.
 #[derive(Debug, Clone, PartialEq)]
@@ -454,6 +454,43 @@ impl Reference {
             }));
         }
         Ok(DVector::from_vec(out.qdd))
+    }
+
+    /// The kinetic energy `½·vᵀ·M(q)·v`.
+    ///
+    /// # Errors
+    /// As [`Reference::mass_matrix`], and for a `v` of the wrong length or not finite.
+    pub fn kinetic_energy(&self, q: &[f64], v: &[f64]) -> Result<f64, Error> {
+        check_vector("v", v, self.nv())?;
+        let m = self.mass_matrix(q)?;
+        let v = DVector::from_column_slice(v);
+        let e = 0.5 * v.dot(&(&m * &v));
+        finite("kinetic_energy", alloc::vec![e]).map(|_| e)
+    }
+
+    /// The potential energy of gravity, `−Σ m_k·gᵀ·x_k` over the bodies' centres of mass `x_k`
+    /// (world frame), zero with every centre of mass at the world origin.
+    ///
+    /// # Errors
+    /// As [`Reference::mass_matrix`].
+    pub fn potential_energy(&self, q: &[f64]) -> Result<f64, Error> {
+        check_q(&self.model, q)?;
+        let x_up = self.tree.x_up(q);
+        let g = self.tree.gravity;
+        // Each node's pose from the world: `e` world → node, `r` its origin in the world.
+        let mut x0: Vec<Transform<f64>> = Vec::with_capacity(self.tree.nodes.len());
+        let mut e = 0.0;
+        for (i, node) in self.tree.nodes.iter().enumerate() {
+            let x = match node.parent {
+                None => x_up[i],
+                Some(p) => x_up[i].after(&x0[p]),
+            };
+            // m·x_com = m·r + Eᵀ·h, with h = m·c the body's first moment in its frame.
+            let moment = x.r.scale(node.inertia.m) + x.e.tr_mul_vec(node.inertia.h);
+            e -= g.dot(moment);
+            x0.push(x);
+        }
+        finite("potential_energy", alloc::vec![e]).map(|_| e)
     }
 
     /// The wrench each model joint transmits at `(q, v, a)`, gravity included, in joint order:

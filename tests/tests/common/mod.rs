@@ -286,25 +286,11 @@ where
     out
 }
 
-/// The generated `C::COORDINATES` against the model's joints, read independently: one entry per
-/// joint with coordinates, in joint order, of the kind its joint needs.
+/// The generated `C::COORDINATES` (the generator's mapping of joint kinds) against the runtime's
+/// `coordinates_of` of the same model (written apart, for chains read at run time), and their
+/// sizes against the reference's.
 pub fn check_coordinates<C: Chain<f64>>(label: &str, r: &Reference) {
-    use articulated::model::JointKind;
-    let expected: Vec<Coordinates> = r
-        .model()
-        .joints
-        .iter()
-        .filter_map(|j| match j.kind {
-            JointKind::Fixed => None,
-            JointKind::SphericalQuaternion => Some(Coordinates::Quaternion),
-            JointKind::FreeQuaternion => Some(Coordinates::FreeQuaternion),
-            JointKind::Revolute { .. } | JointKind::Prismatic { .. } => {
-                Some(Coordinates::Vector(1))
-            }
-            JointKind::SphericalEuler { .. } => Some(Coordinates::Vector(3)),
-            JointKind::FreeEuler { .. } => Some(Coordinates::Vector(6)),
-        })
-        .collect();
+    let expected = articulated::interpreted::coordinates_of(r.model());
     assert_eq!(C::COORDINATES, expected.as_slice(), "{label}: COORDINATES");
     let nq: usize = C::COORDINATES.iter().map(|c| c.nq()).sum();
     let nv: usize = C::COORDINATES.iter().map(|c| c.nv()).sum();

@@ -1,0 +1,143 @@
+//! `articulated simulate`: a chain read from a file, left to itself (`τ = 0`) from an initial
+//! state, stepped by one of the runtime's integrators on the interpreted reference dynamics (the
+//! CLI cannot compile a chain); the trajectory written as CSV and, if asked, plotted.
+
+use std::path::Path;
+
+use articulated::files::write_atomically;
+use articulated::integrate::{Method, State, Stepper};
+use articulated::interpreted::Interpreted;
+use articulated::nalgebra::{DVector, Dyn};
+use articulated::plot::{svg, Panel};
+use articulated::reference::Reference;
+use articulated::simulate::Simulation;
+use articulated::trajectory::Trajectory;
+use articulated_codegen::load::load_model;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::{parse_vector, SimulateArgs};
+
+/// Points per line in the plot: a longer trajectory is thinned to about this many.
+const PLOT_POINTS: usize = 2000;
+
+/// Runs `simulate`; a one-line summary for stdout, or the error message for stderr.
+pub fn run(args: &SimulateArgs) -> Result<String, String> {
+    let model = load_model(&args.model, args.floating).map_err(|e| e.to_string())?;
+    let params = match &args.params {
+        None => model.param_defaults(),
+        Some(p) => parse_vector(p, "params", model.params.len())?,
+    };
+    let reference = Reference::with_params(&model, &params)
+        .map_err(|e| format!("{}: error: {e}", args.model.display()))?;
+    let (nq, nv) = (reference.nq(), reference.nv());
+    let q0 = match &args.q0 {
+        Some(s) => parse_vector(s, "q0", nq)?,
+        None => model.neutral(),
+    };
+    let v0 = match &args.v0 {
+        Some(s) => parse_vector(s, "v0", nv)?,
+        None => vec![0.0; nv],
+    };
+    let method: Method = args
+        .integrator
+        .parse()
+        .map_err(|e| format!("error: --integrator `{}`: {e}", args.integrator))?;
+    let simulation = Simulation::new(0.0, args.t_end, args.dt);
+    let steps = simulation.steps().map_err(|_| {
+        format!(
+            "error: --t-end {} and --dt {} give no time grid: both must be finite, dt positive \
+             and t-end at least 0",
+            args.t_end, args.dt
+        )
+    })?;
+    let mut system = Interpreted::unforced(reference);
+    let mut stepper = Stepper::new(method, args.rtol, args.atol);
+    let mut trajectory = Trajectory::new();
+    let bar = progress_bar(steps);
+    let initial = State::new(0.0, DVector::from_vec(q0), DVector::from_vec(v0));
+    simulation
+        .record(
+            &mut system,
+            &mut stepper,
+            initial,
+            &mut trajectory,
+            |k, _| {
+                if k % 64 == 0 {
+                    bar.set_position(k as u64);
+                }
+            },
+        )
+        .map_err(|fault| {
+            bar.abandon();
+            format!(
+                "error: the simulation stopped: {fault}; nothing was written to {}",
+                args.out.display()
+            )
+        })?;
+    bar.finish_and_clear();
+
+    let mut csv = Vec::new();
+    trajectory
+        .write_csv(&mut csv, nq, nv)
+        .map_err(|e| format!("error: {e}"))?;
+    write_atomically(&args.out, &csv).map_err(|e| format!("{}: error: {e}", args.out.display()))?;
+    if let Some(plot) = &args.plot {
+        let figure = figure(system.reference(), &trajectory, &args.model)?;
+        write_atomically(plot, figure.as_bytes())
+            .map_err(|e| format!("{}: error: {e}", plot.display()))?;
+    }
+    let last = trajectory.states().last().map_or(0.0, |s| s.t);
+    Ok(format!(
+        "{} states from t = 0 to {last} s by {method} written to {}",
+        trajectory.len(),
+        args.out.display()
+    ))
+}
+
+/// A bar on stderr for long runs; hidden when stderr is not a terminal.
+fn progress_bar(steps: usize) -> ProgressBar {
+    let bar = ProgressBar::new(steps as u64);
+    if let Ok(style) =
+        ProgressStyle::with_template("{bar:40} {pos}/{len} steps, {elapsed} elapsed, {eta} left")
+    {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// The joint coordinates and the energies against time.
+fn figure(
+    reference: &Reference,
+    trajectory: &Trajectory<f64, Dyn, Dyn>,
+    model: &Path,
+) -> Result<String, String> {
+    let states = trajectory.states();
+    let stride = states.len().div_ceil(PLOT_POINTS).max(1);
+    let kept: Vec<_> = states.iter().step_by(stride).collect();
+    let name = model.display();
+    let mut positions = Panel::new(&format!("{name}: positions"), "t (s)", "q");
+    for i in 0..reference.nq() {
+        positions = positions.with(
+            &format!("q{i}"),
+            kept.iter().map(|s| (s.t, s.q[i])).collect(),
+        );
+    }
+    let energy = |s: &State<f64, Dyn, Dyn>| -> Result<(f64, f64), String> {
+        let kinetic = reference.kinetic_energy(s.q.as_slice(), s.v.as_slice());
+        let potential = reference.potential_energy(s.q.as_slice());
+        match (kinetic, potential) {
+            (Ok(k), Ok(p)) => Ok((k, p)),
+            (Err(e), _) | (_, Err(e)) => Err(format!("error: energy at t = {}: {e}", s.t)),
+        }
+    };
+    let energies = kept
+        .iter()
+        .map(|s| energy(s).map(|e| (s.t, e)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let series = |f: fn((f64, f64)) -> f64| energies.iter().map(|&(t, e)| (t, f(e))).collect();
+    let energy_panel = Panel::new(&format!("{name}: energy"), "t (s)", "energy (J)")
+        .with("kinetic", series(|(k, _)| k))
+        .with("potential", series(|(_, p)| p))
+        .with("total", series(|(k, p)| k + p));
+    svg(&[positions, energy_panel], 900, 360).map_err(|e| format!("error: {e}"))
+}
