@@ -62,6 +62,43 @@ fn ldl_solve<T: Scalar>(f: &[[T; 6]; 6], n: usize, b: [T; 6]) -> [T; 6] {
     x
 }
 
+/// What a node hands its parent (RBDA eqs. 7.34–7.37 for multi-axis joints): the articulated
+/// inertia `I^a = I^A − U·D⁻¹·Uᵀ` and `U·D⁻¹·u`, from the node's `I^A`, the columns of `U`, the
+/// factor of `D` ([`ldl`]) and `u`, for `n` motion axes.
+fn handed_on<T: Scalar>(
+    ia: &Mat6<T>,
+    u_cols: &[Force<T>; 6],
+    d: &[[T; 6]; 6],
+    u: [T; 6],
+    n: usize,
+) -> (Mat6<T>, Force<T>) {
+    let mut i_a = *ia;
+    let mut ud_u = Force::zero();
+    // Rows of D⁻¹·Uᵀ: solve D·Y = Uᵀ column by column (6 right-hand sides).
+    let mut dinv_ut = [[T::zero(); 6]; 6]; // dinv_ut[k][col]
+    for col in 0..6 {
+        let mut b = [T::zero(); 6];
+        for k in 0..n {
+            b[k] = u_cols[k].to_array()[col];
+        }
+        let y = ldl_solve(d, n, b);
+        for k in 0..n {
+            dinv_ut[k][col] = y[k];
+        }
+    }
+    let dinv_u = ldl_solve(d, n, u);
+    for k in 0..n {
+        let uk = u_cols[k].to_array();
+        for r in 0..6 {
+            for col in 0..6 {
+                i_a.0[r][col] = i_a.0[r][col] - uk[r] * dinv_ut[k][col];
+            }
+        }
+        ud_u = ud_u + u_cols[k].scale(dinv_u[k]);
+    }
+    (i_a, ud_u)
+}
+
 /// Forward dynamics by the articulated-body algorithm (RBDA Table 7.1, with multi-DOF joints as
 /// in RBDA §7.3: `U_i = I_i^A·S_i`, `D_i = S_iᵀ·U_i`, `u_i = τ_i − S_iᵀ·p_i^A`).
 ///
@@ -138,31 +175,7 @@ pub fn aba<T: Scalar>(
         }
         d_fac[i] = d;
         if let Some(p) = node.parent {
-            // I^a = I^A − U·D⁻¹·Uᵀ and U·D⁻¹·u.
-            let mut i_a = ia[i];
-            let mut ud_u = Force::zero();
-            // Rows of D⁻¹·Uᵀ: solve D·Y = Uᵀ column by column (6 right-hand sides).
-            let mut dinv_ut = [[T::zero(); 6]; 6]; // dinv_ut[k][col]
-            for col in 0..6 {
-                let mut b = [T::zero(); 6];
-                for k in 0..n {
-                    b[k] = u_cols[i][k].to_array()[col];
-                }
-                let y = ldl_solve(&d, n, b);
-                for k in 0..n {
-                    dinv_ut[k][col] = y[k];
-                }
-            }
-            let dinv_u = ldl_solve(&d, n, u_vec[i]);
-            for k in 0..n {
-                let uk = u_cols[i][k].to_array();
-                for r in 0..6 {
-                    for col in 0..6 {
-                        i_a.0[r][col] = i_a.0[r][col] - uk[r] * dinv_ut[k][col];
-                    }
-                }
-                ud_u = ud_u + u_cols[i][k].scale(dinv_u[k]);
-            }
+            let (i_a, ud_u) = handed_on(&ia[i], &u_cols[i], &d, u_vec[i], n);
             let i_a = i_a.label_symmetric(format_args!("{name}_ia"));
             let p_a = (pa[i] + i_a.mul_motion(c[i]) + ud_u)
                 .label(format_args!("{name}_pa_n"), format_args!("{name}_pa_f"));

@@ -103,172 +103,153 @@ pub fn body_jacobians(
     check_model(model, params)?;
     check_q(model, q)?;
     check_vector("v", v, model.nv())?;
-    let nv = model.nv();
-    let val = |x: &crate::model::Value| x.get(params);
+    let world = Frame {
+        r: Matrix3::identity(),
+        o: Vector3::zeros(),
+        w: Vector3::zeros(),
+        o_dot: Vector3::zeros(),
+        columns: Vec::new(),
+    };
     let mut frames: Vec<Frame> = Vec::with_capacity(model.nb());
     let mut out = Vec::with_capacity(model.nb());
     let (mut qa, mut va) = (0, 0);
     for (joint, body) in model.joints.iter().zip(&model.bodies) {
-        let world = Frame {
-            r: Matrix3::identity(),
-            o: Vector3::zeros(),
-            w: Vector3::zeros(),
-            o_dot: Vector3::zeros(),
-            columns: Vec::new(),
-        };
-        let p = match joint.parent {
-            Some(b) => &frames[b],
-            None => &world,
-        };
-        let pl = &joint.placement;
-        let rpy = pl.rpy.map(|x| val(&x));
-        let r_place = rot(unit(2), rpy[2]) * rot(unit(1), rpy[1]) * rot(unit(0), rpy[0]);
-        let xyz = Vector3::from(pl.xyz.map(|x| val(&x)));
-        // The joint frame: fixed in the parent.
-        let r_j = p.r * r_place;
-        let o_j = p.o + p.r * xyz;
-        let o_j_dot = p.o_dot + p.w.cross(&(o_j - p.o));
-        let mut columns = p.columns.clone();
+        let parent = joint.parent.map_or(&world, |b| &frames[b]);
         let qj = &q[qa..qa + joint.kind.nq()];
         let vj = &v[va..va + joint.kind.nv()];
-        // Euler angles about the moving axes: each axis is carried by the frame before its turn.
-        let euler = |axes: [crate::model::Axis; 3],
-                     angles: &[f64],
-                     rates: &[f64],
-                     first: usize,
-                     mut r: Matrix3<f64>,
-                     mut w: Vector3<f64>,
-                     pivot: (Vector3<f64>, Vector3<f64>),
-                     columns: &mut Vec<Column>| {
-            for k in 0..3 {
-                let a = Vector3::from(axes[k].unit());
-                let u = r * a;
-                columns.push(Column {
-                    index: first + k,
-                    u,
-                    u_dot: w.cross(&u),
-                    pivot: Some(pivot),
-                });
-                r *= rot(a, angles[k]);
-                w += u * rates[k];
-            }
-            (r, w)
-        };
-        let (r, o, w, o_dot) = match joint.kind {
-            JointKind::Revolute { axis } => {
-                let u = r_j * Vector3::from(axis);
-                columns.push(Column {
-                    index: va,
-                    u,
-                    u_dot: p.w.cross(&u),
-                    pivot: Some((o_j, o_j_dot)),
-                });
-                (
-                    r_j * rot(Vector3::from(axis), qj[0]),
-                    o_j,
-                    p.w + u * vj[0],
-                    o_j_dot,
-                )
-            }
-            JointKind::Prismatic { axis } => {
-                let u = r_j * Vector3::from(axis);
-                columns.push(Column {
-                    index: va,
-                    u,
-                    u_dot: p.w.cross(&u),
-                    pivot: None,
-                });
-                let d = u * qj[0];
-                (r_j, o_j + d, p.w, o_j_dot + p.w.cross(&d) + u * vj[0])
-            }
-            JointKind::SphericalEuler { seq } => {
-                let (r, w) = euler(seq.0, qj, vj, va, r_j, p.w, (o_j, o_j_dot), &mut columns);
-                (r, o_j, w, o_j_dot)
-            }
-            JointKind::SphericalQuaternion => {
-                let rq =
-                    UnitQuaternion::from_quaternion(Quaternion::new(qj[0], qj[1], qj[2], qj[3]));
-                let r = r_j * rq.to_rotation_matrix().into_inner();
-                let w = p.w + r * Vector3::new(vj[0], vj[1], vj[2]);
-                for k in 0..3 {
-                    let u = r * unit(k);
-                    columns.push(Column {
-                        index: va + k,
-                        u,
-                        u_dot: w.cross(&u),
-                        pivot: Some((o_j, o_j_dot)),
-                    });
-                }
-                (r, o_j, w, o_j_dot)
-            }
-            JointKind::FreeEuler { seq } => {
-                let d = r_j * Vector3::new(qj[0], qj[1], qj[2]);
-                let o = o_j + d;
-                let mut o_dot = o_j_dot + p.w.cross(&d);
-                for k in 0..3 {
-                    let u = r_j * unit(k);
-                    o_dot += u * vj[k];
-                    columns.push(Column {
-                        index: va + k,
-                        u,
-                        u_dot: p.w.cross(&u),
-                        pivot: None,
-                    });
-                }
-                let (r, w) = euler(
-                    seq.0,
-                    &qj[3..],
-                    &vj[3..],
-                    va + 3,
-                    r_j,
-                    p.w,
-                    (o, o_dot),
-                    &mut columns,
-                );
-                (r, o, w, o_dot)
-            }
-            JointKind::FreeQuaternion => {
-                let d = r_j * Vector3::new(qj[0], qj[1], qj[2]);
-                let o = o_j + d;
-                let rq =
-                    UnitQuaternion::from_quaternion(Quaternion::new(qj[3], qj[4], qj[5], qj[6]));
-                let r = r_j * rq.to_rotation_matrix().into_inner();
-                let w = p.w + r * Vector3::new(vj[3], vj[4], vj[5]);
-                let o_dot = o_j_dot + p.w.cross(&d) + r * Vector3::new(vj[0], vj[1], vj[2]);
-                for k in 0..3 {
-                    let u = r * unit(k);
-                    columns.push(Column {
-                        index: va + k,
-                        u,
-                        u_dot: w.cross(&u),
-                        pivot: None,
-                    });
-                }
-                for k in 0..3 {
-                    let u = r * unit(k);
-                    columns.push(Column {
-                        index: va + 3 + k,
-                        u,
-                        u_dot: w.cross(&u),
-                        pivot: Some((o, o_dot)),
-                    });
-                }
-                (r, o, w, o_dot)
-            }
-            JointKind::Fixed => (r_j, o_j, p.w, o_j_dot),
-        };
+        let frame = joint_frame(parent, &joint.placement, params).moved(joint.kind, qj, vj, va);
         qa += joint.kind.nq();
         va += joint.kind.nv();
+        out.push(frame.jacobians(body, model.nv(), params));
+        frames.push(frame);
+    }
+    Ok(out)
+}
 
-        // The body's centre of mass and its Jacobians.
+/// The joint frame: the parent's frame moved by the placement, fixed in the parent.
+fn joint_frame(p: &Frame, placement: &crate::model::Placement, params: &[f64]) -> Frame {
+    let rpy = placement.rpy.map(|x| x.get(params));
+    let r_place = rot(unit(2), rpy[2]) * rot(unit(1), rpy[1]) * rot(unit(0), rpy[0]);
+    let xyz = Vector3::from(placement.xyz.map(|x| x.get(params)));
+    let o = p.o + p.r * xyz;
+    Frame {
+        r: p.r * r_place,
+        o,
+        w: p.w,
+        o_dot: p.o_dot + p.w.cross(&(o - p.o)),
+        columns: p.columns.clone(),
+    }
+}
+
+impl Frame {
+    /// Adds the column of a motion about or along `u` (world), carried by a frame turning at
+    /// `w`, about the pivot `(o, ȯ)` for a rotation.
+    fn push(&mut self, index: usize, u: Vector3<f64>, w: Vector3<f64>, pivot: bool) {
+        self.columns.push(Column {
+            index,
+            u,
+            u_dot: w.cross(&u),
+            pivot: pivot.then_some((self.o, self.o_dot)),
+        });
+    }
+
+    /// Turns through Euler angles about the moving axes: each axis is carried by the frame
+    /// before its turn.
+    fn euler(
+        &mut self,
+        axes: [crate::model::Axis; 3],
+        angles: &[f64],
+        rates: &[f64],
+        first: usize,
+    ) {
+        for k in 0..3 {
+            let a = Vector3::from(axes[k].unit());
+            let u = self.r * a;
+            self.push(first + k, u, self.w, true);
+            self.r *= rot(a, angles[k]);
+            self.w += u * rates[k];
+        }
+    }
+
+    /// Translates by `d` (world) at the rate `d_dot` relative to the frame's own turning.
+    fn translate(&mut self, d: Vector3<f64>, d_dot: Vector3<f64>) {
+        self.o += d;
+        self.o_dot += self.w.cross(&d) + d_dot;
+    }
+
+    /// Turns by the quaternion `[w, x, y, z]` with the body angular velocity `omega`.
+    fn turn(&mut self, quaternion: &[f64], omega: &[f64]) {
+        let rq = UnitQuaternion::from_quaternion(Quaternion::new(
+            quaternion[0],
+            quaternion[1],
+            quaternion[2],
+            quaternion[3],
+        ));
+        self.r *= rq.to_rotation_matrix().into_inner();
+        self.w += self.r * Vector3::new(omega[0], omega[1], omega[2]);
+    }
+
+    /// The joint frame moved by joint `kind` through `(qj, vj)` (its velocities from index
+    /// `va`): the child's frame, its columns added.
+    fn moved(mut self, kind: JointKind, qj: &[f64], vj: &[f64], va: usize) -> Frame {
+        let parent_w = self.w;
+        match kind {
+            JointKind::Revolute { axis } => {
+                let u = self.r * Vector3::from(axis);
+                self.push(va, u, parent_w, true);
+                self.r *= rot(Vector3::from(axis), qj[0]);
+                self.w += u * vj[0];
+            }
+            JointKind::Prismatic { axis } => {
+                let u = self.r * Vector3::from(axis);
+                self.push(va, u, parent_w, false);
+                self.translate(u * qj[0], u * vj[0]);
+            }
+            JointKind::SphericalEuler { seq } => self.euler(seq.0, qj, vj, va),
+            JointKind::SphericalQuaternion => {
+                self.turn(qj, vj);
+                for k in 0..3 {
+                    self.push(va + k, self.r * unit(k), self.w, true);
+                }
+            }
+            JointKind::FreeEuler { seq } => {
+                let r_j = self.r;
+                self.translate(
+                    r_j * Vector3::new(qj[0], qj[1], qj[2]),
+                    r_j * Vector3::new(vj[0], vj[1], vj[2]),
+                );
+                for k in 0..3 {
+                    self.push(va + k, r_j * unit(k), parent_w, false);
+                }
+                self.euler(seq.0, &qj[3..], &vj[3..], va + 3);
+            }
+            JointKind::FreeQuaternion => {
+                // The position is in the joint frame, the linear velocity in the child's.
+                let d = self.r * Vector3::new(qj[0], qj[1], qj[2]);
+                self.translate(d, Vector3::zeros());
+                self.turn(&qj[3..], &vj[3..]);
+                self.o_dot += self.r * Vector3::new(vj[0], vj[1], vj[2]);
+                for (k, pivot) in (0..6).map(|k| (k, k >= 3)) {
+                    self.push(va + k, self.r * unit(k % 3), self.w, pivot);
+                }
+            }
+            JointKind::Fixed => {}
+        }
+        self
+    }
+
+    /// A body's centre of mass and its Jacobians in this frame.
+    fn jacobians(&self, body: &crate::model::Body, nv: usize, params: &[f64]) -> BodyJacobians {
+        let val = |x: &crate::model::Value| x.get(params);
+        let (r, o, w) = (self.r, self.o, self.w);
         let c = r * Vector3::from(body.com.map(|x| val(&x)));
         let x = o + c;
-        let x_dot = o_dot + w.cross(&c);
+        let x_dot = self.o_dot + w.cross(&c);
         let mut jt = DMatrix::zeros(3, nv);
         let mut jr = DMatrix::zeros(3, nv);
         let mut jt_dot = DMatrix::zeros(3, nv);
         let mut jr_dot = DMatrix::zeros(3, nv);
-        for col in &columns {
+        for col in &self.columns {
             let (t, t_dot, a, a_dot) = match col.pivot {
                 Some((po, po_dot)) => (
                     col.u.cross(&(x - po)),
@@ -283,7 +264,7 @@ pub fn body_jacobians(
             jr.set_column(col.index, &a);
             jr_dot.set_column(col.index, &a_dot);
         }
-        out.push(BodyJacobians {
+        BodyJacobians {
             jt,
             jr,
             jt_dot,
@@ -293,16 +274,8 @@ pub fn body_jacobians(
             rotation: r,
             mass: val(&body.mass),
             inertia: Matrix3::from_fn(|i, j| val(&body.inertia[i][j])),
-        });
-        frames.push(Frame {
-            r,
-            o,
-            w,
-            o_dot,
-            columns,
-        });
+        }
     }
-    Ok(out)
 }
 
 /// `M`, `N` and `𝓕_g` by Wieber 2005, eqs. 6, 7 and 8, at `(q, v)`.
