@@ -109,7 +109,9 @@ pub fn is_vector_space(coords: &[Coordinates]) -> bool {
     coords.iter().all(|c| matches!(c, Coordinates::Vector(_)))
 }
 
-fn k<T: RealField + Copy>(x: f64) -> T {
+/// `T` from an `f64` constant.
+#[inline(always)]
+pub(crate) fn k<T: RealField + Copy>(x: f64) -> T {
     nalgebra::convert(x)
 }
 

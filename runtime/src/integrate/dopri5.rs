@@ -3,10 +3,7 @@
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector, RealField, Scalar};
 
-use super::{
-    begin, evaluate, k, local_velocity, retract, zeros_like, Cause, Fault, Integrator, SecondOrder,
-    State,
-};
+use super::{k, zeros_like, Cause, Fault, Integrator, SecondOrder, State, Step};
 use crate::Coordinates;
 
 /// Dormand & Prince (1980), "A family of embedded Runge–Kutta formulae", J. Comput. Appl.
@@ -58,9 +55,19 @@ const E: [f64; 7] = [
 /// The state at the end of the last accepted step and its acceleration (FSAL).
 type Kept<T, Q, V> = (State<T, Q, V>, OVector<T, V>);
 
+/// A stage's position and velocity `(q_n ⊕ θ, v)`.
+type Point<T, Q, V> = (OVector<T, Q>, OVector<T, V>);
+
 /// The seven stages' slopes `kθ` and `kv`, kept between calls so that a step does not set
 /// them up anew.
-type Slopes<T, V> = ([OVector<T, V>; 7], [OVector<T, V>; 7]);
+#[derive(Clone, Debug)]
+struct Stages<T: Scalar, V: Dim>
+where
+    DefaultAllocator: Allocator<V>,
+{
+    kq: [OVector<T, V>; 7],
+    kv: [OVector<T, V>; 7],
+}
 
 /// Counters of a [`Dopri5`] since it was made (or [`Dopri5::reset`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -127,7 +134,7 @@ where
     pub max_steps: usize,
     next_step: Option<T>,
     fsal: Option<Kept<T, Q, V>>,
-    slopes: Option<Slopes<T, V>>,
+    stages: Option<Stages<T, V>>,
     stats: Dopri5Stats,
 }
 
@@ -149,7 +156,7 @@ where
             max_steps: 1_000_000,
             next_step: None,
             fsal: None,
-            slopes: None,
+            stages: None,
             stats: Dopri5Stats::default(),
         }
     }
@@ -172,52 +179,102 @@ where
     }
 }
 
-/// `x += h·Σ_j c_j·kθ_j` and `w += h·Σ_j c_j·kv_j` over the first `c.len()` slopes, in one
-/// pass (zero weights skipped).
-#[inline(always)]
-fn accumulate<T, V>(
-    h: T,
-    c: &[f64],
-    kq: &[OVector<T, V>],
-    kv: &[OVector<T, V>],
-    x: &mut [T],
-    w: &mut [T],
-) where
-    T: RealField + Copy,
-    V: Dim,
+impl<T: RealField + Copy, V: Dim> Stages<T, V>
+where
     DefaultAllocator: Allocator<V>,
 {
-    for ((cj, qj), vj) in c.iter().zip(kq).zip(kv) {
-        if *cj != 0.0 {
-            let s = h * k(*cj);
-            let pairs = qj.as_slice().iter().zip(vj.as_slice());
-            for ((x, w), (a, b)) in x.iter_mut().zip(w.iter_mut()).zip(pairs) {
-                *x += s * *a;
-                *w += s * *b;
+    /// Zero slopes shaped like `v`.
+    fn new(v: &OVector<T, V>) -> Self {
+        Stages {
+            kq: core::array::from_fn(|_| zeros_like(v)),
+            kv: core::array::from_fn(|_| zeros_like(v)),
+        }
+    }
+
+    /// `x += h·Σ_j c_j·kθ_j` and `w += h·Σ_j c_j·kv_j` over the first `c.len()` stages, in one
+    /// pass (zero weights skipped).
+    #[inline(always)]
+    fn accumulate(&self, h: T, c: &[f64], x: &mut [T], w: &mut [T]) {
+        for ((cj, qj), vj) in c.iter().zip(&self.kq).zip(&self.kv) {
+            if *cj != 0.0 {
+                let s = h * k(*cj);
+                let pairs = qj.as_slice().iter().zip(vj.as_slice());
+                for ((x, w), (a, b)) in x.iter_mut().zip(w.iter_mut()).zip(pairs) {
+                    *x += s * *a;
+                    *w += s * *b;
+                }
             }
         }
     }
-}
 
-/// `(h·Σ_j c_j·kθ_j, v + h·Σ_j c_j·kv_j)`: a stage's local coordinates and velocity, or with
-/// `v = 0` the error estimate.
-#[inline(always)]
-fn combine<T, V>(
-    h: T,
-    c: &[f64],
-    kq: &[OVector<T, V>],
-    kv: &[OVector<T, V>],
-    v: &OVector<T, V>,
-) -> (OVector<T, V>, OVector<T, V>)
-where
-    T: RealField + Copy,
-    V: Dim,
-    DefaultAllocator: Allocator<V>,
-{
-    let mut theta = zeros_like(v);
-    let mut vel = v.clone();
-    accumulate(h, c, kq, kv, theta.as_mut_slice(), vel.as_mut_slice());
-    (theta, vel)
+    /// `(h·Σ_j c_j·kθ_j, v + h·Σ_j c_j·kv_j)`: a stage's local coordinates and velocity, or with
+    /// `v = 0` the error estimate.
+    #[inline(always)]
+    fn combine(&self, h: T, c: &[f64], v: &OVector<T, V>) -> (OVector<T, V>, OVector<T, V>) {
+        let mut theta = zeros_like(v);
+        let mut vel = v.clone();
+        self.accumulate(h, c, theta.as_mut_slice(), vel.as_mut_slice());
+        (theta, vel)
+    }
+
+    /// Stages 2 to 7 of a step of size `h` from `cur`, whose slopes are stage 1's, written out
+    /// so that each one's weights are constants. The seventh stage is at the new state (its
+    /// weights are `b`): returns it.
+    #[inline(always)]
+    fn run<Q, S>(
+        &mut self,
+        s: &mut Step<'_, T, Q, V, S>,
+        cur: &State<T, Q, V>,
+        h: T,
+        evaluations: &mut usize,
+    ) -> Result<Point<T, Q, V>, Fault<T>>
+    where
+        Q: Dim,
+        S: SecondOrder<T, Q, V> + ?Sized,
+        DefaultAllocator: Allocator<Q>,
+    {
+        let vs = s.vector_space();
+        // Stage `i`: its state `(q_n ⊕ θ_i, v_i)`, with `kθ_i` (not in a vector space) and
+        // `kv_i` set.
+        macro_rules! stage {
+            ($i:literal) => {{
+                let ti = cur.t + h * k(C[$i]);
+                let (qi, vel) = if vs {
+                    // q ⊕ θ = q + θ: sum straight into q.
+                    let (mut qi, mut vel) = (cur.q.clone(), cur.v.clone());
+                    let (x, w) = (qi.as_mut_slice(), vel.as_mut_slice());
+                    self.accumulate(h, &A[$i][..$i], x, w);
+                    (qi, vel)
+                } else {
+                    let (theta, vel) = self.combine(h, &A[$i][..$i], &cur.v);
+                    self.kq[$i] = s.local_velocity(&theta, &vel);
+                    (s.retract(&cur.q, &theta), vel)
+                };
+                *evaluations += 1;
+                self.kv[$i] = s.evaluate(ti, &qi, &vel)?;
+                (qi, vel)
+            }};
+        }
+        // In a vector space θ̇ = v: a stage's slope is its velocity.
+        macro_rules! inner {
+            ($i:literal) => {{
+                let (_, vel) = stage!($i);
+                if vs {
+                    self.kq[$i] = vel;
+                }
+            }};
+        }
+        inner!(1);
+        inner!(2);
+        inner!(3);
+        inner!(4);
+        inner!(5);
+        let (q_new, v_new) = stage!(6);
+        if vs {
+            self.kq[6].clone_from(&v_new);
+        }
+        Ok((q_new, v_new))
+    }
 }
 
 /// The RMS error norm of the module's tolerance model.
@@ -290,6 +347,22 @@ where
     (sum / k(2.0 * nv as f64)).sqrt()
 }
 
+impl<T: RealField + Copy, Q: Dim, V: Dim> Dopri5<T, Q, V>
+where
+    DefaultAllocator: Allocator<Q> + Allocator<V>,
+{
+    /// Keeps the state reached and its acceleration for the next call (FSAL).
+    fn keep(&mut self, cur: &State<T, Q, V>, a0: OVector<T, V>) {
+        match &mut self.fsal {
+            Some((s, a)) => {
+                s.clone_from(cur);
+                a.clone_from(&a0);
+            }
+            None => self.fsal = Some((cur.clone(), a0)),
+        }
+    }
+}
+
 impl<T: RealField + Copy, Q: Dim, V: Dim> Integrator<T, Q, V> for Dopri5<T, Q, V>
 where
     DefaultAllocator: Allocator<Q> + Allocator<V>,
@@ -301,14 +374,13 @@ where
         t_to: T,
         step: usize,
     ) -> Result<(), Fault<T>> {
-        let at = |t| move |cause| Fault { t, step, cause };
-        let (_, vs) = begin(system, state, t_to, false).map_err(at(state.t))?;
+        let (mut s, _) = Step::begin(system, state, t_to, step, false)?;
         let mut cur = state.clone();
         let mut a0 = match &self.fsal {
-            Some((s, a)) if s == state => a.clone(),
+            Some((kept, a)) if kept == state => a.clone(),
             _ => {
                 self.stats.evaluations += 1;
-                evaluate(system, cur.t, &cur.q, &cur.v).map_err(at(cur.t))?
+                s.evaluate(cur.t, &cur.q, &cur.v)?
             }
         };
         let mut h = self
@@ -319,15 +391,10 @@ where
         let mut after_reject = false;
         let mut steps = 0;
         // Sizes fixed at compile time always fit; a run-time size may have changed.
-        if !matches!(&self.slopes, Some((kq, _)) if kq[0].len() == cur.v.len()) {
-            self.slopes = None;
+        if !matches!(&self.stages, Some(st) if st.kq[0].len() == cur.v.len()) {
+            self.stages = None;
         }
-        let (kq, kv) = self.slopes.get_or_insert_with(|| {
-            (
-                core::array::from_fn(|_| zeros_like(&cur.v)),
-                core::array::from_fn(|_| zeros_like(&cur.v)),
-            )
-        });
+        let stages = self.stages.get_or_insert_with(|| Stages::new(&cur.v));
         let result = loop {
             let remaining = t_to - cur.t;
             if remaining <= T::zero() {
@@ -339,79 +406,30 @@ where
             let floor = self
                 .min_step
                 .max(T::default_epsilon() * k(4.0) * cur.t.abs());
+            let fault = s.at(cur.t);
             if !clipped && h_try < floor {
-                break Err(Fault {
-                    t: cur.t,
-                    step,
-                    cause: Cause::StepUnderflow {
-                        step: h_try,
-                        min: floor,
-                    },
-                });
+                break Err(fault(Cause::StepUnderflow {
+                    step: h_try,
+                    min: floor,
+                }));
             }
             steps += 1;
             if steps > self.max_steps {
-                break Err(Fault {
-                    t: cur.t,
-                    step,
-                    cause: Cause::TooManySteps {
-                        max_steps: self.max_steps,
-                    },
-                });
+                break Err(fault(Cause::TooManySteps {
+                    max_steps: self.max_steps,
+                }));
             }
-            kq[0] = cur.v.clone();
-            kv[0] = a0.clone();
-            // The seventh stage is at the new state (its weights are b): keep it.
-            let (mut q_new, mut v_new) = (cur.q.clone(), cur.v.clone());
-            // Stages 2 to 7, written out so that each one's weights are constants.
-            macro_rules! stage {
-                ($out:lifetime, $i:literal) => {{
-                    let ti = cur.t + h_try * k(C[$i]);
-                    let (qi, vel) = if vs {
-                        // q ⊕ θ = q + θ: sum straight into q.
-                        let (mut qi, mut vel) = (cur.q.clone(), cur.v.clone());
-                        let (x, w) = (qi.as_mut_slice(), vel.as_mut_slice());
-                        accumulate(h_try, &A[$i][..$i], &kq[..$i], &kv[..$i], x, w);
-                        (qi, vel)
-                    } else {
-                        let (theta, vel) =
-                            combine(h_try, &A[$i][..$i], &kq[..$i], &kv[..$i], &cur.v);
-                        let coords = system.coordinates();
-                        kq[$i] = local_velocity(coords, vs, &theta, &vel);
-                        (retract(coords, vs, &cur.q, &theta), vel)
-                    };
-                    self.stats.evaluations += 1;
-                    match evaluate(system, ti, &qi, &vel) {
-                        Ok(a) => kv[$i] = a,
-                        Err(cause) => break $out Some(Fault { t: ti, step, cause }),
-                    }
-                    // In a vector space θ̇ = v: the stage's slope is its velocity.
-                    if $i == 6 {
-                        if vs {
-                            kq[$i].clone_from(&vel);
-                        }
-                        (q_new, v_new) = (qi, vel);
-                    } else if vs {
-                        kq[$i] = vel;
-                    }
-                }};
-            }
-            let failed = 'stages: {
-                stage!('stages, 1);
-                stage!('stages, 2);
-                stage!('stages, 3);
-                stage!('stages, 4);
-                stage!('stages, 5);
-                stage!('stages, 6);
-                None
+            stages.kq[0] = cur.v.clone();
+            stages.kv[0] = a0.clone();
+            let (q_new, v_new) = match stages.run(&mut s, &cur, h_try, &mut self.stats.evaluations)
+            {
+                Ok(new) => new,
+                Err(f) => break Err(f),
             };
-            if let Some(f) = failed {
-                break Err(f);
-            }
-            let (err_theta, err_v) = combine(h_try, &E, &kq[..], &kv[..], &zeros_like(&cur.v));
+            let (err_theta, err_v) = stages.combine(h_try, &E, &zeros_like(&cur.v));
             let err = error_norm(
-                system.coordinates(),
-                vs,
+                s.coordinates(),
+                s.vector_space(),
                 self.rtol,
                 self.atol,
                 (&cur.q, &cur.v),
@@ -437,7 +455,7 @@ where
                 cur.t = if clipped { t_to } else { cur.t + h_try };
                 cur.q = q_new;
                 cur.v = v_new;
-                a0 = kv[6].clone();
+                a0 = stages.kv[6].clone();
             } else {
                 // A non-finite error estimate (NaN compares false above) shrinks the most.
                 self.stats.rejected += 1;
@@ -451,13 +469,7 @@ where
             }
         };
         self.next_step = Some(h);
-        match &mut self.fsal {
-            Some((s, a)) => {
-                s.clone_from(&cur);
-                a.clone_from(&a0);
-            }
-            None => self.fsal = Some((cur.clone(), a0)),
-        }
+        self.keep(&cur, a0);
         *state = cur;
         result
     }

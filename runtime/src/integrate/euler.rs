@@ -3,7 +3,7 @@
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, RealField};
 
-use super::{begin, commit, evaluate, retract, scaled, Fault, Integrator, SecondOrder, State};
+use super::{scaled, Fault, Integrator, SecondOrder, State, Step};
 
 /// Explicit Euler: `v̇_n = a(t_n, q_n, v_n)`, `q_{n+1} = q_n ⊕ h·v_n`, `v_{n+1} = v_n + h·v̇_n`.
 /// Order 1, one evaluation per step. On quaternion joints this is the Lie–Euler method
@@ -19,6 +19,30 @@ pub struct Euler;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SymplecticEuler;
 
+/// One step of either method: `v_{n+1} = v_n + h·a(t_n, q_n, v_n)` and `q_{n+1} = q_n ⊕ h·v`
+/// with `v = v_n` ([`Euler`]) or `v = v_{n+1}` ([`SymplecticEuler`], `symplectic`).
+#[inline(always)]
+fn euler<T, Q, V, S>(
+    symplectic: bool,
+    system: &mut S,
+    state: &mut State<T, Q, V>,
+    t_to: T,
+    step: usize,
+) -> Result<(), Fault<T>>
+where
+    T: RealField + Copy,
+    Q: Dim,
+    V: Dim,
+    S: SecondOrder<T, Q, V> + ?Sized,
+    DefaultAllocator: Allocator<Q> + Allocator<V>,
+{
+    let (mut s, h) = Step::begin(system, state, t_to, step, false)?;
+    let a = s.evaluate(state.t, &state.q, &state.v)?;
+    let v = &state.v + a * h;
+    let q = s.retract(&state.q, &scaled(if symplectic { &v } else { &state.v }, h));
+    s.commit(state, t_to, q, v)
+}
+
 impl<T: RealField + Copy, Q: Dim, V: Dim> Integrator<T, Q, V> for Euler
 where
     DefaultAllocator: Allocator<Q> + Allocator<V>,
@@ -30,13 +54,7 @@ where
         t_to: T,
         step: usize,
     ) -> Result<(), Fault<T>> {
-        let t = state.t;
-        let fault = |cause| Fault { t, step, cause };
-        let (h, vs) = begin(system, state, t_to, false).map_err(fault)?;
-        let a = evaluate(system, t, &state.q, &state.v).map_err(fault)?;
-        let q = retract(system.coordinates(), vs, &state.q, &scaled(&state.v, h));
-        let v = &state.v + a * h;
-        commit(state, t_to, q, v, step)
+        euler(false, system, state, t_to, step)
     }
 }
 
@@ -51,12 +69,6 @@ where
         t_to: T,
         step: usize,
     ) -> Result<(), Fault<T>> {
-        let t = state.t;
-        let fault = |cause| Fault { t, step, cause };
-        let (h, vs) = begin(system, state, t_to, false).map_err(fault)?;
-        let a = evaluate(system, t, &state.q, &state.v).map_err(fault)?;
-        let v = &state.v + a * h;
-        let q = retract(system.coordinates(), vs, &state.q, &scaled(&v, h));
-        commit(state, t_to, q, v, step)
+        euler(true, system, state, t_to, step)
     }
 }

@@ -549,13 +549,9 @@ where
     }
 }
 
-// ---- helpers shared by the methods ----
+// ---- what the methods share ----
 
-/// `T` from an `f64` constant.
-#[inline(always)]
-pub(crate) fn k<T: RealField + Copy>(x: f64) -> T {
-    nalgebra::convert(x)
-}
+pub(crate) use crate::configuration::k;
 
 /// The index of the first non-finite entry. The common case, all finite, is one branch-free
 /// pass (`x − x` is 0 for a finite `x`, NaN otherwise).
@@ -588,184 +584,12 @@ pub(crate) fn check_state<T: RealField + Copy>(q: &[T], v: &[T]) -> Result<(), C
     Ok(())
 }
 
-/// What every `advance` checks first: the coordinates fit, `t_to` is finite and after
-/// `state.t`, and with `check`, the state is finite (the methods whose first evaluation is at
-/// the state itself leave that to [`evaluate`]). Returns the step `t_to − t` and whether all
-/// coordinates are vectors.
-pub(crate) fn begin<T, Q, V, S>(
-    system: &S,
-    state: &State<T, Q, V>,
-    t_to: T,
-    check: bool,
-) -> Result<(T, bool), Cause<T>>
-where
-    T: RealField + Copy,
-    Q: Dim,
-    V: Dim,
-    S: SecondOrder<T, Q, V> + ?Sized,
-    DefaultAllocator: Allocator<Q> + Allocator<V>,
-{
-    // One pass over the joints: sizes and whether all are vectors.
-    let (nq, nv, vector_space) =
-        system
-            .coordinates()
-            .iter()
-            .fold((0, 0, true), |(nq, nv, vs), c| {
-                (
-                    nq + c.nq(),
-                    nv + c.nv(),
-                    vs & matches!(c, Coordinates::Vector(_)),
-                )
-            });
-    if (nq, nv) != (state.q.len(), state.v.len()) {
-        return Err(Cause::Coordinates(SizeMismatch {
-            nq,
-            nv,
-            expected_nq: state.q.len(),
-            expected_nv: state.v.len(),
-        }));
+impl<T: Copy> Fault<T> {
+    /// `cause ↦` the fault at time `t` in step `step`, for `map_err`.
+    #[inline(always)]
+    pub(crate) fn at(t: T, step: usize) -> impl Fn(Cause<T>) -> Fault<T> {
+        move |cause| Fault { t, step, cause }
     }
-    if !(state.t.is_finite() && t_to.is_finite() && t_to > state.t) {
-        return Err(Cause::InvalidTime);
-    }
-    if check {
-        check_state(state.q.as_slice(), state.v.as_slice())?;
-    }
-    Ok((t_to - state.t, vector_space))
-}
-
-/// `a(t, q, v)`, an error naming the first non-finite input or output.
-#[inline(always)]
-pub(crate) fn evaluate<T, Q, V, S>(
-    system: &mut S,
-    t: T,
-    q: &OVector<T, Q>,
-    v: &OVector<T, V>,
-) -> Result<OVector<T, V>, Cause<T>>
-where
-    T: RealField + Copy,
-    Q: Dim,
-    V: Dim,
-    S: SecondOrder<T, Q, V> + ?Sized,
-    DefaultAllocator: Allocator<Q> + Allocator<V>,
-{
-    // A non-finite q or v makes the acceleration fail or come out non-finite (the generated
-    // forward dynamics propagates NaN), so the inputs are checked only then, to name the first
-    // non-finite quantity: q, v, then what the system found (τ, the acceleration).
-    match accelerate(system, t, q, v) {
-        Ok(a) => Ok(a),
-        Err(cause) => {
-            check_state(q.as_slice(), v.as_slice())?;
-            Err(cause)
-        }
-    }
-}
-
-/// `a(t, q, v)` with its output checked, for inputs known to be finite.
-#[inline(always)]
-pub(crate) fn accelerate<T, Q, V, S>(
-    system: &mut S,
-    t: T,
-    q: &OVector<T, Q>,
-    v: &OVector<T, V>,
-) -> Result<OVector<T, V>, Cause<T>>
-where
-    T: RealField + Copy,
-    Q: Dim,
-    V: Dim,
-    S: SecondOrder<T, Q, V> + ?Sized,
-    DefaultAllocator: Allocator<Q> + Allocator<V>,
-{
-    let a = system.acceleration(t, q, v)?;
-    if system.finite_acceleration() {
-        return Ok(a);
-    }
-    match first_non_finite(a.as_slice()) {
-        Some(index) => Err(Cause::NonFinite {
-            quantity: Quantity::Acceleration,
-            index,
-        }),
-        None => Ok(a),
-    }
-}
-
-/// `q ⊕ θ`.
-#[inline(always)]
-pub(crate) fn retract<T, Q, V>(
-    coords: &[Coordinates],
-    vector_space: bool,
-    q: &OVector<T, Q>,
-    theta: &OVector<T, V>,
-) -> OVector<T, Q>
-where
-    T: RealField + Copy,
-    Q: Dim,
-    V: Dim,
-    DefaultAllocator: Allocator<Q> + Allocator<V>,
-{
-    let mut out = q.clone();
-    if vector_space {
-        let x = out.as_mut_slice();
-        x.iter_mut()
-            .zip(theta.as_slice())
-            .for_each(|(x, d)| *x += *d);
-    } else {
-        configuration::integrate_in_place(coords, out.as_mut_slice(), theta.as_slice());
-    }
-    out
-}
-
-/// `θ̇` at `θ` for the velocity `vel` ([`configuration::local_velocity_into`]).
-#[inline(always)]
-pub(crate) fn local_velocity<T, V>(
-    coords: &[Coordinates],
-    vector_space: bool,
-    theta: &OVector<T, V>,
-    vel: &OVector<T, V>,
-) -> OVector<T, V>
-where
-    T: RealField + Copy,
-    V: Dim,
-    DefaultAllocator: Allocator<V>,
-{
-    let mut out = vel.clone();
-    if !vector_space {
-        configuration::local_velocity_into(
-            coords,
-            theta.as_slice(),
-            vel.as_slice(),
-            out.as_mut_slice(),
-        );
-    }
-    out
-}
-
-/// A stage's slopes `(θ̇, v̇)`.
-pub(crate) type Slopes<T, V> = (OVector<T, V>, OVector<T, V>);
-
-/// One stage of a Runge–Kutta–Munthe-Kaas method at the local coordinates `θ` and velocity
-/// `vel`: the slopes `(θ̇, v̇)` at `(t, q_n ⊕ θ, vel)`.
-#[inline(always)]
-pub(crate) fn stage<T, Q, V, S>(
-    system: &mut S,
-    vector_space: bool,
-    t: T,
-    q_n: &OVector<T, Q>,
-    theta: &OVector<T, V>,
-    vel: &OVector<T, V>,
-) -> Result<Slopes<T, V>, Cause<T>>
-where
-    T: RealField + Copy,
-    Q: Dim,
-    V: Dim,
-    S: SecondOrder<T, Q, V> + ?Sized,
-    DefaultAllocator: Allocator<Q> + Allocator<V>,
-{
-    let coords = system.coordinates();
-    let q = retract(coords, vector_space, q_n, theta);
-    let k_theta = local_velocity(coords, vector_space, theta, vel);
-    let k_v = evaluate(system, t, &q, vel)?;
-    Ok((k_theta, k_v))
 }
 
 /// `x · s`, keeping `x`'s shape (so it works for `Dyn` too).
@@ -781,36 +605,199 @@ where
 
 /// A zero vector shaped like `x`.
 #[inline]
-pub(crate) fn zeros_like<T, V>(x: &OVector<T, V>) -> OVector<T, V>
+pub(crate) fn zeros_like<T: RealField + Copy, V: Dim>(x: &OVector<T, V>) -> OVector<T, V>
 where
-    T: RealField + Copy,
-    V: Dim,
     DefaultAllocator: Allocator<V>,
 {
     OVector::<T, V>::zeros_generic(x.shape_generic().0, U1)
 }
 
-/// Commits a step's result after checking it is finite; on failure the fault is at `t_to`.
-pub(crate) fn commit<T, Q, V>(
-    state: &mut State<T, Q, V>,
-    t_to: T,
-    q: OVector<T, Q>,
-    v: OVector<T, V>,
-    step: usize,
-) -> Result<(), Fault<T>>
+/// A stage's slopes `(θ̇, v̇)`.
+pub(crate) type Slopes<T, V> = (OVector<T, V>, OVector<T, V>);
+
+/// One call of [`Integrator::advance`]: the system, whether its coordinates are all vectors
+/// (then `⊕` is `+` and `θ̇ = v`, and the methods skip the coordinates walk) and the step index
+/// its faults carry. Every method evaluates,
+/// moves `q` and reports through it.
+pub(crate) struct Step<'a, T, Q, V, S: ?Sized> {
+    system: &'a mut S,
+    vector_space: bool,
+    index: usize,
+    dims: PhantomData<(T, Q, V)>,
+}
+
+impl<'a, T, Q, V, S> Step<'a, T, Q, V, S>
 where
     T: RealField + Copy,
     Q: Dim,
     V: Dim,
+    S: SecondOrder<T, Q, V> + ?Sized,
     DefaultAllocator: Allocator<Q> + Allocator<V>,
 {
-    check_state(q.as_slice(), v.as_slice()).map_err(|cause| Fault {
-        t: t_to,
-        step,
-        cause,
-    })?;
-    state.t = t_to;
-    state.q = q;
-    state.v = v;
-    Ok(())
+    /// What every `advance` checks first: the coordinates fit, `t_to` is finite and after
+    /// `state.t`, and with `check`, the state is finite (the methods whose first evaluation is
+    /// at the state itself leave that to [`Step::evaluate`]). Returns the step `t_to − t`; a
+    /// fault is at `state.t`.
+    pub(crate) fn begin(
+        system: &'a mut S,
+        state: &State<T, Q, V>,
+        t_to: T,
+        index: usize,
+        check: bool,
+    ) -> Result<(Self, T), Fault<T>> {
+        let t = state.t;
+        // One pass over the joints: sizes and whether all are vectors.
+        let (nq, nv, vector_space) =
+            system
+                .coordinates()
+                .iter()
+                .fold((0, 0, true), |(nq, nv, vs), c| {
+                    (
+                        nq + c.nq(),
+                        nv + c.nv(),
+                        vs & matches!(c, Coordinates::Vector(_)),
+                    )
+                });
+        let fault = Fault::at(t, index);
+        if (nq, nv) != (state.q.len(), state.v.len()) {
+            return Err(fault(Cause::Coordinates(SizeMismatch {
+                nq,
+                nv,
+                expected_nq: state.q.len(),
+                expected_nv: state.v.len(),
+            })));
+        }
+        if !(t.is_finite() && t_to.is_finite() && t_to > t) {
+            return Err(fault(Cause::InvalidTime));
+        }
+        if check {
+            check_state(state.q.as_slice(), state.v.as_slice()).map_err(fault)?;
+        }
+        let step = Step {
+            system,
+            vector_space,
+            index,
+            dims: PhantomData,
+        };
+        Ok((step, t_to - t))
+    }
+
+    /// `cause ↦` the fault at time `t` in this step.
+    #[inline(always)]
+    pub(crate) fn at(&self, t: T) -> impl Fn(Cause<T>) -> Fault<T> {
+        Fault::at(t, self.index)
+    }
+
+    /// Whether all coordinates are vectors.
+    #[inline(always)]
+    pub(crate) fn vector_space(&self) -> bool {
+        self.vector_space
+    }
+
+    /// The system's coordinates.
+    #[inline(always)]
+    pub(crate) fn coordinates(&self) -> &[Coordinates] {
+        self.system.coordinates()
+    }
+
+    /// `a(t, q, v)`, a fault at `t` naming the first non-finite input or output.
+    #[inline(always)]
+    pub(crate) fn evaluate(
+        &mut self,
+        t: T,
+        q: &OVector<T, Q>,
+        v: &OVector<T, V>,
+    ) -> Result<OVector<T, V>, Fault<T>> {
+        let a = self.system.acceleration(t, q, v).and_then(|a| {
+            if self.system.finite_acceleration() {
+                return Ok(a);
+            }
+            match first_non_finite(a.as_slice()) {
+                Some(index) => Err(Cause::NonFinite {
+                    quantity: Quantity::Acceleration,
+                    index,
+                }),
+                None => Ok(a),
+            }
+        });
+        // A non-finite q or v makes the acceleration fail or come out non-finite (the generated
+        // forward dynamics propagates NaN), so the inputs are checked only then, to name the
+        // first non-finite quantity: q, v, then what the system found (τ, the acceleration).
+        match a {
+            Ok(a) => Ok(a),
+            Err(cause) => {
+                let first = check_state(q.as_slice(), v.as_slice()).err();
+                Err(self.at(t)(first.unwrap_or(cause)))
+            }
+        }
+    }
+
+    /// `q ⊕ θ`.
+    #[inline(always)]
+    pub(crate) fn retract(&self, q: &OVector<T, Q>, theta: &OVector<T, V>) -> OVector<T, Q> {
+        let mut out = q.clone();
+        if self.vector_space {
+            let x = out.as_mut_slice();
+            x.iter_mut()
+                .zip(theta.as_slice())
+                .for_each(|(x, d)| *x += *d);
+        } else {
+            configuration::integrate_in_place(
+                self.coordinates(),
+                out.as_mut_slice(),
+                theta.as_slice(),
+            );
+        }
+        out
+    }
+
+    /// `θ̇` at `θ` for the velocity `vel` ([`configuration::local_velocity_into`]).
+    #[inline(always)]
+    pub(crate) fn local_velocity(
+        &self,
+        theta: &OVector<T, V>,
+        vel: &OVector<T, V>,
+    ) -> OVector<T, V> {
+        let mut out = vel.clone();
+        if !self.vector_space {
+            configuration::local_velocity_into(
+                self.coordinates(),
+                theta.as_slice(),
+                vel.as_slice(),
+                out.as_mut_slice(),
+            );
+        }
+        out
+    }
+
+    /// One stage of a Runge–Kutta–Munthe-Kaas method at the local coordinates `θ` and velocity
+    /// `vel`: the slopes `(θ̇, v̇)` at `(t, q_n ⊕ θ, vel)`; a fault at `t`.
+    #[inline(always)]
+    pub(crate) fn stage(
+        &mut self,
+        t: T,
+        q_n: &OVector<T, Q>,
+        theta: &OVector<T, V>,
+        vel: &OVector<T, V>,
+    ) -> Result<Slopes<T, V>, Fault<T>> {
+        let q = self.retract(q_n, theta);
+        let k_theta = self.local_velocity(theta, vel);
+        let k_v = self.evaluate(t, &q, vel)?;
+        Ok((k_theta, k_v))
+    }
+
+    /// Commits a step's result after checking it is finite; on failure the fault is at `t_to`.
+    pub(crate) fn commit(
+        &self,
+        state: &mut State<T, Q, V>,
+        t_to: T,
+        q: OVector<T, Q>,
+        v: OVector<T, V>,
+    ) -> Result<(), Fault<T>> {
+        check_state(q.as_slice(), v.as_slice()).map_err(self.at(t_to))?;
+        state.t = t_to;
+        state.q = q;
+        state.v = v;
+        Ok(())
+    }
 }

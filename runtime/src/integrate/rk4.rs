@@ -3,9 +3,7 @@
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, RealField};
 
-use super::{
-    begin, commit, evaluate, k, retract, scaled, stage, Fault, Integrator, SecondOrder, State,
-};
+use super::{k, scaled, Fault, Integrator, SecondOrder, State, Step};
 
 /// Classic Runge–Kutta (Kutta 1901; Hairer, Nørsett & Wanner 1993, *Solving Ordinary
 /// Differential Equations I*, 2nd ed., §II.1, Table 1.2, left): order 4, four evaluations per
@@ -25,47 +23,21 @@ where
         t_to: T,
         step: usize,
     ) -> Result<(), Fault<T>> {
+        let (mut s, h) = Step::begin(system, state, t_to, step, false)?;
         let t = state.t;
-        let (h, vs) =
-            begin(system, state, t_to, false).map_err(|cause| Fault { t, step, cause })?;
         let half = h * k(0.5);
-        let at = |t| move |cause| Fault { t, step, cause };
         let (q, v) = (&state.q, &state.v);
         // Stage 1 at θ = 0, where dexp⁻¹ is the identity.
-        let kv1 = evaluate(system, t, q, v).map_err(at(t))?;
+        let kv1 = s.evaluate(t, q, v)?;
         let kq1 = v;
-        let (kq2, kv2) = stage(
-            system,
-            vs,
-            t + half,
-            q,
-            &scaled(kq1, half),
-            &(v + scaled(&kv1, half)),
-        )
-        .map_err(at(t + half))?;
-        let (kq3, kv3) = stage(
-            system,
-            vs,
-            t + half,
-            q,
-            &scaled(&kq2, half),
-            &(v + scaled(&kv2, half)),
-        )
-        .map_err(at(t + half))?;
-        let (kq4, kv4) = stage(
-            system,
-            vs,
-            t_to,
-            q,
-            &scaled(&kq3, h),
-            &(v + scaled(&kv3, h)),
-        )
-        .map_err(at(t_to))?;
+        let (kq2, kv2) = s.stage(t + half, q, &scaled(kq1, half), &(v + scaled(&kv1, half)))?;
+        let (kq3, kv3) = s.stage(t + half, q, &scaled(&kq2, half), &(v + scaled(&kv2, half)))?;
+        let (kq4, kv4) = s.stage(t_to, q, &scaled(&kq3, h), &(v + scaled(&kv3, h)))?;
         let sixth = h * k(1.0 / 6.0);
         let third = h * k(1.0 / 3.0);
         let theta = kq1 * sixth + kq2 * third + kq3 * third + kq4 * sixth;
         let v_new = v + kv1 * sixth + kv2 * third + kv3 * third + kv4 * sixth;
-        let q_new = retract(system.coordinates(), vs, q, &theta);
-        commit(state, t_to, q_new, v_new, step)
+        let q_new = s.retract(q, &theta);
+        s.commit(state, t_to, q_new, v_new)
     }
 }
