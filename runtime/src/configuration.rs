@@ -84,14 +84,19 @@ impl fmt::Display for SizeMismatch {
 
 impl core::error::Error for SizeMismatch {}
 
+/// `(Σ nq, Σ nv)`: the positions and velocities `coords` describes.
+pub fn dimensions(coords: &[Coordinates]) -> (usize, usize) {
+    coords
+        .iter()
+        .fold((0, 0), |(nq, nv), c| (nq + c.nq(), nv + c.nv()))
+}
+
 /// Checks that `coords` describes exactly `nq` positions and `nv` velocities.
 ///
 /// # Errors
 /// [`SizeMismatch`] with both counts.
 pub fn check(coords: &[Coordinates], nq: usize, nv: usize) -> Result<(), SizeMismatch> {
-    let (cq, cv) = coords
-        .iter()
-        .fold((0, 0), |(q, v), c| (q + c.nq(), v + c.nv()));
+    let (cq, cv) = dimensions(coords);
     if cq == nq && cv == nv {
         Ok(())
     } else {
@@ -102,6 +107,18 @@ pub fn check(coords: &[Coordinates], nq: usize, nv: usize) -> Result<(), SizeMis
             expected_nv: nv,
         })
     }
+}
+
+/// Each joint's coordinates with the offsets of its first position and first velocity in `q`
+/// and `v`: `(c, iq, iv)`.
+pub(crate) fn joints(
+    coords: &[Coordinates],
+) -> impl Iterator<Item = (Coordinates, usize, usize)> + '_ {
+    coords.iter().scan((0, 0), |(iq, iv), &c| {
+        let joint = (c, *iq, *iv);
+        (*iq, *iv) = (*iq + c.nq(), *iv + c.nv());
+        Some(joint)
+    })
 }
 
 /// Whether every coordinate is a plain `Vector` (then `⊕` is `+` and `θ̇ = v`).
@@ -127,7 +144,19 @@ pub fn quat_mul<T: RealField + Copy>(a: [T; 4], b: [T; 4]) -> [T; 4] {
     ]
 }
 
-fn cross<T: RealField + Copy>(a: [T; 3], b: [T; 3]) -> [T; 3] {
+/// `Q̄ = [w, −x, −y, −z]`, the inverse of a unit quaternion.
+pub(crate) fn conjugate<T: RealField + Copy>(q: [T; 4]) -> [T; 4] {
+    [q[0], -q[1], -q[2], -q[3]]
+}
+
+/// `q/|q|`: NaN for a zero quaternion.
+pub(crate) fn unit<T: RealField + Copy>(q: [T; 4]) -> [T; 4] {
+    let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
+    q.map(|x| x / n)
+}
+
+/// `a × b`.
+pub(crate) fn cross<T: RealField + Copy>(a: [T; 3], b: [T; 3]) -> [T; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
@@ -227,9 +256,8 @@ fn set<T: Copy, const N: usize>(x: &mut [T], at: usize, value: [T; N]) {
 
 /// `q ← q ⊕ δ` (module docs), in place: `q` has `Σ nq` entries, `delta` `Σ nv`.
 pub fn integrate_in_place<T: RealField + Copy>(coords: &[Coordinates], q: &mut [T], delta: &[T]) {
-    let (mut iq, mut iv) = (0, 0);
-    for c in coords {
-        match *c {
+    for (c, iq, iv) in joints(coords) {
+        match c {
             Coordinates::Vector(n) => {
                 if let (Some(x), Some(d)) = (q.get_mut(iq..iq + n), delta.get(iv..iv + n)) {
                     x.iter_mut().zip(d).for_each(|(x, d)| *x += *d);
@@ -253,8 +281,6 @@ pub fn integrate_in_place<T: RealField + Copy>(coords: &[Coordinates], q: &mut [
                 }
             }
         }
-        iq += c.nq();
-        iv += c.nv();
     }
 }
 
@@ -267,10 +293,35 @@ pub fn difference_into<T: RealField + Copy>(
     q1: &[T],
     delta: &mut [T],
 ) {
-    let (mut iq, mut iv) = (0, 0);
-    let conj = |q: [T; 4]| [q[0], -q[1], -q[2], -q[3]];
-    for c in coords {
-        match *c {
+    difference_by(coords, q0, q1, delta, |q| q, quat_log);
+}
+
+/// [`difference_into`] as the controllers take it ([`crate::control::tangent::difference`]):
+/// each quaternion normalized first (a zero one gives NaN), and of the two rotations that take
+/// `Q0` to `Q1` the shorter (angle in `[0, π]`; [`quat_log`] alone gives up to `2π`).
+pub(crate) fn difference_shortest_into<T: RealField + Copy>(
+    coords: &[Coordinates],
+    q0: &[T],
+    q1: &[T],
+    delta: &mut [T],
+) {
+    let shortest = |q: [T; 4]| quat_log(if q[0] < T::zero() { q.map(|x| -x) } else { q });
+    difference_by(coords, q0, q1, delta, unit, shortest);
+}
+
+/// `q1 ⊖ q0` joint by joint, each quaternion `Q` taken as `unit(Q)` and each rotation's
+/// increment as `log(Q0⁻¹ ⊗ Q1)`.
+#[inline(always)]
+fn difference_by<T: RealField + Copy>(
+    coords: &[Coordinates],
+    q0: &[T],
+    q1: &[T],
+    delta: &mut [T],
+    unit: impl Fn([T; 4]) -> [T; 4],
+    log: impl Fn([T; 4]) -> [T; 3],
+) {
+    for (c, iq, iv) in joints(coords) {
+        match c {
             Coordinates::Vector(n) => {
                 if let (Some(d), Some(a), Some(b)) = (
                     delta.get_mut(iv..iv + n),
@@ -284,7 +335,7 @@ pub fn difference_into<T: RealField + Copy>(
             }
             Coordinates::Quaternion => {
                 if let (Some(a), Some(b)) = (get4(q0, iq), get4(q1, iq)) {
-                    set(delta, iv, quat_log(quat_mul(conj(a), b)));
+                    set(delta, iv, log(quat_mul(conjugate(unit(a)), unit(b))));
                 }
             }
             Coordinates::FreeQuaternion => {
@@ -294,14 +345,13 @@ pub fn difference_into<T: RealField + Copy>(
                     get3(q1, iq),
                     get4(q1, iq + 3),
                 ) {
+                    let a = conjugate(unit(a));
                     let dp = [p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]];
-                    set(delta, iv, quat_rotate(conj(a), dp));
-                    set(delta, iv + 3, quat_log(quat_mul(conj(a), b)));
+                    set(delta, iv, quat_rotate(a, dp));
+                    set(delta, iv + 3, log(quat_mul(a, unit(b))));
                 }
             }
         }
-        iq += c.nq();
-        iv += c.nv();
     }
 }
 
@@ -314,9 +364,8 @@ pub fn local_velocity_into<T: RealField + Copy>(
     v: &[T],
     out: &mut [T],
 ) {
-    let mut iv = 0;
-    for c in coords {
-        match *c {
+    for (c, _, iv) in joints(coords) {
+        match c {
             Coordinates::Vector(n) => {
                 if let (Some(o), Some(x)) = (out.get_mut(iv..iv + n), v.get(iv..iv + n)) {
                     o.copy_from_slice(x);
@@ -336,27 +385,37 @@ pub fn local_velocity_into<T: RealField + Copy>(
                 }
             }
         }
-        iv += c.nv();
     }
 }
 
 /// Divides each quaternion of `q` by its norm (a zero or non-finite quaternion is left as it
 /// is). The integrators never call this: their quaternions are unit by the exponential map.
 pub fn normalize<T: RealField + Copy>(coords: &[Coordinates], q: &mut [T]) {
-    let mut iq = 0;
-    for c in coords {
+    map_quaternions(coords, q, |qq| {
+        let n = (qq[0] * qq[0] + qq[1] * qq[1] + qq[2] * qq[2] + qq[3] * qq[3]).sqrt();
+        if n > T::zero() && n.is_finite() {
+            qq.map(|x| x / n)
+        } else {
+            qq
+        }
+    });
+}
+
+/// Replaces each quaternion `Q` of `q` (`Σ nq` entries) by `f(Q)`.
+pub(crate) fn map_quaternions<T: Copy>(
+    coords: &[Coordinates],
+    q: &mut [T],
+    f: impl Fn([T; 4]) -> [T; 4],
+) {
+    for (c, iq, _) in joints(coords) {
         let at = match c {
             Coordinates::Vector(_) => None,
             Coordinates::Quaternion => Some(iq),
             Coordinates::FreeQuaternion => Some(iq + 3),
         };
         if let Some((at, qq)) = at.and_then(|at| Some((at, get4(q, at)?))) {
-            let n = (qq[0] * qq[0] + qq[1] * qq[1] + qq[2] * qq[2] + qq[3] * qq[3]).sqrt();
-            if n > T::zero() && n.is_finite() {
-                set(q, at, qq.map(|x| x / n));
-            }
+            set(q, at, f(qq));
         }
-        iq += c.nq();
     }
 }
 

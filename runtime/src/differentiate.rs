@@ -58,7 +58,13 @@
 use core::fmt;
 use core::ops::Range;
 
+use articulated_dynamics::spatial::{Mat3, Vec3};
+
+use crate::configuration::{conjugate, cross, joints, quat_mul};
 use crate::Coordinates;
+
+/// `(Σ nq, Σ nv)` of a chain's coordinates (the one in [`crate::configuration`]).
+pub use crate::configuration::dimensions;
 
 /// Why a differentiation could not be done. Indices are sample indices (0 based) into the
 /// arrays given.
@@ -575,11 +581,34 @@ impl fmt::Display for CoordinatesError {
 
 impl core::error::Error for CoordinatesError {}
 
-/// `(Σ nq, Σ nv)` of a chain's coordinates.
-pub fn dimensions(coordinates: &[Coordinates]) -> (usize, usize) {
-    coordinates
-        .iter()
-        .fold((0, 0), |(nq, nv), c| (nq + c.nq(), nv + c.nv()))
+impl CoordinatesError {
+    /// The first of `(slice, found, expected)` whose length is off.
+    fn lengths<const N: usize>(slices: [(&'static str, usize, usize); N]) -> Result<(), Self> {
+        match slices
+            .into_iter()
+            .find(|(_, found, expected)| found != expected)
+        {
+            Some((slice, found, expected)) => Err(CoordinatesError::Length {
+                slice,
+                found,
+                expected,
+            }),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Checks that the coordinates add up to `nq` positions and `nv` velocities.
+///
+/// # Errors
+/// [`CoordinatesError::Length`] for `"q"`, then `"v"`.
+pub(crate) fn check_dimensions(
+    coordinates: &[Coordinates],
+    nq: usize,
+    nv: usize,
+) -> Result<(), CoordinatesError> {
+    let (cq, cv) = dimensions(coordinates);
+    CoordinatesError::lengths([("q", nq, cq), ("v", nv, cv)])
 }
 
 /// The velocities `v` and their rates `v̇` of a chain from its positions `q` and their first and
@@ -600,25 +629,16 @@ pub fn velocities(
     v_dot: &mut [f64],
 ) -> Result<(), CoordinatesError> {
     let (nq, nv) = dimensions(coordinates);
-    for (slice, found, expected) in [
+    CoordinatesError::lengths([
         ("q", q.len(), nq),
         ("q_dot", q_dot.len(), nq),
         ("q_ddot", q_ddot.len(), nq),
         ("q_out", q_out.len(), nq),
         ("v", v.len(), nv),
         ("v_dot", v_dot.len(), nv),
-    ] {
-        if found != expected {
-            return Err(CoordinatesError::Length {
-                slice,
-                found,
-                expected,
-            });
-        }
-    }
-    let (mut iq, mut iv) = (0, 0);
-    for (joint, c) in coordinates.iter().enumerate() {
-        match *c {
+    ])?;
+    for (joint, (c, iq, iv)) in joints(coordinates).enumerate() {
+        match c {
             Coordinates::Vector(n) => {
                 q_out[iq..iq + n].copy_from_slice(&q[iq..iq + n]);
                 v[iv..iv + n].copy_from_slice(&q_dot[iq..iq + n]);
@@ -642,11 +662,9 @@ pub fn velocities(
                     quat(&q_dot[iq + 3..]),
                     quat(&q_ddot[iq + 3..]),
                 )?;
-                let r = rotation(unit);
-                let p_dot = vec3(&q_dot[iq..]);
-                let p_ddot = vec3(&q_ddot[iq..]);
-                let lin = mul_tr(&r, p_dot);
-                let acc = mul_tr(&r, p_ddot);
+                let r = Mat3::quaternion(unit);
+                let lin = r.tr_mul_vec(Vec3(vec3(&q_dot[iq..]))).0;
+                let acc = r.tr_mul_vec(Vec3(vec3(&q_ddot[iq..]))).0;
                 let wxv = cross(w, lin);
                 q_out[iq..iq + 3].copy_from_slice(&q[iq..iq + 3]);
                 q_out[iq + 3..iq + 7].copy_from_slice(&unit);
@@ -658,8 +676,6 @@ pub fn velocities(
                 v_dot[iv + 3..iv + 6].copy_from_slice(&w_dot);
             }
         }
-        iq += c.nq();
-        iv += c.nv();
     }
     Ok(())
 }
@@ -702,61 +718,4 @@ fn quat(s: &[f64]) -> [f64; 4] {
 
 fn vec3(s: &[f64]) -> [f64; 3] {
     [s[0], s[1], s[2]]
-}
-
-/// `q̄` of `q = [w, x, y, z]`.
-pub(crate) fn conjugate(q: [f64; 4]) -> [f64; 4] {
-    [q[0], -q[1], -q[2], -q[3]]
-}
-
-/// The Hamilton product `a ⊗ b` of quaternions `[w, x, y, z]`.
-pub(crate) fn quat_mul(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
-    [
-        a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
-        a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
-        a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
-        a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0],
-    ]
-}
-
-/// `R(q)` of a unit quaternion, rows: child coordinates to parent coordinates, as the
-/// reference's `Mat3::quaternion`.
-pub(crate) fn rotation(q: [f64; 4]) -> [[f64; 3]; 3] {
-    let [w, x, y, z] = q;
-    [
-        [
-            1.0 - 2.0 * (y * y + z * z),
-            2.0 * (x * y - w * z),
-            2.0 * (x * z + w * y),
-        ],
-        [
-            2.0 * (x * y + w * z),
-            1.0 - 2.0 * (x * x + z * z),
-            2.0 * (y * z - w * x),
-        ],
-        [
-            2.0 * (x * z - w * y),
-            2.0 * (y * z + w * x),
-            1.0 - 2.0 * (x * x + y * y),
-        ],
-    ]
-}
-
-/// `Rᵀ·x`.
-pub(crate) fn mul_tr(r: &[[f64; 3]; 3], x: [f64; 3]) -> [f64; 3] {
-    [0, 1, 2].map(|c| r[0][c] * x[0] + r[1][c] * x[1] + r[2][c] * x[2])
-}
-
-/// `R·x`.
-pub(crate) fn mul(r: &[[f64; 3]; 3], x: [f64; 3]) -> [f64; 3] {
-    [0, 1, 2].map(|c| r[c][0] * x[0] + r[c][1] * x[1] + r[c][2] * x[2])
-}
-
-/// `a × b`.
-pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }

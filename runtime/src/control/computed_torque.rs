@@ -18,7 +18,7 @@ use nalgebra::{SMatrix, SVector};
 
 use crate::control::tangent::difference;
 use crate::control::Controller;
-use crate::differentiate::{dimensions, CoordinatesError};
+use crate::differentiate::{check_dimensions, CoordinatesError};
 use crate::Coordinates;
 
 /// `(q_ref, v_ref, a_ref)`: a reference that holds `q_ref` still, for [`computed_torque`].
@@ -26,25 +26,6 @@ pub fn hold<const NQ: usize, const NV: usize>(
     q_ref: SVector<f64, NQ>,
 ) -> impl FnMut(f64) -> (SVector<f64, NQ>, SVector<f64, NV>, SVector<f64, NV>) {
     move |_| (q_ref, SVector::zeros(), SVector::zeros())
-}
-
-/// Checks that the coordinates add up to `NQ` positions and `NV` velocities.
-pub(crate) fn check_dimensions(
-    coordinates: &[Coordinates],
-    nq: usize,
-    nv: usize,
-) -> Result<(), CoordinatesError> {
-    let (cq, cv) = dimensions(coordinates);
-    for (slice, found, expected) in [("q", nq, cq), ("v", nv, cv)] {
-        if found != expected {
-            return Err(CoordinatesError::Length {
-                slice,
-                found,
-                expected,
-            });
-        }
-    }
-    Ok(())
 }
 
 /// The computed-torque + PD controller `(t, q, v) ↦ τ` (law in the [module docs](self)) for a

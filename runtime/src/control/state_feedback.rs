@@ -14,10 +14,9 @@
 use nalgebra::DMatrix;
 use nalgebra::{SMatrix, SVector};
 
-use crate::control::computed_torque::check_dimensions;
 use crate::control::tangent::difference;
 use crate::control::Controller;
-use crate::differentiate::CoordinatesError;
+use crate::differentiate::{check_dimensions, CoordinatesError};
 use crate::Coordinates;
 
 #[cfg(feature = "alloc")]

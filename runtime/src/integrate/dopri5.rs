@@ -4,6 +4,7 @@ use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector, RealField, Scalar};
 
 use super::{k, zeros_like, Cause, Fault, Integrator, SecondOrder, State, Step};
+use crate::configuration::joints;
 use crate::Coordinates;
 
 /// Dormand & Prince (1980), "A family of embedded Runge–Kutta formulae", J. Comput. Appl.
@@ -317,9 +318,8 @@ where
         let r = e / (atol + rtol * y);
         sum += r * r;
     };
-    let (mut iq, mut iv) = (0, 0);
-    for c in coords {
-        match *c {
+    for (c, iq, iv) in joints(coords) {
+        match c {
             Coordinates::Vector(n) => {
                 for j in 0..n {
                     add(err_theta[iv + j], q0[iq + j].abs().max(q1[iq + j].abs()));
@@ -341,8 +341,6 @@ where
                 }
             }
         }
-        iq += c.nq();
-        iv += c.nv();
     }
     (sum / k(2.0 * nv as f64)).sqrt()
 }
