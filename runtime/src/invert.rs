@@ -24,10 +24,13 @@
 use core::convert::Infallible;
 use core::fmt;
 
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+#[cfg(feature = "alloc")]
+use nalgebra::Dyn;
+use nalgebra::{Const, DefaultAllocator, Dim, OVector, SVector, U1};
 
 use crate::differentiate::{
-    dimensions, velocities, CoordinatesError, DifferentiateError, SavitzkyGolay,
+    check_dimensions, velocities, CoordinatesError, DifferentiateError, SavitzkyGolay,
 };
 use crate::Coordinates;
 
@@ -81,51 +84,64 @@ impl<E: fmt::Display> fmt::Display for InvertError<E> {
 
 impl<E: fmt::Debug + fmt::Display> core::error::Error for InvertError<E> {}
 
-/// Checks the sizes and the whole signal before any couple is computed.
-fn check<E>(
+/// Checks the sizes and the whole signal (so that a fault comes before any couple), then hands
+/// `(i, q̂_i, v_i, v̇_i)` to `each` for every sample `i` with a full window, in order. The sizes
+/// `(nq, nv)` are `Const` (nothing allocated) or `Dyn`.
+fn each_state<Q: Dim, V: Dim, E, F>(
     coordinates: &[Coordinates],
-    nq: usize,
-    nv: usize,
+    (nq, nv): (Q, V),
     t: &[f64],
     q: &[f64],
     sg: &SavitzkyGolay,
-) -> Result<(), InvertError<E>> {
-    let (cq, cv) = dimensions(coordinates);
-    for (slice, found, expected) in [("q", nq, cq), ("v", nv, cv)] {
-        if found != expected {
-            return Err(CoordinatesError::Length {
-                slice,
-                found,
-                expected,
-            }
-            .into());
-        }
+    mut each: F,
+) -> Result<(), InvertError<E>>
+where
+    F: FnMut(
+        usize,
+        &OVector<f64, Q>,
+        &OVector<f64, V>,
+        &OVector<f64, V>,
+    ) -> Result<(), InvertError<E>>,
+    DefaultAllocator: Allocator<Q> + Allocator<V>,
+{
+    check_dimensions(coordinates, nq.value(), nv.value())?;
+    sg.check(t, q, nq.value())?;
+    let zeros_q = || OVector::<f64, Q>::zeros_generic(nq, U1);
+    let zeros_v = || OVector::<f64, V>::zeros_generic(nv, U1);
+    let (mut value, mut first, mut second, mut q_hat) =
+        (zeros_q(), zeros_q(), zeros_q(), zeros_q());
+    let (mut v, mut a) = (zeros_v(), zeros_v());
+    for i in sg.centres(t.len()) {
+        sg.derivatives_at(
+            t,
+            q,
+            nq.value(),
+            i,
+            value.as_mut_slice(),
+            first.as_mut_slice(),
+            second.as_mut_slice(),
+        )?;
+        velocities(
+            coordinates,
+            value.as_slice(),
+            first.as_slice(),
+            second.as_slice(),
+            q_hat.as_mut_slice(),
+            v.as_mut_slice(),
+            a.as_mut_slice(),
+        )?;
+        each(i, &q_hat, &v, &a)?;
     }
-    sg.check(t, q, nq)?;
     Ok(())
 }
 
-/// Positions, velocities and accelerations at sample `i` into `buf` =
-/// `[q̂ (nq), q (nq), q̇ (nq), q̈ (nq)]`, `v`, `a`.
-#[cfg(feature = "alloc")]
-#[allow(clippy::too_many_arguments)]
-fn state_at<E>(
-    coordinates: &[Coordinates],
-    sg: &SavitzkyGolay,
-    t: &[f64],
-    q: &[f64],
-    i: usize,
-    buf: &mut [f64],
-    v: &mut [f64],
-    a: &mut [f64],
-) -> Result<(), InvertError<E>> {
-    let nq = buf.len() / 4;
-    let (q_out, rest) = buf.split_at_mut(nq);
-    let (value, rest) = rest.split_at_mut(nq);
-    let (first, second) = rest.split_at_mut(nq);
-    sg.derivatives_at(t, q, nq, i, value, first, second)?;
-    velocities(coordinates, value, first, second, q_out, v, a)?;
-    Ok(())
+/// [`InvertError::NotFinite`] at sample `i` unless every couple in `tau` is finite.
+fn finite<E>(i: usize, tau: &[f64]) -> Result<(), InvertError<E>> {
+    if tau.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(InvertError::NotFinite { index: i })
+    }
 }
 
 /// The couples `τ_i = ID(q_i, v_i, v̇_i)` at every sample with a full window, handed in order to
@@ -152,39 +168,19 @@ where
     F: FnMut(&SVector<f64, NQ>, &SVector<f64, NV>, &SVector<f64, NV>) -> SVector<f64, NV>,
     S: FnMut(usize, f64, &SVector<f64, NV>),
 {
-    check(coordinates, NQ, NV, t, q, sg)?;
-    let mut q_hat = SVector::<f64, NQ>::zeros();
-    let mut value = SVector::<f64, NQ>::zeros();
-    let mut first = SVector::<f64, NQ>::zeros();
-    let mut second = SVector::<f64, NQ>::zeros();
-    let mut v = SVector::<f64, NV>::zeros();
-    let mut a = SVector::<f64, NV>::zeros();
-    for i in sg.centres(t.len()) {
-        sg.derivatives_at(
-            t,
-            q,
-            NQ,
-            i,
-            value.as_mut_slice(),
-            first.as_mut_slice(),
-            second.as_mut_slice(),
-        )?;
-        velocities(
-            coordinates,
-            value.as_slice(),
-            first.as_slice(),
-            second.as_slice(),
-            q_hat.as_mut_slice(),
-            v.as_mut_slice(),
-            a.as_mut_slice(),
-        )?;
-        let tau = inverse_dynamics(&q_hat, &v, &a);
-        if !tau.iter().all(|x| x.is_finite()) {
-            return Err(InvertError::NotFinite { index: i });
-        }
-        sink(i, t[i], &tau);
-    }
-    Ok(())
+    each_state(
+        coordinates,
+        (Const::<NQ>, Const::<NV>),
+        t,
+        q,
+        sg,
+        |i, q, v, a| {
+            let tau = inverse_dynamics(q, v, a);
+            finite(i, tau.as_slice())?;
+            sink(i, t[i], &tau);
+            Ok(())
+        },
+    )
 }
 
 /// Couples recovered from a sampled motion: one row per sample kept, row-major.
@@ -277,27 +273,23 @@ pub fn couples_dyn<F, E>(
 where
     F: FnMut(&[f64], &[f64], &[f64], &mut [f64]) -> Result<(), E>,
 {
-    use alloc::vec;
-    check(coordinates, nq, nv, t, q, sg)?;
     let centres = sg.centres(t.len());
     let mut out = Couples {
         first_sample: centres.start,
         nv,
-        t: vec::Vec::with_capacity(centres.len()),
-        tau: vec![0.0; centres.len() * nv],
+        t: alloc::vec::Vec::with_capacity(centres.len()),
+        // Sized row by row: `nv` is checked first.
+        tau: alloc::vec::Vec::new(),
     };
-    let mut buf = vec![0.0; 4 * nq];
-    let mut v = vec![0.0; nv];
-    let mut a = vec![0.0; nv];
-    for (row, i) in centres.enumerate() {
-        state_at(coordinates, sg, t, q, i, &mut buf, &mut v, &mut a)?;
-        let tau = &mut out.tau[row * nv..(row + 1) * nv];
-        inverse_dynamics(&buf[..nq], &v, &a, tau)
+    each_state(coordinates, (Dyn(nq), Dyn(nv)), t, q, sg, |i, q, v, a| {
+        let row = out.tau.len();
+        out.tau.resize(row + nv, 0.0);
+        let tau = &mut out.tau[row..];
+        inverse_dynamics(q.as_slice(), v.as_slice(), a.as_slice(), tau)
             .map_err(|error| InvertError::Dynamics { index: i, error })?;
-        if !tau.iter().all(|x| x.is_finite()) {
-            return Err(InvertError::NotFinite { index: i });
-        }
+        finite(i, tau)?;
         out.t.push(t[i]);
-    }
+        Ok(())
+    })?;
     Ok(out)
 }
