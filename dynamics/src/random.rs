@@ -17,6 +17,7 @@ use alloc::vec::Vec;
 use core::f64::consts::PI;
 
 use crate::model::{Axis, Body, EulerSeq, Joint, JointKind, Model, Placement, Value};
+use crate::spatial::Mat3;
 
 /// SplitMix64 (Steele, Lea & Flood 2014): a seeded, reproducible stream, enough randomness for
 /// test and benchmark inputs without a dependency. The trees and states here, the benchmarks'
@@ -112,24 +113,7 @@ fn c(x: f64) -> Value {
 
 /// `R·diag(d)·Rᵀ` for the rotation of the unit quaternion `q`.
 fn rotate_diag(q: [f64; 4], d: [f64; 3]) -> [[f64; 3]; 3] {
-    let [w, x, y, z] = q;
-    let r = [
-        [
-            1.0 - 2.0 * (y * y + z * z),
-            2.0 * (x * y - w * z),
-            2.0 * (x * z + w * y),
-        ],
-        [
-            2.0 * (x * y + w * z),
-            1.0 - 2.0 * (x * x + z * z),
-            2.0 * (y * z - w * x),
-        ],
-        [
-            2.0 * (x * z - w * y),
-            2.0 * (y * z + w * x),
-            1.0 - 2.0 * (x * x + y * y),
-        ],
-    ];
+    let r = Mat3::quaternion(q).0;
     let mut out = [[0.0; 3]; 3];
     for (i, row) in out.iter_mut().enumerate() {
         for (j, o) in row.iter_mut().enumerate() {
