@@ -56,28 +56,18 @@ impl Rng {
     }
     /// A uniformly random unit vector (normalized Gaussian-free: rejection in the cube).
     fn unit_vector(&mut self) -> [f64; 3] {
-        loop {
-            let v = [
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            ];
-            let n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-            if n2 > 0.01 && n2 <= 1.0 {
-                let n = libm::sqrt(n2);
-                return v.map(|x| x / n);
-            }
-        }
+        self.on_sphere()
     }
     /// A uniformly random unit quaternion `[w, x, y, z]` (rejection in the 4-cube).
     fn quaternion(&mut self) -> [f64; 4] {
+        self.on_sphere()
+    }
+    /// A uniformly random point of the unit sphere in `N` dimensions: a point of the cube
+    /// `[-1, 1)ᴺ`, drawn again until it lies in the unit ball (and not within 0.1 of the
+    /// centre), normalized.
+    fn on_sphere<const N: usize>(&mut self) -> [f64; N] {
         loop {
-            let v = [
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            ];
+            let v: [f64; N] = core::array::from_fn(|_| self.range(-1.0, 1.0));
             let n2: f64 = v.iter().map(|x| x * x).sum();
             if n2 > 0.01 && n2 <= 1.0 {
                 let n = libm::sqrt(n2);
