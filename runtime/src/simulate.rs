@@ -114,26 +114,14 @@ impl<T: RealField + Copy> Simulation<T> {
         P: FnMut(usize, T),
         DefaultAllocator: Allocator<Q> + Allocator<V>,
     {
-        let n = self.steps().map_err(|cause| Fault {
-            t: self.t0,
-            step: 0,
-            cause,
-        })?;
+        let n = self.steps().map_err(Fault::at(self.t0, 0))?;
         let mut state = initial;
         state.t = self.t0;
-        record(&state).map_err(|cause| Fault {
-            t: self.t0,
-            step: 0,
-            cause,
-        })?;
+        record(&state).map_err(Fault::at(self.t0, 0))?;
         for step in 0..n {
             let t_to = self.time(step + 1, n);
             integrator.advance(system, &mut state, t_to, step)?;
-            record(&state).map_err(|cause| Fault {
-                t: t_to,
-                step,
-                cause,
-            })?;
+            record(&state).map_err(Fault::at(t_to, step))?;
             progress(step + 1, t_to);
         }
         Ok(state)
@@ -161,11 +149,7 @@ impl<T: RealField + Copy> Simulation<T> {
         P: FnMut(usize, T),
         DefaultAllocator: Allocator<Q> + Allocator<V>,
     {
-        let fault = |cause| Fault {
-            t: self.t0,
-            step: 0,
-            cause,
-        };
+        let fault = Fault::at(self.t0, 0);
         let needed = self.steps().map_err(fault)? + 1;
         if buffer.len() < needed {
             return Err(fault(Cause::BufferTooSmall {

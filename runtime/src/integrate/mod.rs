@@ -587,7 +587,7 @@ pub(crate) fn check_state<T: RealField + Copy>(q: &[T], v: &[T]) -> Result<(), C
 impl<T: Copy> Fault<T> {
     /// `cause ↦` the fault at time `t` in step `step`, for `map_err`.
     #[inline(always)]
-    pub(crate) fn at(t: T, step: usize) -> impl Fn(Cause<T>) -> Fault<T> {
+    pub(crate) fn at(t: T, step: usize) -> impl Fn(Cause<T>) -> Fault<T> + Copy {
         move |cause| Fault { t, step, cause }
     }
 }
