@@ -42,12 +42,15 @@
 //!
 //! The unit norm of a quaternion comes from the exponential map: `exp(δ)` is unit by
 //! construction and a product of unit quaternions is unit, so an integrator that only ever moves
-//! `q` by `⊕` keeps it unit up to rounding. Nothing here normalizes except [`normalize`], which
-//! the integrators do not call.
+//! `q` by `⊕` keeps it unit up to rounding. Nothing the integrators call normalizes: only
+//! [`normalize`] does, and the controllers' versions of `⊕` and `⊖`
+//! ([`control::tangent`](crate::control::tangent), built on the functions here), which take
+//! quaternions that need not be unit.
 //!
 //! # Sizes
 //! Everything works on slices: `q` has `Σ nq` entries and tangent vectors `Σ nv`. [`check`] says
-//! whether a coordinates list fits the sizes; the other functions assume it does, never panic,
+//! whether a coordinates list fits the sizes ([`dimensions`] gives them); the other functions
+//! assume it does, never panic,
 //! and leave alone any entry that falls outside the slices they are given. The `SVector` twins
 //! ([`integrate`], [`difference`], [`local_velocity`]) allocate nothing.
 
