@@ -140,7 +140,7 @@ impl Controllers {
             kp,
             kd,
             hold(V6::zeros()),
-            |q, v, a| TwoLink::inverse_dynamics(q, v, a),
+            TwoLink::inverse_dynamics,
         );
         let law = law.unwrap_or_else(|e| unreachable!("the two-link's coordinates: {e}"));
         saturated(law, COUPLE_LIMIT)

@@ -34,7 +34,7 @@ fn lqr_gains() -> (M6, M6) {
     let lin = linearize(
         &V6::zeros(),
         &TwoLink::gravity(&V6::zeros()),
-        |d, v, tau| TwoLink::forward_dynamics(d, v, tau),
+        TwoLink::forward_dynamics,
     )
     .unwrap();
     let q = DMatrix::from_diagonal(&articulated::nalgebra::DVector::from_fn(12, |i, _| {
@@ -88,7 +88,7 @@ fn both_controllers_recover_from_a_10_degree_lean_in_16_directions() {
             kp,
             kd,
             hold(V6::zeros()),
-            |q, v, a| TwoLink::inverse_dynamics(q, v, a),
+            TwoLink::inverse_dynamics,
         )
         .unwrap();
         for (name, path) in [
