@@ -4,14 +4,13 @@
 
 use articulated::model::Model;
 use articulated::reference::{check_q, Error, Reference, Singularity};
-use articulated_codegen::load::load_model;
 use articulated_codegen::options::Output;
 use articulated_codegen::sym::Var;
 use articulated_codegen::trace::trace;
 use nalgebra::{DMatrix, DVector};
 use serde_json::Value;
 
-use crate::{parse_vector, Engine, EvalArgs};
+use crate::{load_reference, parse_vector, Engine, EvalArgs};
 
 fn matrix_rows(m: &DMatrix<f64>) -> Value {
     Value::Array(
@@ -60,14 +59,9 @@ struct Dynamics {
 
 /// Runs `eval`; the JSON text, or the error message for stderr.
 pub fn run(args: &EvalArgs) -> Result<String, String> {
-    let model = load_model(&args.model, args.floating).map_err(|e| e.to_string())?;
-    let params = match &args.params {
-        None => model.param_defaults(),
-        Some(p) => parse_vector(p, "params", model.params.len())?,
-    };
     // Checks the model and the parameter values, for both engines.
-    let reference = Reference::with_params(&model, &params)
-        .map_err(|e| format!("{}: error: {e}", args.model.display()))?;
+    let (model, reference) = load_reference(&args.model, args.floating, args.params.as_deref())?;
+    let params = reference.params().to_vec();
     let (nq, nv) = (reference.nq(), reference.nv());
     let q = match &args.q {
         Some(s) => parse_vector(s, "q", nq)?,

@@ -8,21 +8,13 @@ use articulated::differentiate::SavitzkyGolay;
 use articulated::files::write_atomically;
 use articulated::interpreted::coordinates_of;
 use articulated::invert::couples_dyn;
-use articulated::reference::Reference;
 use articulated::samples::{write_csv, Samples};
-use articulated_codegen::load::load_model;
 
-use crate::{parse_vector, InvertArgs};
+use crate::{load_reference, InvertArgs};
 
 /// Runs `invert`; a one-line summary for stdout, or the error message for stderr.
 pub fn run(args: &InvertArgs) -> Result<String, String> {
-    let model = load_model(&args.model, args.floating).map_err(|e| e.to_string())?;
-    let params = match &args.params {
-        None => model.param_defaults(),
-        Some(p) => parse_vector(p, "params", model.params.len())?,
-    };
-    let reference = Reference::with_params(&model, &params)
-        .map_err(|e| format!("{}: error: {e}", args.model.display()))?;
+    let (model, reference) = load_reference(&args.model, args.floating, args.params.as_deref())?;
     let (nq, nv) = (reference.nq(), reference.nv());
     let shown = args.trajectory.display();
     let text = std::fs::read_to_string(&args.trajectory)

@@ -168,6 +168,23 @@ pub struct InvertArgs {
     pub floating: bool,
 }
 
+/// The model in `path` (with a free base under a URDF root if `floating`) and its reference
+/// dynamics at the parameter values `params` (comma-separated; the file's defaults if `None`).
+pub fn load_reference(
+    path: &std::path::Path,
+    floating: bool,
+    params: Option<&str>,
+) -> Result<(articulated::model::Model, articulated::reference::Reference), String> {
+    let model = articulated_codegen::load::load_model(path, floating).map_err(|e| e.to_string())?;
+    let params = match params {
+        None => model.param_defaults(),
+        Some(p) => parse_vector(p, "params", model.params.len())?,
+    };
+    let reference = articulated::reference::Reference::with_params(&model, &params)
+        .map_err(|e| format!("{}: error: {e}", path.display()))?;
+    Ok((model, reference))
+}
+
 /// Parses a comma-separated vector of `len` finite numbers; `what` names it in errors.
 pub fn parse_vector(text: &str, what: &str, len: usize) -> Result<Vec<f64>, String> {
     let text = text.trim();

@@ -12,23 +12,16 @@ use articulated::plot::{svg, Panel};
 use articulated::reference::Reference;
 use articulated::simulate::Simulation;
 use articulated::trajectory::Trajectory;
-use articulated_codegen::load::load_model;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::{parse_vector, SimulateArgs};
+use crate::{load_reference, parse_vector, SimulateArgs};
 
 /// Points per line in the plot: a longer trajectory is thinned to about this many.
 const PLOT_POINTS: usize = 2000;
 
 /// Runs `simulate`; a one-line summary for stdout, or the error message for stderr.
 pub fn run(args: &SimulateArgs) -> Result<String, String> {
-    let model = load_model(&args.model, args.floating).map_err(|e| e.to_string())?;
-    let params = match &args.params {
-        None => model.param_defaults(),
-        Some(p) => parse_vector(p, "params", model.params.len())?,
-    };
-    let reference = Reference::with_params(&model, &params)
-        .map_err(|e| format!("{}: error: {e}", args.model.display()))?;
+    let (model, reference) = load_reference(&args.model, args.floating, args.params.as_deref())?;
     let (nq, nv) = (reference.nq(), reference.nv());
     let q0 = match &args.q0 {
         Some(s) => parse_vector(s, "q0", nq)?,
