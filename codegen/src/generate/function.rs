@@ -21,117 +21,101 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
         &|var| cx.input(var),
     )?;
     let used = Used::of(traced, cx.nq, cx.nv);
-    let (name, scalar, generics) = (&cx.name, &cx.scalar, &cx.impl_generics);
-    let (nq, nv) = (
-        Literal::usize_unsuffixed(cx.nq),
-        Literal::usize_unsuffixed(cx.nv),
-    );
+    let Signature {
+        trait_,
+        arguments,
+        ret,
+        result,
+    } = signature(cx, traced, &emitted);
+    let function = format_ident!("{}_with", traced.output.name());
+    // Each argument, and the `let` that binds the entries the function reads.
+    let (args, inputs): (Vec<TokenStream>, Vec<TokenStream>) = arguments
+        .iter()
+        .map(|&arg| {
+            let (ty, used) = match arg {
+                "q" => (cx.vector_type(cx.nq), &used.q),
+                "base" => (cx.vector_type(6), &used.base),
+                "v" => (cx.vector_type(cx.nv), &used.v),
+                "a" => (cx.vector_type(cx.nv), &used.a),
+                _ => (cx.vector_type(cx.nv), &used.tau),
+            };
+            let id = format_ident!("{}", arg);
+            (quote!(#id: &#ty,), destructure(arg, used))
+        })
+        .unzip();
+    let (name, generics, params_ty) = (&cx.name, &cx.impl_generics, &cx.params_ty);
     let doc = docs::function_doc(cx, traced)
         .into_iter()
         .map(|d| quote!(#[doc = #d]));
     let p_arg = if used.params { quote!(p) } else { quote!(_p) };
-    let params_ty = &cx.params_ty;
-    let (sq, sv) = (cx.vector_type(cx.nq), cx.vector_type(cx.nv));
     let statements = &emitted.statements;
-    let dq = destructure("q", &used.q);
-    let (dv, da, dtau, dbase) = (
-        destructure("v", &used.v),
-        destructure("a", &used.a),
-        destructure("tau", &used.tau),
-        destructure("base", &used.base),
-    );
-    let nb = Literal::usize_unsuffixed(cx.model.nb());
+    Ok(quote! {
+        impl #generics ::articulated::#trait_ for #name {
+            #(#doc)*
+            fn #function(#(#args)* #p_arg: &#params_ty) -> #ret {
+                #(#inputs)*
+                #statements
+                #result
+            }
+        }
+    })
+}
+
+/// What an output's function looks like: its trait, its arguments before the parameters (`q`,
+/// `v`, `a`, `tau`, `base`), its return type and the expression it returns after the statements.
+struct Signature {
+    trait_: TokenStream,
+    arguments: &'static [&'static str],
+    ret: TokenStream,
+    result: TokenStream,
+}
+
+fn signature(cx: &Context, traced: &Traced, emitted: &Emitted) -> Signature {
+    let scalar = &cx.scalar;
+    let [nq, nv, nb] = [cx.nq, cx.nv, cx.model.nb()].map(Literal::usize_unsuffixed);
+    let sv = cx.vector_type(cx.nv);
     let values = &emitted.outputs[..traced.values.len()];
-    Ok(match traced.output {
-        Output::MassMatrix => {
+    let matrix = |rows: &Literal, cols: &Literal| quote!(::articulated::nalgebra::SMatrix<#scalar, #rows, #cols>);
+    let (trait_, arguments, ret, result): (_, &'static [&'static str], _, _) = match traced.output {
+        Output::MassMatrix => (
+            quote!(MassMatrix<#scalar, #nq, #nv>),
+            &["q"],
+            matrix(&nv, &nv),
             // nalgebra stores columns; M is symmetric, so its row-major entries are its columns.
-            let m = columns(cx, values, cx.nv);
-            quote! {
-                impl #generics ::articulated::MassMatrix<#scalar, #nq, #nv> for #name {
-                    #(#doc)*
-                    fn mass_matrix_with(q: &#sq, #p_arg: &#params_ty)
-                        -> ::articulated::nalgebra::SMatrix<#scalar, #nv, #nv> {
-                        #dq
-                        #statements
-                        #m
-                    }
-                }
-            }
-        }
-        Output::Bias => {
-            let out = vector(cx, values);
-            quote! {
-                impl #generics ::articulated::Bias<#scalar, #nq, #nv> for #name {
-                    #(#doc)*
-                    fn bias_with(q: &#sq, v: &#sv, #p_arg: &#params_ty) -> #sv {
-                        #dq #dv
-                        #statements
-                        #out
-                    }
-                }
-            }
-        }
-        Output::Gravity => {
-            let out = vector(cx, values);
-            quote! {
-                impl #generics ::articulated::Gravity<#scalar, #nq, #nv> for #name {
-                    #(#doc)*
-                    fn gravity_with(q: &#sq, #p_arg: &#params_ty) -> #sv {
-                        #dq
-                        #statements
-                        #out
-                    }
-                }
-            }
-        }
-        Output::InverseDynamics => {
-            let out = vector(cx, values);
-            quote! {
-                impl #generics ::articulated::InverseDynamics<#scalar, #nq, #nv> for #name {
-                    #(#doc)*
-                    fn inverse_dynamics_with(q: &#sq, v: &#sv, a: &#sv, #p_arg: &#params_ty)
-                        -> #sv {
-                        #dq #dv #da
-                        #statements
-                        #out
-                    }
-                }
-            }
-        }
-        Output::JointWrenches => {
-            let w = columns(cx, values, 6);
-            quote! {
-                impl #generics ::articulated::JointWrenches<#scalar, #nq, #nv, #nb> for #name {
-                    #(#doc)*
-                    fn joint_wrenches_with(q: &#sq, v: &#sv, a: &#sv, #p_arg: &#params_ty)
-                        -> ::articulated::nalgebra::SMatrix<#scalar, 6, #nb> {
-                        #dq #dv #da
-                        #statements
-                        #w
-                    }
-                }
-            }
-        }
-        Output::JointWrenchesBottomUp => {
-            let w = columns(cx, values, 6);
-            let s6 = cx.vector_type(6);
-            quote! {
-                impl #generics ::articulated::JointWrenchesBottomUp<#scalar, #nq, #nv, #nb>
-                    for #name
-                {
-                    #(#doc)*
-                    fn joint_wrenches_bottom_up_with(
-                        q: &#sq, v: &#sv, a: &#sv, base: &#s6, #p_arg: &#params_ty,
-                    ) -> ::articulated::nalgebra::SMatrix<#scalar, 6, #nb> {
-                        #dq #dv #da #dbase
-                        #statements
-                        #w
-                    }
-                }
-            }
-        }
+            columns(cx, values, cx.nv),
+        ),
+        Output::Bias => (
+            quote!(Bias<#scalar, #nq, #nv>),
+            &["q", "v"],
+            sv.clone(),
+            vector(cx, values),
+        ),
+        Output::Gravity => (
+            quote!(Gravity<#scalar, #nq, #nv>),
+            &["q"],
+            sv.clone(),
+            vector(cx, values),
+        ),
+        Output::InverseDynamics => (
+            quote!(InverseDynamics<#scalar, #nq, #nv>),
+            &["q", "v", "a"],
+            sv.clone(),
+            vector(cx, values),
+        ),
+        Output::JointWrenches => (
+            quote!(JointWrenches<#scalar, #nq, #nv, #nb>),
+            &["q", "v", "a"],
+            matrix(&Literal::usize_unsuffixed(6), &nb),
+            columns(cx, values, 6),
+        ),
+        Output::JointWrenchesBottomUp => (
+            quote!(JointWrenchesBottomUp<#scalar, #nq, #nv, #nb>),
+            &["q", "v", "a", "base"],
+            matrix(&Literal::usize_unsuffixed(6), &nb),
+            columns(cx, values, 6),
+        ),
         Output::ForwardDynamics => {
-            let checks = pivot_checks(cx, traced, &emitted);
+            let checks = pivot_checks(cx, traced, emitted);
             let finite = values.iter().enumerate().map(|(k, x)| {
                 let k = Literal::usize_unsuffixed(k);
                 quote! {
@@ -141,21 +125,20 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
                 }
             });
             let out = vector(cx, values);
-            quote! {
-                impl #generics ::articulated::ForwardDynamics<#scalar, #nq, #nv> for #name {
-                    #(#doc)*
-                    fn forward_dynamics_with(q: &#sq, v: &#sv, tau: &#sv, #p_arg: &#params_ty)
-                        -> ::core::result::Result<#sv, ::articulated::SingularMassMatrix> {
-                        #dq #dv #dtau
-                        #statements
-                        #(#checks)*
-                        #(#finite)*
-                        Ok(#out)
-                    }
-                }
-            }
+            (
+                quote!(ForwardDynamics<#scalar, #nq, #nv>),
+                &["q", "v", "tau"],
+                quote!(::core::result::Result<#sv, ::articulated::SingularMassMatrix>),
+                quote!(#(#checks)* #(#finite)* Ok(#out)),
+            )
         }
-    })
+    };
+    Signature {
+        trait_,
+        arguments,
+        ret,
+        result,
+    }
 }
 
 /// `SVector::from_array_storage(ArrayStorage([[v0, v1, …]]))`.
