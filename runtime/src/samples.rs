@@ -274,7 +274,7 @@ impl fmt::Display for CsvError {
 impl std::error::Error for CsvError {}
 
 /// Writes a table with the header `t,{prefix}0,…,{prefix}{columns−1}` and one row per time,
-/// `values` row-major (`t.len()·columns`). Numbers are written in Rust's shortest form that
+/// `values` row-major (`t.len()·columns`). Numbers are written in Rust's shortest form (`{:?}`: `3.2e-7`, not `0.00000032`) that
 /// reads back to the same `f64`, so [`Samples::parse_csv`] round-trips them exactly.
 /// `prefix = "tau"` gives the couples file of `articulated invert`.
 ///
@@ -304,9 +304,9 @@ pub fn write_csv<W: Write>(
     }
     writeln!(out)?;
     for (row, time) in t.iter().enumerate() {
-        write!(out, "{time}")?;
+        write!(out, "{time:?}")?;
         for x in &values[row * columns..(row + 1) * columns] {
-            write!(out, ",{x}")?;
+            write!(out, ",{x:?}")?;
         }
         writeln!(out)?;
     }
