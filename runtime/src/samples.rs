@@ -274,8 +274,9 @@ impl fmt::Display for CsvError {
 impl std::error::Error for CsvError {}
 
 /// Writes a table with the header `t,{prefix}0,…,{prefix}{columns−1}` and one row per time,
-/// `values` row-major (`t.len()·columns`). Numbers are written in Rust's shortest form (`{:?}`: `3.2e-7`, not `0.00000032`) that
-/// reads back to the same `f64`, so [`Samples::parse_csv`] round-trips them exactly.
+/// `values` row-major (`t.len()·columns`). Numbers are written in Rust's shortest form that
+/// reads back to the same `f64` (`{:?}`: `3.2e-7`, not `0.00000032`), so
+/// [`Samples::parse_csv`] round-trips them exactly.
 /// `prefix = "tau"` gives the couples file of `articulated invert`.
 ///
 /// # Errors
