@@ -206,10 +206,21 @@ pub fn sincos_array<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
 /// one target to another), so the generated code asks for it here, where both roundings are
 /// acceptable: the generated dynamics are held to the reference at 1e-12, the difference is
 /// a few units in the last place.
+///
+/// With the `std` feature (the default) the FMA is `f64::mul_add`, which the compiler sees as
+/// one scalar operation (`llvm.fma`). Without `std` it is `core::arch`'s `_mm_fmadd_sd`, which
+/// goes through vector registers: the same machine code in the end (arm7's inverse dynamics
+/// compiles to the same 847 instructions either way), but LLVM's optimizer spends far longer on
+/// large functions written with it (a release build of the tests' 30-body random tree for
+/// `x86-64-v3`: 14.5 s with `f64::mul_add`, not done after 20 minutes with the intrinsic).
 #[inline(always)]
 #[allow(unsafe_code)] // The one `unsafe` of the workspace: see the SAFETY note.
 pub fn mul_add(a: f64, b: f64, c: f64) -> f64 {
-    #[cfg(all(target_arch = "x86_64", target_feature = "fma"))]
+    #[cfg(all(feature = "std", target_arch = "x86_64", target_feature = "fma"))]
+    {
+        a.mul_add(b, c)
+    }
+    #[cfg(all(not(feature = "std"), target_arch = "x86_64", target_feature = "fma"))]
     {
         use core::arch::x86_64::{_mm_cvtsd_f64, _mm_fmadd_sd, _mm_set_sd};
         // SAFETY: the intrinsics need SSE2 and FMA, and this block is compiled only when the
@@ -227,7 +238,11 @@ pub fn mul_add(a: f64, b: f64, c: f64) -> f64 {
 #[inline(always)]
 #[allow(unsafe_code)] // As in `mul_add`.
 pub fn mul_addf(a: f32, b: f32, c: f32) -> f32 {
-    #[cfg(all(target_arch = "x86_64", target_feature = "fma"))]
+    #[cfg(all(feature = "std", target_arch = "x86_64", target_feature = "fma"))]
+    {
+        a.mul_add(b, c)
+    }
+    #[cfg(all(not(feature = "std"), target_arch = "x86_64", target_feature = "fma"))]
     {
         use core::arch::x86_64::{_mm_cvtss_f32, _mm_fmadd_ss, _mm_set_ss};
         // SAFETY: as in `mul_add`.
