@@ -102,7 +102,7 @@ macro_rules! model {
                     Output::Gravity => $ty::GRAVITY_OPS,
                     Output::InverseDynamics => $ty::INVERSE_DYNAMICS_OPS,
                     Output::ForwardDynamics => $ty::FORWARD_DYNAMICS_OPS,
-                    Output::JointWrenches | Output::JointWrenchesBottomUp => OpCounts::default(),
+                    _ => OpCounts::default(),
                 }
             }
         }

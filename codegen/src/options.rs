@@ -63,6 +63,12 @@ pub enum Output {
     InverseDynamics,
     /// `forward_dynamics(q, v, tau)`: `q̈`, or an error where `M` is singular.
     ForwardDynamics,
+    /// `nonlinear_effects(q, v)`: `N(q, q̇)·q̇ + g(q)` in one pass (Pinocchio's
+    /// `nonLinearEffects`).
+    NonlinearEffects,
+    /// `mass_matrix_and_nonlinear_effects(q, v)`: `M(q)` and `N·q̇ + g` from one function that
+    /// computes the kinematics they share once (what a controller asks at every tick).
+    MassMatrixAndNonlinearEffects,
     /// `joint_wrenches(q, v, a)`: the wrench each joint transmits, from the free ends down.
     JointWrenches,
     /// `joint_wrenches_bottom_up(q, v, a, base)`: the same from the base up, starting from the
@@ -72,12 +78,17 @@ pub enum Output {
 
 impl Output {
     /// Every output, with its name in the grammar, in the order the generator emits them.
-    pub const ALL: [(Output, &'static str); 7] = [
+    pub const ALL: [(Output, &'static str); 9] = [
         (Output::MassMatrix, "mass_matrix"),
         (Output::Bias, "bias"),
         (Output::Gravity, "gravity"),
         (Output::InverseDynamics, "inverse_dynamics"),
         (Output::ForwardDynamics, "forward_dynamics"),
+        (Output::NonlinearEffects, "nonlinear_effects"),
+        (
+            Output::MassMatrixAndNonlinearEffects,
+            "mass_matrix_and_nonlinear_effects",
+        ),
         (Output::JointWrenches, "joint_wrenches"),
         (Output::JointWrenchesBottomUp, "joint_wrenches_bottom_up"),
     ];
@@ -99,6 +110,8 @@ impl Output {
             Output::Gravity => "gravity",
             Output::InverseDynamics => "inverse_dynamics",
             Output::ForwardDynamics => "forward_dynamics",
+            Output::NonlinearEffects => "nonlinear_effects",
+            Output::MassMatrixAndNonlinearEffects => "mass_matrix_and_nonlinear_effects",
             Output::JointWrenches => "joint_wrenches",
             Output::JointWrenchesBottomUp => "joint_wrenches_bottom_up",
         }

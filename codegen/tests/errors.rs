@@ -91,7 +91,8 @@ fn unknown_output() {
         2,
         24,
         "unknown output `mas_matrix`: expected one of `mass_matrix`, `bias`, `gravity`, \
-         `inverse_dynamics`, `forward_dynamics`, `joint_wrenches` or `joint_wrenches_bottom_up`",
+         `inverse_dynamics`, `forward_dynamics`, `nonlinear_effects`, \
+         `mass_matrix_and_nonlinear_effects`, `joint_wrenches` or `joint_wrenches_bottom_up`",
     );
 }
 

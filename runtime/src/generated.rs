@@ -11,6 +11,8 @@
 //! | [`Gravity`] | `C::gravity(&q)` | `g(q)`, the generalized force that holds the chain still |
 //! | [`InverseDynamics`] | `C::inverse_dynamics(&q, &v, &a)` | `τ = M·a + N·q̇ + g` |
 //! | [`ForwardDynamics`] | `C::forward_dynamics(&q, &v, &tau)` | `q̈`, or [`SingularMassMatrix`] |
+//! | [`NonlinearEffects`] | `C::nonlinear_effects(&q, &v)` | `N·q̇ + g` in one pass |
+//! | [`MassMatrixAndNonlinearEffects`] | `C::mass_matrix_and_nonlinear_effects(&q, &v)` | both, the kinematics shared |
 //! | [`JointWrenches`] | `C::joint_wrenches(&q, &v, &a)` | each joint's wrench, `6 × NB` |
 //! | [`JointWrenchesBottomUp`] | `C::joint_wrenches_bottom_up(&q, &v, &a, &base)` | the same from a base wrench up |
 //!
@@ -168,6 +170,40 @@ pub trait ForwardDynamics<T, const NQ: usize, const NV: usize>: Chain<T> {
         tau: &SVector<T, NV>,
     ) -> Result<SVector<T, NV>, SingularMassMatrix> {
         Self::forward_dynamics_with(q, v, tau, &Self::default_params())
+    }
+}
+
+/// `N(q, q̇)·q̇ + g(q)`: the velocity-product terms and gravity together, in one pass (inverse
+/// dynamics at `a = 0`; Pinocchio's `nonLinearEffects`), cheaper than [`Bias`] then
+/// [`Gravity`].
+pub trait NonlinearEffects<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `N·q̇ + g` for the parameters `p`.
+    fn nonlinear_effects_with(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        p: &Self::Params,
+    ) -> SVector<T, NV>;
+    /// `N·q̇ + g` with the default parameters.
+    fn nonlinear_effects(q: &SVector<T, NQ>, v: &SVector<T, NV>) -> SVector<T, NV> {
+        Self::nonlinear_effects_with(q, v, &Self::default_params())
+    }
+}
+
+/// `(M(q), N(q, q̇)·q̇ + g(q))` from one function, which computes the kinematics both need once:
+/// what a controller asks at every tick.
+pub trait MassMatrixAndNonlinearEffects<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `M` and `N·q̇ + g` for the parameters `p`.
+    fn mass_matrix_and_nonlinear_effects_with(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        p: &Self::Params,
+    ) -> (SMatrix<T, NV, NV>, SVector<T, NV>);
+    /// `M` and `N·q̇ + g` with the default parameters.
+    fn mass_matrix_and_nonlinear_effects(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+    ) -> (SMatrix<T, NV, NV>, SVector<T, NV>) {
+        Self::mass_matrix_and_nonlinear_effects_with(q, v, &Self::default_params())
     }
 }
 

@@ -162,7 +162,8 @@ pub mod prelude {
     pub use crate::simulate::Simulation;
     pub use crate::{
         Bias, Chain, Coordinates, ForwardDynamics, Gravity, InverseDynamics, JointWrenches,
-        JointWrenchesBottomUp, MassMatrix, OpCounts, SingularMassMatrix,
+        JointWrenchesBottomUp, MassMatrix, MassMatrixAndNonlinearEffects, NonlinearEffects,
+        OpCounts, SingularMassMatrix,
     };
 }
 

@@ -48,6 +48,12 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
         impl #sizes ::articulated::ForwardDynamics<T, N, N> for #name {
             fn forward_dynamics_with(_: &#v, _: &#v, _: &#v, _: &()) -> #fd #never
         }
+        impl #sizes ::articulated::NonlinearEffects<T, N, N> for #name {
+            fn nonlinear_effects_with(_: &#v, _: &#v, _: &()) -> #v #never
+        }
+        impl #sizes ::articulated::MassMatrixAndNonlinearEffects<T, N, N> for #name {
+            fn mass_matrix_and_nonlinear_effects_with(_: &#v, _: &#v, _: &()) -> (#m, #v) #never
+        }
         impl #sizes ::articulated::JointWrenches<T, N, N, N> for #name {
             fn joint_wrenches_with(_: &#v, _: &#v, _: &#v, _: &()) -> #w #never
         }

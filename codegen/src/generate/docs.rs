@@ -92,6 +92,14 @@ fn equation(output: Output) -> &'static str {
         Output::ForwardDynamics => {
             "`q̈ = M(q)⁻¹·(τ − N(q, q̇)·q̇ − g(q))`; an error where `M(q)` is singular."
         }
+        Output::NonlinearEffects => {
+            "`N(q, q̇)·q̇ + g(q)`, bias and gravity in one pass: inverse dynamics at `a = 0` \
+             (Pinocchio's `nonLinearEffects`)."
+        }
+        Output::MassMatrixAndNonlinearEffects => {
+            "`(M(q), N(q, q̇)·q̇ + g(q))` from one function, the kinematics both need computed \
+             once: what a controller asks at every tick."
+        }
         Output::JointWrenches => {
             "The wrench `[n; f]` each joint transmits at `(q, v, a)`, gravity included: what the \
              parent exerts on the child, in the child's frame about its origin (Hemami's couple \
@@ -122,6 +130,11 @@ fn formulation(traced: &Traced) -> String {
             rnea_name(specialized)
         ),
         (Output::MassMatrix, _) => format!("By {}", crba_name(specialized)),
+        (Output::MassMatrixAndNonlinearEffects, _) => format!(
+            "`M` by {}, `N·q̇ + g` by {}",
+            crba_name(specialized),
+            rnea_name(specialized)
+        ),
         (Output::JointWrenchesBottomUp, _) => format!(
             "Each body's own force by {}, then up the chain",
             rnea_name(specialized)

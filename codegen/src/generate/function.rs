@@ -102,6 +102,25 @@ fn signature(cx: &Context, traced: &Traced, emitted: &Emitted) -> Signature {
             sv.clone(),
             vector(cx, values),
         ),
+        Output::NonlinearEffects => (
+            quote!(NonlinearEffects<#scalar, #nq, #nv>),
+            &["q", "v"],
+            sv.clone(),
+            vector(cx, values),
+        ),
+        Output::MassMatrixAndNonlinearEffects => {
+            let (m, nle) = values.split_at(cx.nv * cx.nv);
+            let (m, nle) = (columns(cx, m, cx.nv), vector(cx, nle));
+            (
+                quote!(MassMatrixAndNonlinearEffects<#scalar, #nq, #nv>),
+                &["q", "v"],
+                {
+                    let m_ty = matrix(&nv, &nv);
+                    quote!((#m_ty, #sv))
+                },
+                quote!((#m, #nle)),
+            )
+        }
         Output::JointWrenches => (
             quote!(JointWrenches<#scalar, #nq, #nv, #nb>),
             &["q", "v", "a"],

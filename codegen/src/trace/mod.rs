@@ -231,6 +231,14 @@ fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
             Output::Bias => rnea(form, &tree, &q, &v, &zero, false),
             Output::Gravity => rnea(form, &tree, &q, &zero, &zero, true),
             Output::InverseDynamics => rnea(form, &tree, &q, &v, &a, true),
+            Output::NonlinearEffects => rnea(form, &tree, &q, &v, &zero, true),
+            Output::MassMatrixAndNonlinearEffects => {
+                let m = label_outputs(Output::MassMatrix, mass_matrix(form, &tree, &q), tree.nv);
+                let nle = rnea(form, &tree, &q, &v, &zero, true);
+                m.into_iter()
+                    .chain(label_outputs(Output::NonlinearEffects, nle, tree.nv))
+                    .collect()
+            }
             Output::JointWrenches => wrench_entries(&joint_wrenches(form, &tree, &q, &v, &a)),
             Output::JointWrenchesBottomUp => {
                 let (x_up, h) = inertial_forces(form, &tree, &q, &v, &a);
@@ -261,6 +269,9 @@ fn label_outputs(output: Output, values: Vec<Sym>, nv: usize) -> Vec<Sym> {
         Output::Gravity => "g",
         Output::InverseDynamics => "tau",
         Output::ForwardDynamics => "qdd",
+        Output::NonlinearEffects => "nle",
+        // Labelled part by part where they are traced.
+        Output::MassMatrixAndNonlinearEffects => return values,
         // The recursions label every wrench; nothing is left unnamed.
         Output::JointWrenches | Output::JointWrenchesBottomUp => return values,
     };
