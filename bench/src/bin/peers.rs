@@ -1,0 +1,481 @@
+//! Our side of the comparison against Pinocchio and MuJoCo (`bench/peers/`, `BENCHMARKS.md`):
+//! the generated functions of each model, timed on states read from a file, so that every
+//! program of the comparison measures the same inputs.
+//!
+//! ```text
+//! peers --layout MODEL                               # joints, coordinates and op counts (JSON)
+//! peers --states FILE --values MODEL                 # outputs at the first state (JSON)
+//! peers --states FILE --time [--batches N] [--batch-ms T] MODEL   # ns per call (JSON)
+//! peers --states FILE --calls K MODEL OUTPUT         # exactly K calls, then exit (callgrind)
+//! ```
+//!
+//! The states file holds `nq nv count` and then, per state, the lines `q`, `v`, `a` and `tau`
+//! in *our* convention and joint order (`bench/peers/run.py` writes one per program from a
+//! single set of states). A timed call cycles through the states like the `bench_table`
+//! harness: the state index, the inputs and the result all go through [`black_box`]. Each
+//! output is timed in `--batches` batches of about `--batch-ms` (default 200 of 1 ms) and
+//! reported as the fastest and the median batch, in ns per call.
+//!
+//! The models: the same `.chain` files the generator ships, each generated with the six
+//! outputs the comparison uses. Adding one is one line of `models!` below (and one in
+//! `run.py`'s model list).
+
+use std::hint::black_box;
+use std::path::Path;
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+use articulated::model::JointKind;
+use articulated::nalgebra::SVector;
+use articulated::prelude::*;
+use articulated_bench::Output;
+
+const USAGE: &str = "usage: peers --layout MODEL
+       peers --states FILE --values MODEL
+       peers --states FILE --time [--batches N] [--batch-ms T] MODEL
+       peers --states FILE --calls K MODEL OUTPUT";
+
+/// The outputs every model is generated with, in the order they are timed.
+const OUTPUTS: [Output; 6] = [
+    Output::MassMatrix,
+    Output::NonlinearEffects,
+    Output::Gravity,
+    Output::InverseDynamics,
+    Output::ForwardDynamics,
+    Output::MassMatrixAndNonlinearEffects,
+];
+
+/// A generated model with the six outputs of the comparison.
+trait Peer<const NQ: usize, const NV: usize>:
+    MassMatrix<f64, NQ, NV>
+    + NonlinearEffects<f64, NQ, NV>
+    + Gravity<f64, NQ, NV>
+    + InverseDynamics<f64, NQ, NV>
+    + ForwardDynamics<f64, NQ, NV>
+    + MassMatrixAndNonlinearEffects<f64, NQ, NV>
+{
+    /// The `.chain` file the type is generated from (absolute, for `--layout`).
+    const CHAIN: &'static str;
+    /// The generator's operation counts of `output` (`C::<OUTPUT>_OPS`).
+    fn ops(output: Output) -> OpCounts;
+}
+
+/// Declares each model: a generated type, its `Peer` impl, and its entry in [`with_model`].
+macro_rules! models {
+    ($($name:literal => $ty:ident, $file:literal;)*) => {
+        $(
+            #[doc = concat!("The generated `", $file, "`.")]
+            #[derive(articulated::Chain)]
+            #[chain(
+                file = $file,
+                outputs = [
+                    mass_matrix,
+                    nonlinear_effects,
+                    gravity,
+                    inverse_dynamics,
+                    forward_dynamics,
+                    mass_matrix_and_nonlinear_effects
+                ]
+            )]
+            struct $ty;
+
+            impl Peer<{ $ty::NQ }, { $ty::NV }> for $ty {
+                const CHAIN: &'static str = concat!(env!("CARGO_MANIFEST_DIR"), "/", $file);
+                fn ops(output: Output) -> OpCounts {
+                    match output {
+                        Output::MassMatrix => $ty::MASS_MATRIX_OPS,
+                        Output::NonlinearEffects => $ty::NONLINEAR_EFFECTS_OPS,
+                        Output::Gravity => $ty::GRAVITY_OPS,
+                        Output::InverseDynamics => $ty::INVERSE_DYNAMICS_OPS,
+                        Output::ForwardDynamics => $ty::FORWARD_DYNAMICS_OPS,
+                        Output::MassMatrixAndNonlinearEffects => {
+                            $ty::MASS_MATRIX_AND_NONLINEAR_EFFECTS_OPS
+                        }
+                        _ => OpCounts::default(),
+                    }
+                }
+            }
+        )*
+
+        /// Runs `cmd` on the model called `name`; `Err` if there is none.
+        fn with_model(name: &str, cmd: &Command) -> Result<(), String> {
+            match name {
+                $($name => run::<$ty, { $ty::NQ }, { $ty::NV }>(cmd),)*
+                _ => Err(format!(
+                    "unknown model `{name}` (known: {})",
+                    [$($name),*].join(", ")
+                )),
+            }
+        }
+    };
+}
+
+models! {
+    "arm7" => Arm7, "../models/arm7.chain";
+    "arm7_floating" => Arm7Floating, "peers/arm7_floating.chain";
+}
+
+/// What the command line asks for.
+enum Command {
+    /// Print the joints, coordinates and op counts.
+    Layout,
+    /// Print the outputs at the first state of the file.
+    Values(String),
+    /// Time every output.
+    Time {
+        /// The states file.
+        states: String,
+        /// Batches per output.
+        batches: usize,
+        /// Target duration of one batch.
+        batch: Duration,
+    },
+    /// Make exactly `calls` calls of `output`.
+    Calls {
+        /// The states file.
+        states: String,
+        /// How many calls.
+        calls: usize,
+        /// Which output.
+        output: Output,
+    },
+}
+
+/// One input state, in our convention.
+struct State<const NQ: usize, const NV: usize> {
+    /// Positions.
+    q: SVector<f64, NQ>,
+    /// Velocities.
+    v: SVector<f64, NV>,
+    /// Accelerations (the input of inverse dynamics).
+    a: SVector<f64, NV>,
+    /// Joint forces (the input of forward dynamics).
+    tau: SVector<f64, NV>,
+}
+
+/// Reads a states file: `nq nv count`, then `count` times `q`, `v`, `a`, `tau`.
+fn read_states<const NQ: usize, const NV: usize>(path: &str) -> Result<Vec<State<NQ, NV>>, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+    let mut nums = text
+        .split_whitespace()
+        .map(|w| w.parse::<f64>().map_err(|e| format!("{path}: `{w}`: {e}")));
+    let mut next = || {
+        nums.next()
+            .unwrap_or_else(|| Err(format!("{path}: too short")))
+    };
+    let (nq, nv, count) = (next()?, next()?, next()?);
+    if nq != NQ as f64 || nv != NV as f64 {
+        return Err(format!(
+            "{path}: nq {nq}, nv {nv}, but the model has nq {NQ}, nv {NV}"
+        ));
+    }
+    let count = count as usize;
+    if count == 0 || !count.is_power_of_two() {
+        return Err(format!("{path}: {count} states, want a power of two"));
+    }
+    let mut states = Vec::with_capacity(count);
+    for _ in 0..count {
+        let mut vector =
+            |n: usize| -> Result<Vec<f64>, String> { (0..n).map(|_| next()).collect() };
+        states.push(State {
+            q: SVector::from_column_slice(&vector(NQ)?),
+            v: SVector::from_column_slice(&vector(NV)?),
+            a: SVector::from_column_slice(&vector(NV)?),
+            tau: SVector::from_column_slice(&vector(NV)?),
+        });
+    }
+    Ok(states)
+}
+
+/// Receives one closure per output; each makes one call on state `i` (masked to the states).
+trait Visit {
+    /// Called once per output, in the order of [`OUTPUTS`].
+    fn visit<F: FnMut(usize)>(&mut self, output: Output, f: F);
+}
+
+/// Hands `visitor` the closure of every output of model `M` on `states`.
+fn each_output<M, V, const NQ: usize, const NV: usize>(states: &[State<NQ, NV>], visitor: &mut V)
+where
+    M: Peer<NQ, NV>,
+    V: Visit,
+{
+    let mask = states.len() - 1;
+    let s = |i: usize| &states[i & mask];
+    visitor.visit(Output::MassMatrix, |i| {
+        black_box(M::mass_matrix(black_box(&s(i).q)));
+    });
+    visitor.visit(Output::NonlinearEffects, |i| {
+        let x = s(i);
+        black_box(M::nonlinear_effects(black_box(&x.q), black_box(&x.v)));
+    });
+    visitor.visit(Output::Gravity, |i| {
+        black_box(M::gravity(black_box(&s(i).q)));
+    });
+    visitor.visit(Output::InverseDynamics, |i| {
+        let x = s(i);
+        black_box(M::inverse_dynamics(
+            black_box(&x.q),
+            black_box(&x.v),
+            black_box(&x.a),
+        ));
+    });
+    visitor.visit(Output::ForwardDynamics, |i| {
+        let x = s(i);
+        let _ = black_box(M::forward_dynamics(
+            black_box(&x.q),
+            black_box(&x.v),
+            black_box(&x.tau),
+        ));
+    });
+    visitor.visit(Output::MassMatrixAndNonlinearEffects, |i| {
+        let x = s(i);
+        black_box(M::mass_matrix_and_nonlinear_effects(
+            black_box(&x.q),
+            black_box(&x.v),
+        ));
+    });
+}
+
+/// Runs `f` on states `0..n` and returns the time taken.
+#[inline(never)]
+fn batch<F: FnMut(usize)>(f: &mut F, n: usize) -> Duration {
+    let start = Instant::now();
+    for i in 0..n {
+        f(black_box(i));
+    }
+    start.elapsed()
+}
+
+/// How many calls of `f` take about `target`.
+fn calibrate<F: FnMut(usize)>(f: &mut F, target: Duration) -> usize {
+    let mut n = 16;
+    loop {
+        let t = batch(f, n);
+        if t >= target / 4 || n >= 1 << 30 {
+            let per = t.as_secs_f64() / n as f64;
+            return ((target.as_secs_f64() / per) as usize).max(16);
+        }
+        n *= 2;
+    }
+}
+
+/// Times each output: `batches` batches of about `batch`, the fastest and the median.
+struct Timer {
+    /// Batches per output.
+    batches: usize,
+    /// Target duration of one batch.
+    batch: Duration,
+    /// One JSON member per output.
+    json: Vec<String>,
+}
+
+impl Visit for Timer {
+    fn visit<F: FnMut(usize)>(&mut self, output: Output, mut f: F) {
+        let n = calibrate(&mut f, self.batch);
+        let mut ns: Vec<f64> = (0..self.batches)
+            .map(|_| batch(&mut f, n).as_secs_f64() * 1e9 / n as f64)
+            .collect();
+        ns.sort_by(f64::total_cmp);
+        self.json.push(format!(
+            "\"{}\": {{\"min\": {:.3}, \"median\": {:.3}, \"calls_per_batch\": {n}}}",
+            output.name(),
+            ns[0],
+            ns[ns.len() / 2]
+        ));
+    }
+}
+
+/// Makes exactly `calls` calls of one output (for callgrind).
+struct Only {
+    /// Which output.
+    output: Output,
+    /// How many calls.
+    calls: usize,
+}
+
+impl Visit for Only {
+    fn visit<F: FnMut(usize)>(&mut self, output: Output, mut f: F) {
+        if output == self.output {
+            black_box(batch(&mut f, self.calls));
+        }
+    }
+}
+
+/// `xs` as a JSON array, with every digit.
+fn json_array(xs: impl IntoIterator<Item = f64>) -> String {
+    let items: Vec<String> = xs.into_iter().map(|x| format!("{x:e}")).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// The joints with coordinates of model `M` (name, kind, where its coordinates start), and
+/// the op counts of each output, as JSON.
+fn layout<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>() -> Result<String, String> {
+    let model = articulated_codegen::load::load_model(Path::new(M::CHAIN), false)
+        .map_err(|e| format!("{}: {e}", M::CHAIN))?;
+    let mut joints = Vec::new();
+    let (mut iq, mut iv) = (0, 0);
+    for j in model.joints.iter().filter(|j| j.kind != JointKind::Fixed) {
+        let kind = match j.kind {
+            JointKind::Revolute { .. } => "revolute",
+            JointKind::Prismatic { .. } => "prismatic",
+            JointKind::FreeQuaternion => "free",
+            _ => "other",
+        };
+        joints.push(format!(
+            "{{\"name\": \"{}\", \"kind\": \"{kind}\", \"iq\": {iq}, \"nq\": {}, \"iv\": {iv}, \"nv\": {}}}",
+            j.name,
+            j.kind.nq(),
+            j.kind.nv()
+        ));
+        iq += j.kind.nq();
+        iv += j.kind.nv();
+    }
+    if (iq, iv) != (NQ, NV) {
+        return Err(format!(
+            "{}: the joints add up to nq {iq}, nv {iv}, the generated type has {NQ}, {NV}",
+            M::CHAIN
+        ));
+    }
+    let ops: Vec<String> = OUTPUTS
+        .iter()
+        .map(|&o| format!("\"{}\": {}", o.name(), M::ops(o).total()))
+        .collect();
+    Ok(format!(
+        "{{\"nq\": {NQ}, \"nv\": {NV}, \"joints\": [{}], \"ops\": {{{}}}}}",
+        joints.join(", "),
+        ops.join(", ")
+    ))
+}
+
+/// The outputs at the first state, as JSON (matrices row by row).
+fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(x: &State<NQ, NV>) -> String {
+    let rows = |m: &articulated::nalgebra::SMatrix<f64, NV, NV>| {
+        let rows: Vec<String> = m
+            .row_iter()
+            .map(|r| json_array(r.iter().copied()))
+            .collect();
+        format!("[{}]", rows.join(", "))
+    };
+    let vector = |v: &SVector<f64, NV>| json_array(v.iter().copied());
+    let fd = M::forward_dynamics(&x.q, &x.v, &x.tau)
+        .map(|a| vector(&a))
+        .unwrap_or_else(|_| "null".into());
+    let (m2, nle2) = M::mass_matrix_and_nonlinear_effects(&x.q, &x.v);
+    format!(
+        "{{\"mass_matrix\": {}, \"nonlinear_effects\": {}, \"gravity\": {}, \
+         \"inverse_dynamics\": {}, \"forward_dynamics\": {fd}, \
+         \"mass_matrix_and_nonlinear_effects\": {{\"mass_matrix\": {}, \"nonlinear_effects\": {}}}}}",
+        rows(&M::mass_matrix(&x.q)),
+        vector(&M::nonlinear_effects(&x.q, &x.v)),
+        vector(&M::gravity(&x.q)),
+        vector(&M::inverse_dynamics(&x.q, &x.v, &x.a)),
+        rows(&m2),
+        vector(&nle2)
+    )
+}
+
+/// Runs `cmd` on model `M`.
+fn run<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(cmd: &Command) -> Result<(), String> {
+    match cmd {
+        Command::Layout => println!("{}", layout::<M, NQ, NV>()?),
+        Command::Values(path) => println!("{}", values::<M, NQ, NV>(&read_states(path)?[0])),
+        Command::Time {
+            states,
+            batches,
+            batch,
+        } => {
+            let states = read_states::<NQ, NV>(states)?;
+            let mut timer = Timer {
+                batches: *batches,
+                batch: *batch,
+                json: Vec::new(),
+            };
+            each_output::<M, _, NQ, NV>(&states, &mut timer);
+            println!("{{{}}}", timer.json.join(", "));
+        }
+        Command::Calls {
+            states,
+            calls,
+            output,
+        } => {
+            let states = read_states::<NQ, NV>(states)?;
+            let mut only = Only {
+                output: *output,
+                calls: *calls,
+            };
+            each_output::<M, _, NQ, NV>(&states, &mut only);
+        }
+    }
+    Ok(())
+}
+
+/// Parses the command line and runs it.
+fn main_args(args: &[String]) -> Result<(), String> {
+    let mut states: Option<String> = None;
+    let (mut layout, mut values, mut time) = (false, false, false);
+    let mut calls: Option<usize> = None;
+    let mut batches = 200;
+    let mut batch_ms = 1.0f64;
+    let mut rest = Vec::new();
+    let mut it = args.iter();
+    let num = |x: Option<&String>, what: &str| -> Result<f64, String> {
+        x.and_then(|s| s.parse().ok())
+            .ok_or_else(|| format!("{what} needs a number\n{USAGE}"))
+    };
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--states" => states = it.next().cloned(),
+            "--layout" => layout = true,
+            "--values" => values = true,
+            "--time" => time = true,
+            "--calls" => calls = Some(num(it.next(), "--calls")? as usize),
+            "--batches" => batches = (num(it.next(), "--batches")? as usize).max(1),
+            "--batch-ms" => batch_ms = num(it.next(), "--batch-ms")?,
+            "-h" | "--help" => {
+                println!("{USAGE}");
+                return Ok(());
+            }
+            _ => rest.push(a.clone()),
+        }
+    }
+    let need_states = || {
+        states
+            .clone()
+            .ok_or_else(|| format!("--states FILE is missing\n{USAGE}"))
+    };
+    let (model, cmd) = match (layout, values, time, calls, rest.as_slice()) {
+        (true, false, false, None, [model]) => (model, Command::Layout),
+        (false, true, false, None, [model]) => (model, Command::Values(need_states()?)),
+        (false, false, true, None, [model]) => (
+            model,
+            Command::Time {
+                states: need_states()?,
+                batches,
+                batch: Duration::from_secs_f64(batch_ms * 1e-3),
+            },
+        ),
+        (false, false, false, Some(calls), [model, output]) => (
+            model,
+            Command::Calls {
+                states: need_states()?,
+                calls,
+                output: Output::from_name(output)
+                    .filter(|o| OUTPUTS.contains(o))
+                    .ok_or_else(|| format!("unknown output `{output}`"))?,
+            },
+        ),
+        _ => return Err(USAGE.to_string()),
+    };
+    with_model(model, &cmd)
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    match main_args(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("peers: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
