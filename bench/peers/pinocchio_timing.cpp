@@ -1,0 +1,276 @@
+// Pinocchio's side of the comparison (bench/peers/run.sh builds it, run.py runs it).
+//
+//   pinocchio_timing --urdf FILE [--floating] --states FILE --values MODEL
+//   pinocchio_timing --urdf FILE [--floating] --states FILE --time [--batches N] [--batch-ms T] MODEL
+//   pinocchio_timing --urdf FILE [--floating] --states FILE --calls K MODEL OUTPUT
+//
+// The model comes from pinocchio::urdf::buildModel (with a JointModelFreeFlyer root for
+// --floating), gravity (0, 0, -9.81). The states file holds "nq nv count", then per state the
+// lines q, v, a, tau in Pinocchio's convention. Each output is what a user calls:
+//
+//   mass_matrix                        crba(model, data, q)  (default LOCAL convention; fills
+//                                      the upper triangle of data.M only)
+//   mass_matrix_world                  crba(model, data, q, Convention::WORLD)
+//   nonlinear_effects                  nonLinearEffects(model, data, q, v)
+//   gravity                            computeGeneralizedGravity(model, data, q)
+//   inverse_dynamics                   rnea(model, data, q, v, a)
+//   forward_dynamics                   aba(model, data, q, v, tau)  (default LOCAL convention)
+//   forward_dynamics_world             aba(model, data, q, v, tau, Convention::WORLD)
+//   mass_matrix_and_nonlinear_effects  crba(model, data, q) then nonLinearEffects(model, data, q, v)
+//
+// A timed call cycles through the states; the inputs are Eigen::Ref views made once, and an
+// empty asm statement with a memory clobber after each call makes the compiler assume the
+// result (in data) is read and the inputs may have changed. Each output: --batches batches of
+// about --batch-ms (default 200 of 1 ms), the fastest and the median batch, ns per call, as JSON.
+//
+// Built twice by run.sh: with the algorithms' templates compiled here (-O3 -march=x86-64-v3),
+// and with PINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION, which makes these calls go to the wheel's
+// prebuilt libpinocchio_default (what a CMake user of the pinocchio::pinocchio target gets).
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <pinocchio/multibody.hpp>
+#include <pinocchio/algorithm/aba.hpp>
+#include <pinocchio/algorithm/crba.hpp>
+#include <pinocchio/algorithm/rnea.hpp>
+#include <pinocchio/parsers/urdf.hpp>
+
+namespace {
+
+using Vec = Eigen::VectorXd;
+using Ref = Eigen::Ref<const Vec>;
+
+const char *const USAGE =
+    "usage: pinocchio_timing --urdf FILE [--floating] --states FILE --values MODEL\n"
+    "       pinocchio_timing --urdf FILE [--floating] --states FILE --time [--batches N] "
+    "[--batch-ms T] MODEL\n"
+    "       pinocchio_timing --urdf FILE [--floating] --states FILE --calls K MODEL OUTPUT";
+
+// Tells the compiler that memory (the result in data, the inputs) is read and written here.
+inline void clobber() { asm volatile("" ::: "memory"); }
+
+struct State {
+  Vec q, v, a, tau;
+};
+
+// Reads "nq nv count", then count times q, v, a, tau.
+std::vector<State> read_states(const std::string &path, int nq, int nv) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  int fnq = 0, fnv = 0, count = 0;
+  in >> fnq >> fnv >> count;
+  if (fnq != nq || fnv != nv)
+    throw std::runtime_error(path + ": nq/nv do not match the model's " + std::to_string(nq) +
+                             "/" + std::to_string(nv));
+  if (count <= 0 || (count & (count - 1)) != 0)
+    throw std::runtime_error(path + ": the number of states must be a power of two");
+  std::vector<State> states(count);
+  auto read = [&](Vec &x, int n) {
+    x.resize(n);
+    for (int i = 0; i < n; ++i)
+      if (!(in >> x[i])) throw std::runtime_error(path + ": too short");
+  };
+  for (auto &s : states) {
+    read(s.q, nq);
+    read(s.v, nv);
+    read(s.a, nv);
+    read(s.tau, nv);
+  }
+  return states;
+}
+
+using Clock = std::chrono::steady_clock;
+
+// Runs f on states 0..n (the index is masked by the caller) and returns the seconds taken.
+template <class F> __attribute__((noinline)) double batch(F &f, long n) {
+  auto start = Clock::now();
+  for (long i = 0; i < n; ++i) {
+    f(i);
+    clobber();
+  }
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// How many calls of f take about target seconds.
+template <class F> long calibrate(F &f, double target) {
+  long n = 16;
+  for (;;) {
+    double t = batch(f, n);
+    if (t >= target / 4 || n >= (1L << 30)) return std::max(16L, long(target / (t / n)));
+    n *= 2;
+  }
+}
+
+struct Runner {
+  enum Mode { Time, Calls } mode = Time;
+  int batches = 200;
+  double batch_s = 1e-3;
+  std::string only;  // Calls: the output
+  long calls = 0;    // Calls: how many
+  bool found = false;
+  std::vector<std::string> json;
+
+  template <class F> void operator()(const char *name, F f) {
+    if (mode == Calls) {
+      if (only != name) return;
+      found = true;
+      batch(f, calls);
+      return;
+    }
+    long n = calibrate(f, batch_s);
+    std::vector<double> ns(batches);
+    for (auto &t : ns) t = batch(f, n) * 1e9 / double(n);
+    std::sort(ns.begin(), ns.end());
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "\"%s\": {\"min\": %.3f, \"median\": %.3f, \"calls_per_batch\": %ld}", name,
+                  ns[0], ns[ns.size() / 2], n);
+    json.push_back(buf);
+  }
+};
+
+// Hands run the closure of every output.
+template <class R>
+void each_output(const pinocchio::Model &model, pinocchio::Data &data,
+                 const std::vector<Ref> &q, const std::vector<Ref> &v, const std::vector<Ref> &a,
+                 const std::vector<Ref> &tau, R &run) {
+  using pinocchio::Convention;
+  const long mask = long(q.size()) - 1;
+  run("mass_matrix", [&](long i) { pinocchio::crba(model, data, q[i & mask]); });
+  run("mass_matrix_world",
+      [&](long i) { pinocchio::crba(model, data, q[i & mask], Convention::WORLD); });
+  run("nonlinear_effects",
+      [&](long i) { pinocchio::nonLinearEffects(model, data, q[i & mask], v[i & mask]); });
+  run("gravity", [&](long i) { pinocchio::computeGeneralizedGravity(model, data, q[i & mask]); });
+  run("inverse_dynamics",
+      [&](long i) { pinocchio::rnea(model, data, q[i & mask], v[i & mask], a[i & mask]); });
+  run("forward_dynamics",
+      [&](long i) { pinocchio::aba(model, data, q[i & mask], v[i & mask], tau[i & mask]); });
+  run("forward_dynamics_world", [&](long i) {
+    pinocchio::aba(model, data, q[i & mask], v[i & mask], tau[i & mask], Convention::WORLD);
+  });
+  run("mass_matrix_and_nonlinear_effects", [&](long i) {
+    pinocchio::crba(model, data, q[i & mask]);
+    pinocchio::nonLinearEffects(model, data, q[i & mask], v[i & mask]);
+  });
+}
+
+std::string json_vector(const Vec &x) {
+  std::string s = "[";
+  char buf[32];
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "%s%.17g", i ? ", " : "", x[i]);
+    s += buf;
+  }
+  return s + "]";
+}
+
+std::string json_matrix(const Eigen::MatrixXd &m) {
+  std::string s = "[";
+  for (Eigen::Index r = 0; r < m.rows(); ++r) s += (r ? ", " : "") + json_vector(m.row(r));
+  return s + "]";
+}
+
+// The outputs at state s, as JSON; the mass matrices as Pinocchio leaves them (upper triangle).
+std::string values(const pinocchio::Model &model, pinocchio::Data &data, const State &s) {
+  using pinocchio::Convention;
+  std::string out = "{";
+  data.M.setZero();
+  out += "\"mass_matrix\": " + json_matrix(pinocchio::crba(model, data, s.q));
+  data.M.setZero();
+  out += ", \"mass_matrix_world\": " +
+         json_matrix(pinocchio::crba(model, data, s.q, Convention::WORLD));
+  out += ", \"nonlinear_effects\": " +
+         json_vector(pinocchio::nonLinearEffects(model, data, s.q, s.v));
+  out += ", \"gravity\": " + json_vector(pinocchio::computeGeneralizedGravity(model, data, s.q));
+  out += ", \"inverse_dynamics\": " + json_vector(pinocchio::rnea(model, data, s.q, s.v, s.a));
+  out += ", \"forward_dynamics\": " + json_vector(pinocchio::aba(model, data, s.q, s.v, s.tau));
+  out += ", \"forward_dynamics_world\": " +
+         json_vector(pinocchio::aba(model, data, s.q, s.v, s.tau, Convention::WORLD));
+  data.M.setZero();
+  pinocchio::crba(model, data, s.q);
+  pinocchio::nonLinearEffects(model, data, s.q, s.v);
+  out += ", \"mass_matrix_and_nonlinear_effects\": {\"mass_matrix\": " + json_matrix(data.M) +
+         ", \"nonlinear_effects\": " + json_vector(data.nle) + "}";
+  return out + "}";
+}
+
+int run(int argc, char **argv) {
+  std::string urdf, states_path;
+  bool floating = false, do_values = false, do_time = false, do_calls = false;
+  Runner runner;
+  std::vector<std::string> rest;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (++i >= argc) throw std::runtime_error(a + " needs a value\n" + USAGE);
+      return argv[i];
+    };
+    if (a == "--urdf") urdf = next();
+    else if (a == "--floating") floating = true;
+    else if (a == "--states") states_path = next();
+    else if (a == "--values") do_values = true;
+    else if (a == "--time") do_time = true;
+    else if (a == "--calls") do_calls = true, runner.calls = std::stol(next());
+    else if (a == "--batches") runner.batches = std::max(1, std::stoi(next()));
+    else if (a == "--batch-ms") runner.batch_s = std::stod(next()) * 1e-3;
+    else if (a == "-h" || a == "--help") {
+      std::puts(USAGE);
+      return 0;
+    } else rest.push_back(a);
+  }
+  if (urdf.empty() || states_path.empty() || do_values + do_time + do_calls != 1 ||
+      rest.size() != (do_calls ? 2u : 1u))
+    throw std::runtime_error(USAGE);
+
+  pinocchio::Model model;
+  if (floating)
+    pinocchio::urdf::buildModel(urdf, pinocchio::JointModelFreeFlyer(), model);
+  else
+    pinocchio::urdf::buildModel(urdf, model);
+  model.gravity.linear(Eigen::Vector3d(0, 0, -9.81));
+  pinocchio::Data data(model);
+  const auto states = read_states(states_path, model.nq, model.nv);
+
+  if (do_values) {
+    std::printf("%s\n", values(model, data, states[0]).c_str());
+    return 0;
+  }
+  std::vector<Ref> q, v, a, tau;
+  for (const auto &s : states) {
+    q.emplace_back(s.q);
+    v.emplace_back(s.v);
+    a.emplace_back(s.a);
+    tau.emplace_back(s.tau);
+  }
+  if (do_calls) {
+    runner.mode = Runner::Calls;
+    runner.only = rest[1];
+    each_output(model, data, q, v, a, tau, runner);
+    if (!runner.found) throw std::runtime_error("unknown output " + rest[1]);
+    return 0;
+  }
+  each_output(model, data, q, v, a, tau, runner);
+  std::string out = "{";
+  for (size_t i = 0; i < runner.json.size(); ++i) out += (i ? ", " : "") + runner.json[i];
+  std::printf("%s}\n", out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception &e) {
+    std::fprintf(stderr, "pinocchio_timing: %s\n", e.what());
+    return 1;
+  }
+}
