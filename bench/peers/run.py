@@ -1,0 +1,717 @@
+"""The driver of the comparison against Pinocchio and MuJoCo; `bench/peers/run.sh` runs it.
+
+For every model of MODELS it
+  1. builds Pinocchio's model (Python `pin`, the same library as the C++ program) and MuJoCo's
+     (URDF -> MjSpec, a free joint for floating models, contacts/constraints/passive forces
+     off, saved as a binary .mjb so no digit is lost);
+  2. draws the random states once, in Pinocchio's convention, and writes one states file per
+     program in that program's own convention and joint order;
+  3. checks the values: every program's outputs at the first state, mapped back to Pinocchio's
+     convention, against Pinocchio's; ours to a relative 1e-9 (else it stops), MuJoCo to a
+     looser bound (its worst difference is reported either way);
+  4. times: ROUNDS rounds, each running every program once per model in a rotating order;
+     each run reports per output the fastest and the median of its ~1 ms batches; the driver
+     keeps the fastest over rounds (and the median of the medians);
+  5. counts instructions with callgrind: (Ir(K) - Ir(0)) / K with K = CALLS;
+and writes BENCHMARKS.md (to a temporary file, then renamed).
+
+Usage: python bench/peers/run.py [--rounds R] [--batches N] [--quick]   (from the repo root,
+after run.sh has built the programs; run.sh passes its arguments through).
+"""
+
+import argparse
+import datetime
+import json
+import os
+import platform
+import re
+import subprocess
+import sys
+import tempfile
+import zlib
+
+import mujoco
+import numpy as np
+import pinocchio as pin
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+OUT = os.path.join(ROOT, "target", "peers")
+
+# (name, chain file, URDF file, floating base). The name is the model's in `peers.rs`.
+MODELS = [
+    ("arm7", "models/arm7.chain", "models/arm7.urdf", False),
+    ("arm7_floating", "bench/peers/arm7_floating.chain", "models/arm7.urdf", True),
+]
+
+# The rows of each model's table: our output name, Pinocchio's program outputs (the first is
+# the default call; the fastest of them is the figure), MuJoCo's program output.
+ROWS = [
+    ("mass_matrix", ["mass_matrix", "mass_matrix_world"], "mass_matrix"),
+    ("nonlinear_effects", ["nonlinear_effects"], "nonlinear_effects"),
+    ("gravity", ["gravity"], "gravity"),
+    ("inverse_dynamics", ["inverse_dynamics"], "inverse_dynamics"),
+    ("forward_dynamics", ["forward_dynamics", "forward_dynamics_world"], "forward_dynamics"),
+    (
+        "mass_matrix_and_nonlinear_effects",
+        ["mass_matrix_and_nonlinear_effects"],
+        "mass_matrix_and_nonlinear_effects",
+    ),
+]
+
+SEED = 0x5EED_2024
+STATES = 16
+GRAVITY = np.array([0.0, 0.0, -9.81])
+OURS_TOL = 1e-9
+MUJOCO_TOL = 1e-6
+CALLS = 1024
+
+
+def log(msg):
+    print(f"[run.py] {msg}", flush=True)
+
+
+def programs(model):
+    """The timing programs of one model: key -> command (without the mode arguments)."""
+    name, _chain, urdf, floating = model
+    pin_args = ["--urdf", os.path.join(ROOT, urdf)] + (["--floating"] if floating else [])
+
+    def states(conv):
+        return ["--states", os.path.join(OUT, "states", f"{name}.{conv}.txt")]
+
+    return {
+        "ours_v3": [os.path.join(OUT, "rust-v3", "release", "peers")] + states("ours"),
+        "ours_default": [os.path.join(OUT, "rust-default", "release", "peers")] + states("ours"),
+        "pin_v3": [os.path.join(OUT, "bin", "pinocchio_v3")] + pin_args + states("pin"),
+        "pin_wheel": [os.path.join(OUT, "bin", "pinocchio_wheel")] + pin_args + states("pin"),
+        "mujoco": [os.path.join(OUT, "bin", "mujoco_timing"), "--mjb", mjb_path(name)]
+        + states("mujoco"),
+    }
+
+
+def run_json(cmd):
+    out = subprocess.run(cmd, capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(f"[run.py] failed: {' '.join(cmd)}\n{out.stderr}")
+    return json.loads(out.stdout)
+
+
+def mjb_path(name):
+    return os.path.join(OUT, "models", f"{name}.mjb")
+
+
+# ---------------------------------------------------------------------------------------------
+# Models and coordinate maps
+
+
+def pinocchio_model(urdf, floating):
+    path = os.path.join(ROOT, urdf)
+    model = (
+        pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer())
+        if floating
+        else pin.buildModelFromUrdf(path)
+    )
+    model.gravity.linear = GRAVITY
+    return model
+
+
+def pinocchio_joints(model):
+    """Pinocchio's joints with coordinates: the common convention and order."""
+    joints = []
+    for j in range(1, model.njoints):
+        jm = model.joints[j]
+        short = jm.shortname()
+        if short == "JointModelFreeFlyer":
+            kind = "free"
+        elif short.startswith("JointModelR") and jm.nq == 1:
+            kind = "revolute"
+        elif short.startswith("JointModelP") and jm.nq == 1:
+            kind = "prismatic"
+        else:
+            sys.exit(f"[run.py] joint {model.names[j]}: {short} is not handled by the maps")
+        joints.append(
+            dict(name=model.names[j], kind=kind, iq=jm.idx_q, nq=jm.nq, iv=jm.idx_v, nv=jm.nv)
+        )
+    return joints
+
+
+def mujoco_model(name, urdf, floating):
+    """MuJoCo's model of the URDF, saved as .mjb; returns the compiled mjModel."""
+    spec = mujoco.MjSpec.from_file(os.path.join(ROOT, urdf))
+    # Keep the URDF's inertias as they are: never from geoms, no balancing, no bounds.
+    spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
+    spec.compiler.balanceinertia = False
+    spec.compiler.boundmass = 0.0
+    spec.compiler.boundinertia = 0.0
+    if floating:
+        roots = [b for b in spec.bodies if b.parent is not None and b.parent.name == "world"]
+        if len(roots) != 1:
+            sys.exit(f"[run.py] {urdf}: expected one root link, found {[b.name for b in roots]}")
+        roots[0].add_freejoint(name="root_joint")
+    flags = mujoco.mjtDisableBit
+    spec.option.disableflags |= int(
+        flags.mjDSBL_CONSTRAINT
+        | flags.mjDSBL_CONTACT
+        | flags.mjDSBL_LIMIT
+        | flags.mjDSBL_EQUALITY
+        | flags.mjDSBL_FRICTIONLOSS
+        | flags.mjDSBL_SPRING
+        | flags.mjDSBL_DAMPER
+        | flags.mjDSBL_ACTUATION
+        | flags.mjDSBL_SENSOR
+    )
+    spec.option.gravity = GRAVITY
+    m = spec.compile()
+    for field in ("dof_armature", "dof_damping", "dof_frictionloss", "jnt_stiffness"):
+        if np.any(getattr(m, field) != 0):
+            sys.exit(f"[run.py] {urdf}: MuJoCo's {field} is not zero")
+    if floating:
+        root = m.jnt_bodyid[0]
+        if np.any(m.body_pos[root] != 0) or np.any(m.body_quat[root] != [1, 0, 0, 0]):
+            sys.exit(f"[run.py] {urdf}: the root body's frame is not the world's at q = 0")
+    os.makedirs(os.path.dirname(mjb_path(name)), exist_ok=True)
+    mujoco.mj_saveModel(m, mjb_path(name), None)
+    with open(os.path.join(OUT, "models", f"{name}.xml"), "w") as f:
+        f.write(spec.to_xml())  # for reading only: the XML rounds to 6 digits, the .mjb does not
+    return m
+
+
+def mujoco_joints(m):
+    kinds = {int(mujoco.mjtJoint.mjJNT_FREE): ("free", 7, 6), int(mujoco.mjtJoint.mjJNT_HINGE): ("revolute", 1, 1), int(mujoco.mjtJoint.mjJNT_SLIDE): ("prismatic", 1, 1)}
+    joints = []
+    for j in range(m.njnt):
+        if int(m.jnt_type[j]) not in kinds:
+            sys.exit(f"[run.py] MuJoCo joint {m.joint(j).name}: type {m.jnt_type[j]} not handled")
+        kind, nq, nv = kinds[int(m.jnt_type[j])]
+        joints.append(
+            dict(name=m.joint(j).name, kind=kind, iq=int(m.jnt_qposadr[j]), nq=nq,
+                 iv=int(m.jnt_dofadr[j]), nv=nv)
+        )
+    return joints
+
+
+def quat_matrix(xyzw):
+    x, y, z, w = xyzw
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+class Map:
+    """From the common (Pinocchio) coordinates to one program's, joint by joint.
+
+    `world_linear`: a free joint's linear velocity is in the world frame (MuJoCo), not in the
+    body frame (Pinocchio, ours). Then, with R the base orientation, the program's velocity is
+    v' = A v (A permutes and applies R to the linear part), its acceleration a' = A a + c with
+    c = R (omega x v_lin) on the linear part, its forces f' = A f (A is orthogonal), and back:
+    M = A' M' A, tau = A' tau', nle = A' (nle' + M' c), a = A' (a' - c).
+    """
+
+    def __init__(self, common, theirs, nq, nv, world_linear):
+        self.nq, self.nv, self.world_linear = nq, nv, world_linear
+        by_name = {j["name"]: j for j in common if j["kind"] != "free"}
+        free = [j for j in common if j["kind"] == "free"]
+        self.pairs = []
+        for t in theirs:
+            c = free[0] if t["kind"] == "free" and len(free) == 1 else by_name.get(t["name"])
+            if c is None or c["kind"] != t["kind"]:
+                sys.exit(f"[run.py] joint {t['name']} ({t['kind']}) has no match in Pinocchio's model")
+            self.pairs.append((c, t))
+        if len(self.pairs) != len(common) or sum(t["nv"] for t in theirs) != nv:
+            sys.exit("[run.py] the programs' joints do not match Pinocchio's one to one")
+
+    def a_matrix(self, q):
+        A = np.zeros((self.nv, self.nv))
+        for c, t in self.pairs:
+            for k in range(c["nv"]):
+                A[t["iv"] + k, c["iv"] + k] = 1.0
+            if t["kind"] == "free" and self.world_linear:
+                R = quat_matrix(q[c["iq"] + 3 : c["iq"] + 7])
+                A[t["iv"] : t["iv"] + 3, c["iv"] : c["iv"] + 3] = R
+        return A
+
+    def c_vector(self, q, v):
+        out = np.zeros(self.nv)
+        for c, t in self.pairs:
+            if t["kind"] == "free" and self.world_linear:
+                R = quat_matrix(q[c["iq"] + 3 : c["iq"] + 7])
+                lin, ang = v[c["iv"] : c["iv"] + 3], v[c["iv"] + 3 : c["iv"] + 6]
+                out[t["iv"] : t["iv"] + 3] = R @ np.cross(ang, lin)
+        return out
+
+    def q(self, q):
+        out = np.zeros(self.nq)
+        for c, t in self.pairs:
+            x = q[c["iq"] : c["iq"] + c["nq"]]
+            if t["kind"] == "free":  # [p, x, y, z, w] -> [p, w, x, y, z]
+                x = np.concatenate([x[:3], x[6:7], x[3:6]])
+            out[t["iq"] : t["iq"] + t["nq"]] = x
+        return out
+
+    def state(self, s):
+        """A common state (q, v, a, tau) in the program's coordinates."""
+        A = self.a_matrix(s["q"])
+        c = self.c_vector(s["q"], s["v"])
+        return dict(q=self.q(s["q"]), v=A @ s["v"], a=A @ s["a"] + c, tau=A @ s["tau"])
+
+    def back(self, values, s, mass_keys=(), accel_keys=(), nle_keys=(), force_keys=()):
+        """The program's outputs at state s, in the common coordinates."""
+        A = self.a_matrix(s["q"])
+        c = self.c_vector(s["q"], s["v"])
+        out = {}
+        M = None
+        for k in mass_keys:
+            M = np.array(values[k])
+            out[k] = A.T @ M @ A
+        for k in force_keys:
+            out[k] = A.T @ np.array(values[k])
+        for k in nle_keys:
+            Mfull = np.triu(M) + np.triu(M, 1).T
+            out[k] = A.T @ (np.array(values[k]) + Mfull @ c)
+        for k in accel_keys:
+            out[k] = A.T @ (np.array(values[k]) - c)
+        return out
+
+
+def draw_states(model, name):
+    """STATES random states in Pinocchio's convention; tau = Pinocchio's rnea(q, v, a)."""
+    rng = np.random.default_rng(SEED ^ zlib.crc32(name.encode()))
+    data = model.createData()
+    states = []
+    for _ in range(STATES):
+        q = rng.uniform(-1.0, 1.0, model.nq)
+        for j in range(1, model.njoints):
+            if model.joints[j].shortname() == "JointModelFreeFlyer":
+                quat = rng.normal(size=4)
+                q[model.joints[j].idx_q + 3 : model.joints[j].idx_q + 7] = quat / np.linalg.norm(quat)
+        v = rng.uniform(-2.0, 2.0, model.nv)
+        a = rng.uniform(-5.0, 5.0, model.nv)
+        tau = pin.rnea(model, data, q, v, a).copy()
+        states.append(dict(q=q, v=v, a=a, tau=tau))
+    return states
+
+
+def write_states(path, states, nq, nv):
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        f.write(f"{nq} {nv} {len(states)}\n")
+        for s in states:
+            for k in ("q", "v", "a", "tau"):
+                f.write(" ".join(repr(float(x)) for x in s[k]) + "\n")
+
+
+# ---------------------------------------------------------------------------------------------
+# Values check
+
+
+def rel(x, ref):
+    x, ref = np.asarray(x, float), np.asarray(ref, float)
+    return float(np.max(np.abs(x - ref)) / max(np.max(np.abs(ref)), 1e-300))
+
+
+def check_values(model_entry, progs, maps, state0):
+    """Every program's outputs against Pinocchio's (pin_v3); returns the worst MuJoCo difference."""
+    name = model_entry[0]
+    ref = run_json(progs["pin_v3"] + ["--values", name])
+    up = lambda m: np.triu(np.asarray(m, float))
+    refs = {
+        "mass_matrix": up(ref["mass_matrix"]),
+        "nonlinear_effects": ref["nonlinear_effects"],
+        "gravity": ref["gravity"],
+        "inverse_dynamics": ref["inverse_dynamics"],
+        "forward_dynamics": ref["forward_dynamics"],
+    }
+    report = []
+    # Pinocchio's own variants and the wheel build agree with the default call.
+    own = [
+        ("pin_v3", ref),
+        ("pin_wheel", run_json(progs["pin_wheel"] + ["--values", name])),
+    ]
+    for key, vals in own:
+        pairs = [
+            ("mass_matrix", up(vals["mass_matrix"]), refs["mass_matrix"]),
+            ("mass_matrix_world", up(vals["mass_matrix_world"]), refs["mass_matrix"]),
+            ("forward_dynamics_world", vals["forward_dynamics_world"], refs["forward_dynamics"]),
+            ("m+nle: M", up(vals["mass_matrix_and_nonlinear_effects"]["mass_matrix"]), refs["mass_matrix"]),
+            ("m+nle: nle", vals["mass_matrix_and_nonlinear_effects"]["nonlinear_effects"], refs["nonlinear_effects"]),
+        ] + [(k, vals[k], refs[k]) for k in ("nonlinear_effects", "gravity", "inverse_dynamics", "forward_dynamics")]
+        for what, x, r in pairs:
+            e = rel(x, r)
+            if e > OURS_TOL:
+                sys.exit(f"[run.py] VALUES DISAGREE: {name} {key} {what}: relative difference {e:.3g} > {OURS_TOL}")
+    # Ours, both builds.
+    for key in ("ours_v3", "ours_default"):
+        vals = run_json(progs[key] + ["--values", name])
+        if vals["forward_dynamics"] is None:
+            sys.exit(f"[run.py] {name} {key}: forward dynamics found M singular at the first state")
+        both = vals["mass_matrix_and_nonlinear_effects"]
+        vals["mm_nle_M"], vals["mm_nle_nle"] = both["mass_matrix"], both["nonlinear_effects"]
+        m = maps["ours"].back(
+            vals, state0,
+            mass_keys=("mass_matrix", "mm_nle_M"),
+            force_keys=("nonlinear_effects", "gravity", "inverse_dynamics", "mm_nle_nle"),
+            accel_keys=("forward_dynamics",),
+        )
+        worst = 0.0
+        for what, r in [
+            ("mass_matrix", "mass_matrix"), ("mm_nle_M", "mass_matrix"),
+            ("nonlinear_effects", "nonlinear_effects"), ("mm_nle_nle", "nonlinear_effects"),
+            ("gravity", "gravity"), ("inverse_dynamics", "inverse_dynamics"),
+            ("forward_dynamics", "forward_dynamics"),
+        ]:
+            x = up(m[what]) if what in ("mass_matrix", "mm_nle_M") else m[what]
+            e = rel(x, refs[r])
+            worst = max(worst, e)
+            if e > OURS_TOL:
+                sys.exit(
+                    f"[run.py] VALUES DISAGREE: {name}: ours ({key}) {what} differs from Pinocchio's "
+                    f"by {e:.3g} (relative) > {OURS_TOL}\n  ours:      {np.asarray(x).ravel()[:8]}\n"
+                    f"  Pinocchio: {np.asarray(refs[r]).ravel()[:8]}"
+                )
+        report.append((key, worst))
+        log(f"{name}: {key} agrees with Pinocchio to {worst:.1e} (relative)")
+    # MuJoCo: reported, with a looser bound.
+    vals = run_json(progs["mujoco"] + ["--values", name])
+    m = maps["mujoco"].back(
+        vals, state0,
+        mass_keys=("mass_matrix",),
+        force_keys=("gravity", "inverse_dynamics", "mj_inverse"),
+        nle_keys=("nonlinear_effects",),
+        accel_keys=("forward_dynamics", "mj_forward"),
+    )
+    diffs = {}
+    for what, r in [
+        ("mass_matrix", "mass_matrix"), ("nonlinear_effects", "nonlinear_effects"),
+        ("gravity", "gravity"), ("inverse_dynamics", "inverse_dynamics"),
+        ("mj_inverse", "inverse_dynamics"), ("forward_dynamics", "forward_dynamics"),
+        ("mj_forward", "forward_dynamics"),
+    ]:
+        x = up(m[what]) if what == "mass_matrix" else m[what]
+        diffs[what] = rel(x, refs[r])
+    worst = max(diffs.values())
+    log(f"{name}: MuJoCo agrees with Pinocchio to {worst:.1e} (relative; worst: {max(diffs, key=diffs.get)})")
+    if worst > MUJOCO_TOL:
+        log(f"WARNING: {name}: MuJoCo differs from Pinocchio by {worst:.3g} > {MUJOCO_TOL}: {diffs}")
+    return report, worst, diffs
+
+
+# ---------------------------------------------------------------------------------------------
+# Timing and instructions
+
+
+def time_all(models, progs, rounds, batches):
+    """results[model][program][output] = (min over rounds, median of the medians)."""
+    runs = {m[0]: {k: {} for k in progs[m[0]]} for m in models}
+    keys = list(progs[models[0][0]].keys())
+    for r in range(rounds):
+        order = keys[r % len(keys):] + keys[: r % len(keys)]
+        for m in models:
+            name = m[0]
+            for k in order:
+                log(f"timing round {r + 1}/{rounds}: {name} {k}")
+                out = run_json(progs[name][k] + ["--time", "--batches", str(batches), name])
+                for output, v in out.items():
+                    runs[name][k].setdefault(output, []).append((v["min"], v["median"]))
+    results = {}
+    for name, by_prog in runs.items():
+        results[name] = {}
+        for k, by_out in by_prog.items():
+            results[name][k] = {
+                o: (min(x[0] for x in xs), float(np.median([x[1] for x in xs])))
+                for o, xs in by_out.items()
+            }
+    return results
+
+
+def callgrind(cmd):
+    out = subprocess.run(
+        ["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null"] + cmd,
+        capture_output=True, text=True,
+    )
+    found = re.search(r"Collected : (\d+)", out.stderr)
+    if out.returncode != 0 or not found:
+        sys.exit(f"[run.py] callgrind failed: {' '.join(cmd)}\n{out.stderr[-2000:]}")
+    return int(found.group(1))
+
+
+def instructions(models, progs, which):
+    """instr[model][program][output] = instructions per call."""
+    instr = {}
+    for m in models:
+        name = m[0]
+        instr[name] = {}
+        for k, outputs in which.items():
+            instr[name][k] = {}
+            for o in outputs:
+                log(f"callgrind: {name} {k} {o}")
+                base = callgrind(progs[name][k] + ["--calls", "0", name, o])
+                full = callgrind(progs[name][k] + ["--calls", str(CALLS), name, o])
+                instr[name][k][o] = (full - base) / CALLS
+    return instr
+
+
+# ---------------------------------------------------------------------------------------------
+# Report
+
+
+def sh(cmd):
+    try:
+        return subprocess.run(cmd, capture_output=True, text=True, shell=True).stdout.strip()
+    except OSError:
+        return "?"
+
+
+def environment():
+    lscpu = sh("lscpu")
+    model_name = re.search(r"Model name:\s*(.*)", lscpu)
+    mem = re.search(r"MemTotal:\s*(\d+) kB", open("/proc/meminfo").read())
+    commit = sh(f"git -C {ROOT} rev-parse --short HEAD")
+    dirty = sh(f"git -C {ROOT} status --porcelain --untracked-files=no -- . ':!BENCHMARKS.md'")
+    return dict(
+        cpu=model_name.group(1).strip() if model_name else "?",
+        nproc=sh("nproc"),
+        ram=f"{int(mem.group(1)) / 1024 / 1024:.0f} GiB" if mem else "?",
+        kernel=platform.release(),
+        rustc=sh("rustc --version"),
+        gxx=sh("g++ --version | head -1"),
+        valgrind=sh("valgrind --version"),
+        python=platform.python_version(),
+        pinocchio=pin.__version__,
+        mujoco=mujoco.mj_versionString(),
+        eigen=sh(f"{sys.executable} -m pip show cmeel-eigen 2>/dev/null | sed -n 's/^Version: //p'"),
+        commit=commit + (" (with uncommitted changes)" if dirty else ""),
+        date=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        load=open("/proc/loadavg").read().split()[:3],
+    )
+
+
+def fmt_ns(x):
+    return "–" if x is None else (f"{x:.0f}" if x >= 100 else f"{x:.1f}")
+
+
+def fmt_ratio(x):
+    return "–" if x is None else f"{x:.1f}×"
+
+
+def report(env, models, ops, results, instr, checks, args, load_end):
+    L = []
+    w = L.append
+    w("# Benchmarks: `articulated` against Pinocchio and MuJoCo")
+    w("")
+    w("Written by `bash bench/peers/run.sh` (the driver is `bench/peers/run.py`); do not edit by hand.")
+    w("Nanoseconds per call, the fastest of the ~1 ms batches over all rounds, on the same random")
+    w("states for every program; instruction counts from callgrind.")
+    w("")
+    w("## Machine and versions")
+    w("")
+    w(f"- CPU: {env['cpu']}, `nproc` {env['nproc']}, RAM {env['ram']}, Linux {env['kernel']} (a shared VM)")
+    w(f"- load average at the start {' '.join(env['load'])}, at the end {' '.join(load_end)}")
+    w(f"- {env['rustc']}; {env['gxx']}; {env['valgrind']}; Python {env['python']}")
+    w(f"- Pinocchio {env['pinocchio']} (pip `pin`), Eigen {env['eigen']} (pip `cmeel-eigen`), MuJoCo {env['mujoco']} (pip `mujoco`)")
+    w(f"- commit `{env['commit']}`, run {env['date']}")
+    w(f"- {args.rounds} rounds × {args.batches} batches of ~1 ms per output and program; callgrind K = {CALLS}")
+    w("")
+    w("The one command, from the repository root (first run: creates `target/peers/venv` and")
+    w("installs the wheels; later runs rebuild only what changed):")
+    w("")
+    w("```sh")
+    w("bash bench/peers/run.sh")
+    w("```")
+    w("")
+    w("## Results")
+    w("")
+    w("Columns: **ours** is the code `#[derive(Chain)]` generates (`bench/src/bin/peers.rs`), built")
+    w("with `RUSTFLAGS=\"-C target-cpu=x86-64-v3\"` (AVX2, FMA) and for the default target (x86-64,")
+    w("SSE2). **Pinocchio v3** is Pinocchio's algorithms compiled from its headers with")
+    w("`g++ -O3 -DNDEBUG -march=x86-64-v3` (`bench/peers/pinocchio_timing.cpp`); **Pinocchio wheel** is")
+    w("the same calls going to the wheel's prebuilt `libpinocchio_default` (baseline x86-64), what a")
+    w("CMake user of `pinocchio::pinocchio` gets. **MuJoCo** is its C API from the wheel's `libmujoco`")
+    w("(`bench/peers/mujoco_timing.c`). Ratios are Pinocchio v3 over ours; instructions are per call.")
+    w("A ᵂ marks a Pinocchio figure where the WORLD convention was faster than the default call")
+    w("(LOCAL); the faster one is shown and used in the ratios.")
+    for (name, chain, urdf, floating) in models:
+        res, ins = results[name], instr.get(name, {})
+        w("")
+        w(f"### {name} ({'floating base, ' if floating else ''}nq {ops[name]['nq']}, nv {ops[name]['nv']}; `{chain}`, `{urdf}`)")
+        w("")
+        w("| output | ops | ours v3 (ns) | ours default (ns) | Pinocchio v3 (ns) | Pinocchio wheel (ns) | MuJoCo (ns) | Pinocchio / ours (v3) | Pinocchio / ours (default) | instructions ours v3 / Pinocchio v3 |")
+        w("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        for ours_out, pin_outs, mj_out in ROWS:
+            o3 = res["ours_v3"][ours_out][0]
+            od = res["ours_default"][ours_out][0]
+            pv = [(res["pin_v3"][p][0], p) for p in pin_outs]
+            p3, p3_which = min(pv)
+            pw = min(res["pin_wheel"][p][0] for p in pin_outs)
+            mark = "ᵂ" if p3_which != pin_outs[0] else ""
+            mj = res["mujoco"][mj_out][0]
+            i_ours = ins.get("ours_v3", {}).get(ours_out)
+            i_pin = ins.get("pin_v3", {}).get(p3_which)
+            instr_cell = (
+                f"{i_ours:.0f} / {i_pin:.0f} ({i_pin / i_ours:.1f}×)" if i_ours and i_pin else "–"
+            )
+            w(
+                f"| {ours_out} | {ops[name]['ops'][ours_out]} | {fmt_ns(o3)} | {fmt_ns(od)} | "
+                f"{fmt_ns(p3)}{mark} | {fmt_ns(pw)} | {fmt_ns(mj)} | {fmt_ratio(p3 / o3)} | "
+                f"{fmt_ratio(p3 / od)} | {instr_cell} |"
+            )
+        w("")
+        w("Medians (ns; the median over rounds of each run's median batch; two Pinocchio figures")
+        w("are the default call (LOCAL) / `Convention::WORLD`), then the other calls and checks:")
+        w("")
+        w("| output | ours v3 | ours default | Pinocchio v3 | Pinocchio wheel | MuJoCo |")
+        w("|---|---:|---:|---:|---:|---:|")
+        for ours_out, pin_outs, mj_out in ROWS:
+            w(
+                f"| {ours_out} | {fmt_ns(res['ours_v3'][ours_out][1])} | {fmt_ns(res['ours_default'][ours_out][1])} | "
+                f"{' / '.join(fmt_ns(res['pin_v3'][p][1]) for p in pin_outs)} | "
+                f"{' / '.join(fmt_ns(res['pin_wheel'][p][1]) for p in pin_outs)} | {fmt_ns(res['mujoco'][mj_out][1])} |"
+            )
+        w("")
+        extra = []
+        for p in ("mass_matrix_world", "forward_dynamics_world"):
+            extra.append(
+                f"Pinocchio `{p}` (Convention::WORLD): v3 {fmt_ns(res['pin_v3'][p][0])} ns, wheel {fmt_ns(res['pin_wheel'][p][0])} ns"
+            )
+        for p, what in (
+            ("mass_matrix_dense", "M then `mj_fullM`"),
+            ("mj_forward", "the whole `mj_forward`"),
+            ("mj_inverse", "the whole `mj_inverse`"),
+        ):
+            extra.append(f"MuJoCo {what}: {fmt_ns(res['mujoco'][p][0])} ns")
+        if ins:
+            parts = []
+            for k, label in (("ours_default", "ours default"), ("mujoco", "MuJoCo")):
+                if k in ins:
+                    parts.append(
+                        f"{label}: " + ", ".join(f"{o} {v:.0f}" for o, v in ins[k].items())
+                    )
+            extra.append("instructions per call, " + "; ".join(parts))
+        (key_worst, mj_worst, mj_diffs) = checks[name]
+        extra.append(
+            "values at the first state against Pinocchio's (relative to the largest entry): "
+            + ", ".join(f"{k} {e:.1e}" for k, e in key_worst)
+            + f"; MuJoCo {mj_worst:.1e} (worst: {max(mj_diffs, key=mj_diffs.get)})"
+            + (f" — **above {MUJOCO_TOL:g}: MuJoCo's model differs**" if mj_worst > MUJOCO_TOL else "")
+        )
+        for e in extra:
+            w(f"- {e}")
+    w("")
+    w(WHAT)
+    return "\n".join(L) + "\n"
+
+
+WHAT = """## What each figure includes
+
+Every program reads the same states (16, cycled; drawn once by `run.py` with a fixed seed: q
+uniform in [−1, 1] per revolute coordinate, a random unit quaternion and a position in [−1, 1]³
+for a free base, v in [−2, 2], a in [−5, 5], τ = Pinocchio's `rnea(q, v, a)`), each converted to
+the program's own convention and joint order (Pinocchio's free-flyer quaternion is `[x, y, z, w]`,
+ours `[w, x, y, z]`; MuJoCo's free joint takes its linear velocity in the world frame). Before any
+timing, each program's outputs at the first state are mapped back and compared with Pinocchio's:
+ours (both builds) must agree to 1e-9 relative or the run stops; MuJoCo's difference is shown
+above. A timed call's inputs and result go through `std::hint::black_box` (Rust) or an empty
+`asm volatile` with a memory clobber (C, C++) so that nothing is hoisted out of the loop.
+
+- **ours**: one call of the generated function, e.g. `Arm7::mass_matrix(&q)`, which returns the
+  full symmetric `M` as an `SMatrix`; `forward_dynamics` returns `Result<SVector, _>` after its
+  pivot checks; `mass_matrix_and_nonlinear_effects` is one function sharing the kinematics.
+  *ops* is the generator's count of the function's arithmetic (`C::MASS_MATRIX_OPS.total()`, …).
+- **Pinocchio**: `crba(model, data, q)` fills **only the upper triangle** of `data.M` (as a user
+  calls it; ours fills both); `nonLinearEffects`, `computeGeneralizedGravity`, `rnea`,
+  `aba(model, data, q, v, tau)`; "M and nle" is `crba` then `nonLinearEffects`. `crba` and `aba`
+  are also timed with `Convention::WORLD`, and the faster of the two conventions is the figure.
+  Inputs are `Eigen::Ref<const VectorXd>` views made once. The v3 build defines
+  `EIGEN_MAX_ALIGN_BYTES=16` and `EIGEN_MALLOC_ALREADY_ALIGNED=1`: the URDF parser is the wheel's
+  prebuilt `libpinocchio_parsers` (baseline x86-64, 16-byte Eigen alignment), and the model it
+  fills must have the same layout and allocator on both sides; the algorithms themselves are
+  compiled here with AVX2 and FMA.
+- **MuJoCo**: each call copies its inputs into `mjData` (how MuJoCo takes them), then runs the
+  smallest set of pipeline stages that yields the quantity: M = `mj_kinematics`, `mj_comPos`,
+  `mj_crb` (MuJoCo's sparse `d->M`; with `mj_fullM` to a dense matrix in the list above); nle =
+  `mj_kinematics`, `mj_comPos`, `mj_comVel`, `mj_rne(flg_acc = 0)`; gravity = `mj_kinematics`,
+  `mj_comPos`, `mj_rne(flg_acc = 0)` at zero velocity (the velocity terms zeroed once, outside
+  the loop); inverse dynamics = `mj_kinematics`, `mj_comPos`, `mj_comVel`, `mj_rne(flg_acc = 1)`;
+  forward dynamics = `mj_kinematics`, `mj_comPos`, `mj_crb`, `mj_factorM`, `mj_comVel`,
+  `mj_rne(flg_acc = 0)`, τ − bias, `mj_solveM`; "M and nle" = `mj_kinematics`, `mj_comPos`,
+  `mj_crb`, `mj_comVel`, `mj_rne(flg_acc = 0)`. The whole `mj_forward` and `mj_inverse` are
+  listed too. The model is MuJoCo's own import of the same URDF (`MjSpec.from_file`; a
+  `freejoint` on the root link for floating models; contacts, constraints, limits, springs,
+  dampers, actuation and sensors disabled; no armature or damping; inertias kept as written, not
+  from geoms; fixed links fused into their parents, which does not change the dynamics), saved as
+  a binary `.mjb` (`target/peers/models/`, with a rounded `.xml` beside it for reading). MuJoCo
+  computes in its own coordinates (a body's inertia about its centre of mass, its
+  principal axes), so its values differ from Pinocchio's in the last digits.
+- **instructions**: `valgrind --tool=callgrind` on `PROGRAM --calls K MODEL OUTPUT`,
+  (Ir(K = 1024) − Ir(K = 0)) / K: one call plus the loop around it, independent of the load.
+
+## Notes
+
+- This is a shared 2-core VM and another developer builds on it: take a single ns figure as
+  ±15 %. The programs run alternately, in a rotating order, in each round, so the ratios within
+  one run compare; the instruction counts do not depend on the load.
+- The Pinocchio and MuJoCo figures include their generality (any model at run time: joint
+  variants, loops over the tree, `Data` in memory); ours is straight-line code for one model,
+  compiled with its constants. That is the point of the comparison, not a flaw of either side.
+- Nothing from Pinocchio's or MuJoCo's sources is in this repository: the wheels are installed
+  into `target/peers/venv` by `run.sh`.
+"""
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--rounds", type=int, default=7)
+    ap.add_argument("--batches", type=int, default=200)
+    ap.add_argument("--quick", action="store_true", help="2 rounds of 20 batches, no callgrind (a dry run)")
+    args = ap.parse_args()
+    if args.quick:
+        args.rounds, args.batches = 2, 20
+    env = environment()
+    progs, ops, checks = {}, {}, {}
+    for entry in MODELS:
+        name, chain, urdf, floating = entry
+        log(f"model {name}: building Pinocchio's and MuJoCo's models, drawing the states")
+        pm = pinocchio_model(urdf, floating)
+        common = pinocchio_joints(pm)
+        mm = mujoco_model(name, urdf, floating)
+        progs[name] = programs(entry)
+        layout = run_json(progs[name]["ours_v3"][:1] + ["--layout", name])
+        ops[name] = layout
+        maps = {
+            "ours": Map(common, layout["joints"], layout["nq"], layout["nv"], False),
+            "mujoco": Map(common, mujoco_joints(mm), mm.nq, mm.nv, True),
+        }
+        states = draw_states(pm, name)
+        write_states(os.path.join(OUT, "states", f"{name}.pin.txt"), states, pm.nq, pm.nv)
+        for conv in ("ours", "mujoco"):
+            mp = maps[conv]
+            write_states(
+                os.path.join(OUT, "states", f"{name}.{conv}.txt"),
+                [mp.state(s) for s in states], mp.nq, mp.nv,
+            )
+        log(f"model {name}: checking values")
+        checks[name] = check_values(entry, progs[name], maps, states[0])
+    results = time_all(MODELS, progs, args.rounds, args.batches)
+    instr = {}
+    if not args.quick:
+        which = {
+            "ours_v3": [r[0] for r in ROWS],
+            "ours_default": [r[0] for r in ROWS],
+            "pin_v3": sorted({p for r in ROWS for p in r[1]}),
+            "mujoco": [r[2] for r in ROWS],
+        }
+        instr = instructions(MODELS, progs, which)
+    load_end = open("/proc/loadavg").read().split()[:3]
+    text = report(env, MODELS, ops, results, instr, checks, args, load_end)
+    target = os.path.join(ROOT, "BENCHMARKS.md")
+    fd, tmp = tempfile.mkstemp(dir=ROOT, prefix=".BENCHMARKS.", suffix=".tmp")
+    with os.fdopen(fd, "w") as f:
+        f.write(text)
+    os.replace(tmp, target)
+    log(f"wrote {target}")
+
+
+if __name__ == "__main__":
+    main()

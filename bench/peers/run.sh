@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# The side-by-side comparison against Pinocchio (C++) and MuJoCo (C): the one command.
+#
+#   bash bench/peers/run.sh [--rounds R] [--batches N] [--quick]     (from the repository root)
+#
+# 1. a Python venv in target/peers/venv with the pinned wheels (Pinocchio's C++ headers and
+#    libraries come with `pin` under site-packages/cmeel.prefix; MuJoCo's C header and library
+#    with `mujoco`);
+# 2. the timing programs: bench/peers/pinocchio_timing.cpp twice (algorithms compiled here
+#    for x86-64-v3; calls into the wheel's prebuilt library), bench/peers/mujoco_timing.c, and
+#    our bench/src/bin/peers.rs twice (x86-64-v3, default target), each rebuilt only when its
+#    source or flags changed;
+# 3. bench/peers/run.py: values check, timing, callgrind, BENCHMARKS.md.
+# Everything it builds or installs stays under target/peers/ (ignored by git).
+set -euo pipefail
+
+cd "$(dirname "$0")/../.."
+ROOT=$PWD
+OUT=$ROOT/target/peers
+VENV=$OUT/venv
+BIN=$OUT/bin
+# The versions the published numbers were measured with; change them here to try others.
+REQUIREMENTS="pin==4.1.0 mujoco==4.0.0 cmeel-eigen==3.4.1 cmeel-urdfdom-headers==3.0.0 numpy"
+CPU_FLAGS="-march=x86-64-v3"   # the same CPU as RUSTFLAGS="-C target-cpu=x86-64-v3"
+
+step() { echo "[run.sh] $*"; }
+
+# --- 1. Python venv and wheels -----------------------------------------------------------------
+mkdir -p "$OUT" "$BIN"
+if [ ! -x "$VENV/bin/python" ]; then
+  step "creating the venv $VENV"
+  python3 -m venv "$VENV"
+fi
+if [ "$(cat "$VENV/.requirements" 2>/dev/null)" != "$REQUIREMENTS" ]; then
+  step "installing $REQUIREMENTS"
+  "$VENV/bin/pip" install --quiet --upgrade pip
+  # shellcheck disable=SC2086
+  "$VENV/bin/pip" install --quiet $REQUIREMENTS
+  echo "$REQUIREMENTS" >"$VENV/.requirements"
+fi
+SITE=$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
+PREFIX=$SITE/cmeel.prefix
+MJ=$SITE/mujoco
+MJLIB=$(ls "$MJ"/libmujoco.so.* | head -1)
+for f in "$PREFIX/include/pinocchio/algorithm/rnea.hpp" "$PREFIX/include/eigen3/Eigen/Core" \
+  "$PREFIX/include/urdfdom_headers/urdf_model/model.h" "$PREFIX/lib/libpinocchio_parsers.so" \
+  "$MJ/include/mujoco/mujoco.h" "$MJLIB"; do
+  [ -e "$f" ] || { echo "[run.sh] missing $f: the wheels' layout changed" >&2; exit 1; }
+done
+
+# --- 2. the timing programs ----------------------------------------------------------------------
+# build OUTPUT SOURCE "COMMAND...": runs COMMAND unless OUTPUT exists and was built by the same
+# command from the same source (a stamp file beside it holds both).
+build() {
+  local out=$1 src=$2 cmd=$3
+  local stamp="$out.stamp"
+  local key
+  key="$cmd $(sha256sum "$src")"
+  if [ -x "$out" ] && [ "$(cat "$stamp" 2>/dev/null)" = "$key" ]; then
+    step "up to date: ${out#"$ROOT"/}"
+    return
+  fi
+  step "compiling ${out#"$ROOT"/}"
+  eval "$cmd"
+  echo "$key" >"$stamp"
+}
+
+# The compile definitions Pinocchio's CMake targets give their users (headers and URDF parser).
+PIN_DEFS=$("$VENV/bin/python" - "$PREFIX/lib/cmake/pinocchio/pinocchioTargets.cmake" <<'EOF'
+import re, sys
+text = open(sys.argv[1]).read()
+defs = []
+for target in ("pinocchio_headers", "pinocchio_parsers"):
+    block = re.search(r"set_target_properties\(pinocchio::%s (.*?)\n\)" % target, text, re.S).group(1)
+    found = re.search(r'INTERFACE_COMPILE_DEFINITIONS "([^"]*)"', block)
+    defs += [d for d in found.group(1).split(";") if d and "$" not in d] if found else []
+print(" ".join("-D" + d for d in dict.fromkeys(defs) if d != "PINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION"))
+EOF
+)
+PIN_INC="-I$PREFIX/include -I$PREFIX/include/eigen3 -I$PREFIX/include/urdfdom_headers"
+PIN_LIBS="-L$PREFIX/lib -Wl,-rpath,$PREFIX/lib -lpinocchio_parsers -lpinocchio_default"
+step "Pinocchio: two builds of its headers, a few minutes each when the source changed"
+# v3: Pinocchio's algorithms compiled here. The model comes from the wheel's parser library
+# (built for baseline x86-64), so Eigen keeps that build's alignment and allocator.
+build "$BIN/pinocchio_v3" bench/peers/pinocchio_timing.cpp "g++ -std=c++17 -O3 -DNDEBUG $CPU_FLAGS -DEIGEN_MAX_ALIGN_BYTES=16 \
+  -DEIGEN_MALLOC_ALREADY_ALIGNED=1 $PIN_DEFS $PIN_INC bench/peers/pinocchio_timing.cpp \
+  -o $BIN/pinocchio_v3 $PIN_LIBS"
+# wheel: the calls go to the wheel's prebuilt libpinocchio_default, as for a CMake user.
+build "$BIN/pinocchio_wheel" bench/peers/pinocchio_timing.cpp "g++ -std=c++17 -O3 -DNDEBUG \
+  -DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION $PIN_DEFS $PIN_INC bench/peers/pinocchio_timing.cpp \
+  -o $BIN/pinocchio_wheel $PIN_LIBS"
+build "$BIN/mujoco_timing" bench/peers/mujoco_timing.c "gcc -std=c11 -O3 -DNDEBUG $CPU_FLAGS -Wall -I$MJ/include \
+  bench/peers/mujoco_timing.c -o $BIN/mujoco_timing $MJLIB -Wl,-rpath,$MJ"
+
+step "building ours for x86-64-v3 (cargo, target/peers/rust-v3)"
+RUSTFLAGS="-C target-cpu=x86-64-v3" CARGO_TARGET_DIR=$OUT/rust-v3 \
+  cargo build --release --quiet -p articulated-bench --bin peers
+step "building ours for the default target (cargo, target/peers/rust-default)"
+env -u RUSTFLAGS CARGO_TARGET_DIR="$OUT/rust-default" \
+  cargo build --release --quiet -p articulated-bench --bin peers
+
+# --- 3. values check, timing, instructions, BENCHMARKS.md -----------------------------------
+step "running bench/peers/run.py $*"
+"$VENV/bin/python" bench/peers/run.py "$@"
