@@ -652,6 +652,16 @@ above. A timed call's inputs and result go through `std::hint::black_box` (Rust)
 - This is a shared 2-core VM and another developer builds on it: take a single ns figure as
   ±15 %. The programs run alternately, in a rotating order, in each round, so the ratios within
   one run compare; the instruction counts do not depend on the load.
+- Code placement moves our largest functions by more than that between builds: binaries that
+  differ only in unrelated code (one more model in `peers.rs`, a few lines elsewhere) timed the
+  very same machine code of arm7's `mass_matrix_and_nonlinear_effects` (default target) at
+  180 and 250 ns, and `forward_dynamics` at 220 and 281 ns, steadily, run after run (the
+  function 64-byte aligned in both, moved by 128 bytes). Such a figure belongs to one binary;
+  the instruction counts do not move.
+- The two Eigen definitions of the Pinocchio v3 build cost nothing measurable: a build without
+  them, which loads the model from Pinocchio's own serialization instead of the URDF parser
+  (so that no prebuilt code touches it), timed within ±5 % of it, some outputs faster and some
+  slower (arm7, checked once while writing this comparison).
 - The Pinocchio and MuJoCo figures include their generality (any model at run time: joint
   variants, loops over the tree, `Data` in memory); ours is straight-line code for one model,
   compiled with its constants. That is the point of the comparison, not a flaw of either side.
