@@ -324,7 +324,7 @@ pub fn each_kernel<M, V, const NQ: usize, const NV: usize>(
     );
 }
 
-/// Runs [`each_kernel`] for every shipped model, in the order of `articulated_models::ALL`.
+/// Runs [`each_kernel`] for every small shipped model, in the order of `articulated_models::SMALL`.
 pub fn each_model<V: Visit>(visitor: &mut V) {
     fn one<M: Model<NQ, NV>, V: Visit, const NQ: usize, const NV: usize>(visitor: &mut V) {
         let states = states::<M, NQ, NV>();

@@ -8,6 +8,13 @@
 //! | [`DOUBLE_PENDULUM`] | yes | yes | planar, two revolute joints about y (closed form known) |
 //! | [`ARM7`] | yes | yes | a 7-DOF serial arm, iiwa-like kinematics, full inertia tensors |
 //! | [`TREE`] | yes | yes | a torso, two three-link arms and a head on a fixed joint |
+//! | [`HUMANOID`] | yes | yes (the tree under the free base) | a floating-base humanoid: waist, neck, 7-DOF arms, 6-DOF legs; 37 velocity coordinates |
+//! | [`CHAIN50`] | yes | yes | a 50-body serial chain, for scale |
+//!
+//! The two models for scale are written by `models/make_scale_models.py` (the numbers and their
+//! sources are documented there). `humanoid.chain` puts the pelvis on a free base with a
+//! quaternion; `humanoid.urdf` describes the tree under it, so it matches the `.chain` file
+//! only with a free base added ([`ModelFiles::free_base`]).
 #![no_std]
 
 /// A model shipped in this crate: its name and the paths of its files.
@@ -19,6 +26,9 @@ pub struct ModelFiles {
     pub chain: &'static str,
     /// Absolute path of the `.urdf` file, where URDF can express the model.
     pub urdf: Option<&'static str>,
+    /// The `.chain` file puts the root on a free base (`free(quaternion)`) that the URDF leaves
+    /// out: the URDF describes the tree under it (load it with `floating`).
+    pub free_base: bool,
 }
 
 macro_rules! model {
@@ -27,6 +37,13 @@ macro_rules! model {
             name: $name,
             chain: concat!(env!("CARGO_MANIFEST_DIR"), "/", $name, ".chain"),
             urdf: Some(concat!(env!("CARGO_MANIFEST_DIR"), "/", $name, ".urdf")),
+            free_base: false,
+        }
+    };
+    ($name:literal, urdf, free_base) => {
+        ModelFiles {
+            free_base: true,
+            ..model!($name, urdf)
         }
     };
 }
@@ -42,5 +59,23 @@ pub const ARM7: ModelFiles = model!("arm7", urdf);
 /// A branching tree: torso, two arms, head.
 pub const TREE: ModelFiles = model!("tree", urdf);
 
+/// A floating-base humanoid, 38 positions and 37 velocities.
+pub const HUMANOID: ModelFiles = model!("humanoid", urdf, free_base);
+/// A 50-body serial chain.
+pub const CHAIN50: ModelFiles = model!("chain50", urdf);
+
+/// The small models: Hemami's, the pendulums, the arm and the tree. Tests that compile the
+/// generated code of every model take these; the models for scale ([`HUMANOID`], [`CHAIN50`])
+/// have tests of their own.
+pub const SMALL: [ModelFiles; 5] = [TWO_LINK, INVERTED_PENDULUM, DOUBLE_PENDULUM, ARM7, TREE];
+
 /// Every model of this crate.
-pub const ALL: [ModelFiles; 5] = [TWO_LINK, INVERTED_PENDULUM, DOUBLE_PENDULUM, ARM7, TREE];
+pub const ALL: [ModelFiles; 7] = [
+    TWO_LINK,
+    INVERTED_PENDULUM,
+    DOUBLE_PENDULUM,
+    ARM7,
+    TREE,
+    HUMANOID,
+    CHAIN50,
+];

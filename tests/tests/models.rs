@@ -20,6 +20,12 @@ fn uniform(rng: &mut Rng, n: usize, scale: f64) -> Vec<f64> {
 fn chain_and_urdf_files_describe_the_same_dynamics() {
     for files in articulated_models::ALL {
         let Some(urdf) = files.urdf else { continue };
+        if files.free_base {
+            // The `.chain` file's free base has a quaternion, the URDF's (`floating`) Euler
+            // angles: other coordinates. `generated_scale.rs` checks both files against
+            // Pinocchio, each in its own coordinates.
+            continue;
+        }
         let from_chain =
             load_model(Path::new(files.chain), false).unwrap_or_else(|e| panic!("{e}"));
         let from_urdf = load_model(Path::new(urdf), false).unwrap_or_else(|e| panic!("{e}"));

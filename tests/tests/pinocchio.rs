@@ -2,7 +2,9 @@
 //!
 //! Data: `tests/data/pinocchio/pinocchio-values.json` (four shared models, fixed base and, for
 //! two, a free base) and `tests/data/pinocchio-arm7.json` (`models/arm7.urdf`, written by
-//! `tests/data/make_arm7_reference.py`, with Pinocchio's joint wrenches). Each URDF is loaded with
+//! `tests/data/make_arm7_reference.py`, with Pinocchio's joint wrenches) and
+//! `tests/data/pinocchio-scale.json` (the humanoid and the 50-body chain, from their `.chain`
+//! files and URDFs; `tests/data/make_scale_reference.py`). Each URDF is loaded with
 //! [`articulated_codegen::load::load_model`] and evaluated with
 //! [`articulated::reference::Reference`]; every quantity must agree to 1e-10 relative to its
 //! largest entry. `cargo test -p articulated-tests --test pinocchio -- --nocapture` prints the
@@ -180,6 +182,48 @@ fn arm7_matches_pinocchio_including_joint_wrenches() {
         let worst = compare(&model, &entry[base], &label);
         assert!(worst[5].is_some(), "{label}: no joint wrenches compared");
         failures.extend(report(&label, &worst));
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The models for scale (`tests/data/pinocchio-scale.json`, written by
+/// `tests/data/make_scale_reference.py`): the humanoid's `.chain` file (free base with a
+/// quaternion: Pinocchio's free flyer, the quaternion reordered to `[w, x, y, z]`) and its URDF
+/// under a free Euler base, and the 50-body chain from both files.
+#[test]
+fn scale_models_match_pinocchio() {
+    let json = read_json("data/pinocchio-scale.json");
+    let models = &json["models"];
+    let mut failures = Vec::new();
+    for (label, file, floating, case) in [
+        (
+            "humanoid.chain",
+            "humanoid.chain",
+            false,
+            &models["humanoid"]["free_flyer"],
+        ),
+        (
+            "humanoid.urdf (floating)",
+            "humanoid.urdf",
+            true,
+            &models["humanoid"]["floating"],
+        ),
+        (
+            "chain50.chain",
+            "chain50.chain",
+            false,
+            &models["chain50"]["fixed"],
+        ),
+        (
+            "chain50.urdf",
+            "chain50.urdf",
+            false,
+            &models["chain50"]["fixed"],
+        ),
+    ] {
+        let path = repo().join("models").join(file);
+        let model = load_model(&path, floating).unwrap_or_else(|e| panic!("{e}"));
+        failures.extend(report(label, &compare(&model, case, label)));
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

@@ -28,7 +28,7 @@ mod sines;
 use std::collections::{HashMap, HashSet};
 use std::fmt;
 
-use proc_macro2::{Ident, Span, TokenStream};
+use proc_macro2::{Ident, Span, TokenStream, TokenTree};
 use quote::quote;
 
 use crate::options::ScalarKind;
@@ -113,8 +113,14 @@ pub fn straight_line(
 /// (1.95, with debug info) overflows its stack on a function with about 2,500 `let`s or more,
 /// because each `let` opens a lexical scope nested in the previous one (LLVM's
 /// `DwarfCompileUnit::createAndAddScopeChildren` recurses through them). Past this many, the
-/// values of each level of the graph are bound together in one tuple `let`, so the nesting is
-/// the graph's depth instead of its size.
+/// values of each level of the graph are bound together in one array `let`
+/// (`let [a, b, …] = [x, y, …];`), so the nesting is the graph's depth instead of its size.
+///
+/// An array, not a tuple: rustc's MIR pass `ScalarReplacementOfAggregates` splits every tuple
+/// into one local per field and inserts their statements one at a time into the function's one
+/// huge basic block, which costs time quadratic in the function's size (rustc 1.95: 60 of the
+/// 91 s of a release build of the 50-body chain, `models/chain50.chain`, on the default
+/// target). It leaves arrays alone; LLVM's own SROA splits them as cheaply.
 const MAX_LETS: usize = 1000;
 
 /// One statement: its pattern, its value, and its level in the DAG (1 + the highest level of
@@ -435,7 +441,9 @@ impl<'g> Writer<'g> {
     }
 }
 
-/// The statements as `let`s: one each, or (past [`MAX_LETS`]) one per level of the graph.
+/// The statements as `let`s: one each, or (past [`MAX_LETS`]) one per level of the graph, the
+/// level's single values bound by one array `let` and its pairs (a sine and its cosine, the
+/// batched sines) each by its own.
 fn bind(stmts: Vec<Statement>) -> TokenStream {
     if stmts.len() <= MAX_LETS {
         return stmts
@@ -448,19 +456,36 @@ fn bind(stmts: Vec<Statement>) -> TokenStream {
     for s in stmts {
         by_level[s.level].push((s.pattern, s.value));
     }
-    by_level
-        .into_iter()
-        .filter(|level| !level.is_empty())
-        .map(|level| {
-            if level.len() == 1 {
-                let (pattern, value) = &level[0];
-                quote!(let #pattern = #value;)
-            } else {
-                let (patterns, values): (Vec<_>, Vec<_>) = level.into_iter().unzip();
-                quote!(let (#(#patterns),*) = (#(#values),*);)
+    let mut out = TokenStream::new();
+    for level in by_level {
+        let (single, other): (Vec<_>, Vec<_>) = level
+            .into_iter()
+            .partition(|(pattern, _)| is_one_name(pattern));
+        for (pattern, value) in other {
+            out.extend(quote!(let #pattern = #value;));
+        }
+        match single.len() {
+            0 => {}
+            1 => {
+                let (pattern, value) = &single[0];
+                out.extend(quote!(let #pattern = #value;));
             }
-        })
-        .collect()
+            _ => {
+                let (patterns, values): (Vec<_>, Vec<_>) = single.into_iter().unzip();
+                out.extend(quote!(let [#(#patterns),*] = [#(#values),*];));
+            }
+        }
+    }
+    out
+}
+
+/// Whether a `let` pattern is one name (one value of the scalar type), not a tuple.
+fn is_one_name(pattern: &TokenStream) -> bool {
+    let mut tokens = pattern.clone().into_iter();
+    matches!(
+        (tokens.next(), tokens.next()),
+        (Some(TokenTree::Ident(_)), None)
+    )
 }
 
 /// Pretty-prints a list of items (a whole file's worth) with `prettyplease`.

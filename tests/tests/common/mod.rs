@@ -345,3 +345,97 @@ where
     }
     worst
 }
+
+/// The outputs [`compare_pinocchio`] checks, as it prints them.
+pub const PINOCCHIO_OUTPUTS: [&str; 5] = ["mass_matrix", "bias", "gravity", "tau", "qdd"];
+
+/// Compares the generated chain `C` with one model's Pinocchio states (M, bias, gravity,
+/// inverse and forward dynamics, each to `tol` relative to Pinocchio's largest entry); prints
+/// the worst errors and returns the failures. Where Pinocchio's M is singular, forward dynamics
+/// must return an error.
+pub fn compare_pinocchio<C, const NQ: usize, const NV: usize>(
+    label: &str,
+    case: &Json,
+    tol: f64,
+) -> Vec<String>
+where
+    C: MassMatrix<f64, NQ, NV>
+        + Bias<f64, NQ, NV>
+        + Gravity<f64, NQ, NV>
+        + InverseDynamics<f64, NQ, NV>
+        + ForwardDynamics<f64, NQ, NV>,
+{
+    assert_eq!(case["nq"].as_u64(), Some(NQ as u64), "{label}: nq");
+    assert_eq!(case["nv"].as_u64(), Some(NV as u64), "{label}: nv");
+    let mut worst = [0.0f64; 5];
+    let mut failures = Vec::new();
+    let (mut singular, mut states) = (0, 0);
+    for s in case["states"].as_array().unwrap() {
+        states += 1;
+        let q = SVector::<f64, NQ>::from_column_slice(&vec_of(&s["q"]));
+        let v = SVector::<f64, NV>::from_column_slice(&vec_of(&s["v"]));
+        let a = SVector::<f64, NV>::from_column_slice(&vec_of(&s["a"]));
+        let tau = SVector::<f64, NV>::from_column_slice(&vec_of(&s["tau"]));
+        let m_theirs: Vec<f64> = s["mass_matrix"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(vec_of)
+            .collect();
+        let m = C::mass_matrix(&q);
+        // Row-major on both sides (M is symmetric, but compare the layout honestly).
+        let m_ours: Vec<f64> = (0..NV)
+            .flat_map(|i| (0..NV).map(move |j| (i, j)))
+            .map(|(i, j)| m[(i, j)])
+            .collect();
+        let mut e = [
+            rel_err(&m_ours, &m_theirs),
+            rel_err(C::bias(&q, &v).as_slice(), &vec_of(&s["bias"])),
+            rel_err(C::gravity(&q).as_slice(), &vec_of(&s["gravity"])),
+            rel_err(
+                C::inverse_dynamics(&q, &v, &a).as_slice(),
+                &vec_of(&s["tau_out"]),
+            ),
+            0.0,
+        ];
+        let qdd_theirs = vec_of(&s["qdd"]);
+        let eig = DMatrix::from_row_slice(NV, NV, &m_theirs).symmetric_eigenvalues();
+        let (lo, hi) = eig.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), x| {
+            (lo.min(*x), hi.max(x.abs()))
+        });
+        let fd = C::forward_dynamics(&q, &v, &tau);
+        if lo <= 1e-12 * hi || qdd_theirs.iter().any(|x| x.is_nan()) {
+            singular += 1;
+            if let Ok(qdd) = fd {
+                failures.push(format!(
+                    "{label}: Pinocchio's M is singular (eigenvalues {lo:e} .. {hi:e}) but \
+                     generated forward dynamics returned Ok({:?})",
+                    qdd.as_slice()
+                ));
+            }
+        } else {
+            e[4] = match fd {
+                Ok(qdd) => rel_err(qdd.as_slice(), &qdd_theirs),
+                Err(err) => {
+                    failures.push(format!("{label}: forward dynamics refused: {err}"));
+                    f64::INFINITY
+                }
+            };
+        }
+        for (w, x) in worst.iter_mut().zip(e) {
+            *w = if x.is_nan() { f64::INFINITY } else { w.max(x) };
+        }
+    }
+    let mut line = format!("{label:<26} states={states}");
+    for (name, w) in PINOCCHIO_OUTPUTS.iter().zip(worst) {
+        line += &format!(" {name}={w:.1e}");
+        if w.is_nan() || w > tol {
+            failures.push(format!("{label}: {name} differs from Pinocchio by {w:e}"));
+        }
+    }
+    if singular > 0 {
+        line += &format!(" (M singular at {singular} states: Err required)");
+    }
+    println!("{line}");
+    failures
+}
