@@ -41,6 +41,8 @@ OUT = os.path.join(ROOT, "target", "peers")
 MODELS = [
     ("arm7", "models/arm7.chain", "models/arm7.urdf", False),
     ("arm7_floating", "bench/peers/arm7_floating.chain", "models/arm7.urdf", True),
+    ("humanoid", "models/humanoid.chain", "models/humanoid.urdf", True),
+    ("chain50", "models/chain50.chain", "models/chain50.urdf", False),
 ]
 
 # The rows of each model's table: our output name, Pinocchio's program outputs (the first is
@@ -529,9 +531,28 @@ def report(env, models, ops, results, instr, checks, args, load_end):
     w("`g++ -O3 -DNDEBUG -march=x86-64-v3` (`bench/peers/pinocchio_timing.cpp`); **Pinocchio wheel** is")
     w("the same calls going to the wheel's prebuilt `libpinocchio_default` (baseline x86-64), what a")
     w("CMake user of `pinocchio::pinocchio` gets. **MuJoCo** is its C API from the wheel's `libmujoco`")
-    w("(`bench/peers/mujoco_timing.c`). Ratios are Pinocchio v3 over ours; instructions are per call.")
+    w("(`bench/peers/mujoco_timing.c`; the wheel's library uses AVX, not FMA). Ratios are Pinocchio")
+    w("v3 over ours; instructions are per call.")
     w("A ᵂ marks a Pinocchio figure where the WORLD convention was faster than the default call")
     w("(LOCAL); the faster one is shown and used in the ratios.")
+    w("")
+    w("In short (fastest batches; a ratio above 1 means ours is faster; the range runs over the six")
+    w("outputs of each model's table):")
+    w("")
+    for (name, _chain, _urdf, _floating) in models:
+        res = results[name]
+
+        def span(other, ours):
+            ratios = [(other(r) / res[ours][r[0]][0], r[0]) for r in ROWS]
+            (lo, lo_out), (hi, hi_out) = min(ratios), max(ratios)
+            return f"{lo:.1f}× ({lo_out}) to {hi:.1f}× ({hi_out})"
+
+        pin3 = lambda r: min(res["pin_v3"][p][0] for p in r[1])
+        mj = lambda r: res["mujoco"][r[2]][0]
+        w(
+            f"- **{name}**: Pinocchio v3 / ours v3 {span(pin3, 'ours_v3')}; Pinocchio v3 / ours "
+            f"default {span(pin3, 'ours_default')}; MuJoCo / ours v3 {span(mj, 'ours_v3')}"
+        )
     for (name, chain, urdf, floating) in models:
         res, ins = results[name], instr.get(name, {})
         w("")

@@ -113,6 +113,8 @@ macro_rules! models {
 models! {
     "arm7" => Arm7, "../models/arm7.chain";
     "arm7_floating" => Arm7Floating, "peers/arm7_floating.chain";
+    "humanoid" => Humanoid, "../models/humanoid.chain";
+    "chain50" => Chain50, "../models/chain50.chain";
 }
 
 /// What the command line asks for.
