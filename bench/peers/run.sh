@@ -20,10 +20,16 @@ OUT=$ROOT/target/peers
 VENV=$OUT/venv
 BIN=$OUT/bin
 # The versions the published numbers were measured with; change them here to try others.
+# `pin` ships Pinocchio's headers and libraries but not the Eigen and urdfdom headers they
+# include (those are only build extras of its wheels), hence cmeel-eigen, cmeel-urdfdom-headers.
 REQUIREMENTS="pin==4.1.0 mujoco==4.0.0 cmeel-eigen==3.4.1 cmeel-urdfdom-headers==3.0.0 numpy"
 CPU_FLAGS="-march=x86-64-v3"   # the same CPU as RUSTFLAGS="-C target-cpu=x86-64-v3"
 
 step() { echo "[run.sh] $*"; }
+
+for tool in python3 g++ gcc cargo valgrind sha256sum; do
+  command -v "$tool" >/dev/null || { echo "[run.sh] needs $tool on the PATH" >&2; exit 1; }
+done
 
 # --- 1. Python venv and wheels -----------------------------------------------------------------
 mkdir -p "$OUT" "$BIN"
