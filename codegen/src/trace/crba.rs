@@ -21,7 +21,7 @@
 //! The rest (each `F = I_c·S_i`, carried up by `X_upᵀ`, `M_ji = S_jᵀ·F`) is the reference's
 //! own code ([`articulated_dynamics::reference::crba_with`]).
 
-use articulated_dynamics::reference::{crba_with, NodeJoint, Tree};
+use articulated_dynamics::reference::{composite_inertias_with, crba_with, NodeJoint, Tree};
 use articulated_dynamics::spatial::{Inertia, Mat3, Transform, Vec3};
 use articulated_dynamics::Scalar;
 
@@ -76,16 +76,8 @@ pub fn crba_in_root_frame<T: Scalar>(
     axis: impl Fn(&Vec3<T>) -> Option<usize>,
 ) -> Vec<T> {
     let nv = tree.nv;
-    let x_up = tree.x_up(q);
-    let mut ic: Vec<_> = tree.nodes.iter().map(|n| n.inertia).collect();
-    for (i, node) in tree.nodes.iter().enumerate().rev() {
-        ic[i] = ic[i].label(format_args!("{}_ic", node.name));
-        if let Some(p) = node.parent {
-            let up = carried(tree, q, &axis, &ic[i], i, &x_up[i])
-                .label(format_args!("{}_ic_up", node.name));
-            ic[p] = ic[p].add(&up);
-        }
-    }
+    let (x_up, ic) =
+        composite_inertias_with(tree, q, |ic, i, x_up| carried(tree, q, &axis, ic, i, x_up));
     // Each body's frame in its root body's frame (the root's own: the identity).
     let mut x_rel: Vec<Transform<T>> = Vec::with_capacity(tree.nodes.len());
     for (i, node) in tree.nodes.iter().enumerate() {
