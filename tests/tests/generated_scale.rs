@@ -22,7 +22,9 @@ use articulated::prelude::*;
 use articulated::reference::Reference;
 use articulated_codegen::load::load_model;
 use articulated_dynamics::random::random_state;
-use common::{check_chain, compare_pinocchio, read_json, rel_err, vec_of, Worst};
+use common::{
+    check_chain, compare_pinocchio, read_json, rel_err, rows_of, vec_of, BasicOutputs, Worst,
+};
 
 /// Relative to the largest entry of each of Pinocchio's values.
 const TOL: f64 = 1e-10;
@@ -77,12 +79,7 @@ fn humanoid_nonlinear_effects_match_pinocchio() {
         let q = SVector::<f64, 38>::from_column_slice(&vec_of(&s["q"]));
         let v = SVector::<f64, 37>::from_column_slice(&vec_of(&s["v"]));
         let nle_theirs = vec_of(&s["nonlinear_effects"]);
-        let m_theirs: Vec<f64> = s["mass_matrix"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .flat_map(vec_of)
-            .collect();
+        let m_theirs = rows_of(&s["mass_matrix"]);
         let nle = Humanoid::nonlinear_effects(&q, &v);
         let (m, nle2) = Humanoid::mass_matrix_and_nonlinear_effects(&q, &v);
         // M is symmetric: its column-major slice reads as Pinocchio's rows.
@@ -102,11 +99,7 @@ fn humanoid_nonlinear_effects_match_pinocchio() {
 /// Checks the generated chain `C` of the `.chain` file `path` against the reference.
 fn against_reference<C, const NQ: usize, const NV: usize>(path: &str) -> Worst
 where
-    C: MassMatrix<f64, NQ, NV>
-        + Bias<f64, NQ, NV>
-        + Gravity<f64, NQ, NV>
-        + InverseDynamics<f64, NQ, NV>
-        + ForwardDynamics<f64, NQ, NV>,
+    C: BasicOutputs<NQ, NV>,
 {
     let model = load_model(Path::new(path), false).unwrap_or_else(|e| panic!("{e}"));
     let r = Reference::new(&model).unwrap();

@@ -17,7 +17,7 @@
 
 mod common;
 
-use common::{read_json, rel_err, vec_of};
+use common::{read_json, rel_err, rows_of, vec_of};
 use std::path::{Path, PathBuf};
 
 use articulated::model::Model;
@@ -61,12 +61,7 @@ fn compare(model: &Model, case: &Json, label: &str) -> [Option<f64>; 6] {
             vec_of(&s["tau"]),
         );
         let m = r.mass_matrix(&q).unwrap();
-        let m_theirs: Vec<f64> = s["mass_matrix"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .flat_map(vec_of)
-            .collect();
+        let m_theirs = rows_of(&s["mass_matrix"]);
         // Row-major on both sides.
         let m_ours: Vec<f64> = (0..m.nrows())
             .flat_map(|i| (0..m.ncols()).map(move |j| (i, j)))

@@ -119,20 +119,21 @@ fn equation(output: Output) -> &'static str {
 /// How the function computes it, and which variants the generator compared.
 fn formulation(traced: &Traced) -> String {
     let variant = traced.variant;
-    let specialized = variant.formulation == Formulation::Specialized;
+    let specialized = variant.formulation.specialized();
+    let root_frame = variant.formulation == Formulation::SpecializedRootFrame;
     let how = match (traced.output, variant.method) {
         (_, Some(FdMethod::Aba)) => "By the articulated-body algorithm (Featherstone 2008, RBDA \
                                      §7.3)"
             .to_string(),
         (Output::ForwardDynamics, _) => format!(
             "By `M` from {}, `N·q̇ + g` from {}, and a sparse `LᵀDL` of `M` (RBDA §6.5)",
-            crba_name(specialized),
+            crba_name(specialized, root_frame),
             rnea_name(specialized)
         ),
-        (Output::MassMatrix, _) => format!("By {}", crba_name(specialized)),
+        (Output::MassMatrix, _) => format!("By {}", crba_name(specialized, root_frame)),
         (Output::MassMatrixAndNonlinearEffects, _) => format!(
             "`M` by {}, `N·q̇ + g` by {}",
-            crba_name(specialized),
+            crba_name(specialized, root_frame),
             rnea_name(specialized)
         ),
         (Output::JointWrenchesBottomUp, _) => format!(
@@ -160,12 +161,19 @@ fn formulation(traced: &Traced) -> String {
     )
 }
 
-fn crba_name(specialized: bool) -> &'static str {
-    if specialized {
-        "a CRBA carrying composite inertias by their upper triangle and, through revolute joints \
-         about a coordinate axis, by double angles (`articulated_codegen::trace::crba`)"
-    } else {
-        "the composite-rigid-body algorithm (RBDA §6.2)"
+fn crba_name(specialized: bool, root_frame: bool) -> &'static str {
+    match (specialized, root_frame) {
+        (true, false) => {
+            "a CRBA carrying composite inertias by their upper triangle and, through revolute \
+             joints about a coordinate axis, by double angles (`articulated_codegen::trace::crba`)"
+        }
+        (true, true) => {
+            "a CRBA carrying composite inertias by their upper triangle and, through revolute \
+             joints about a coordinate axis, by double angles, with the entries between a joint \
+             and its ancestors taken in the root body's frame \
+             (`articulated_codegen::trace::crba::crba_in_root_frame`)"
+        }
+        (false, _) => "the composite-rigid-body algorithm (RBDA §6.2)",
     }
 }
 

@@ -46,7 +46,12 @@ pub(crate) fn variants() -> impl Iterator<Item = Variant> {
         method: Some(FdMethod::Aba),
     });
     let ltdl = [false, true].into_iter().flat_map(|regrouped| {
-        [Formulation::Reference, Formulation::Specialized].map(|formulation| Variant {
+        [
+            Formulation::Reference,
+            Formulation::Specialized,
+            Formulation::SpecializedRootFrame,
+        ]
+        .map(|formulation| Variant {
             regrouped,
             formulation,
             method: Some(FdMethod::CrbaLtdl),

@@ -45,6 +45,17 @@ pub enum Formulation {
     /// inverse dynamics (and `h` in forward dynamics): [`newton_euler`] (classical
     /// accelerations).
     Specialized,
+    /// As [`Formulation::Specialized`], with `M`'s entries between a joint and its ancestors
+    /// taken in the root body's frame ([`crba::crba_in_root_frame`]): fewer operations on long
+    /// chains. Traced only where `M` is.
+    SpecializedRootFrame,
+}
+
+impl Formulation {
+    /// Whether bias, gravity and inverse dynamics use [`newton_euler`].
+    pub fn specialized(self) -> bool {
+        self != Formulation::Reference
+    }
 }
 
 /// One way of tracing an output.
@@ -69,6 +80,9 @@ impl fmt::Display for Variant {
             parts.push(match self.formulation {
                 Formulation::Reference => "reference recursions",
                 Formulation::Specialized => "specialized recursions",
+                Formulation::SpecializedRootFrame => {
+                    "specialized recursions, M's off-diagonal entries in the root frame"
+                }
             });
         }
         if self.regrouped {
@@ -190,7 +204,20 @@ pub fn trace(model: &Model, output: Output) -> Traced {
             .iter()
             .copied()
             .flat_map(|regrouped| {
-                [Formulation::Reference, Formulation::Specialized].map(|formulation| Variant {
+                let with_m = matches!(
+                    output,
+                    Output::MassMatrix | Output::MassMatrixAndNonlinearEffects
+                );
+                let formulations: &[Formulation] = if with_m {
+                    &[
+                        Formulation::Reference,
+                        Formulation::Specialized,
+                        Formulation::SpecializedRootFrame,
+                    ]
+                } else {
+                    &[Formulation::Reference, Formulation::Specialized]
+                };
+                formulations.iter().map(move |&formulation| Variant {
                     regrouped,
                     formulation,
                     method: None,
@@ -313,7 +340,9 @@ pub(crate) fn rnea(
     with_gravity: bool,
 ) -> Vec<Sym> {
     match form {
-        Formulation::Specialized => newton_euler::classical_rnea(tree, q, v, a, with_gravity),
+        Formulation::Specialized | Formulation::SpecializedRootFrame => {
+            newton_euler::classical_rnea(tree, q, v, a, with_gravity)
+        }
         Formulation::Reference => reference::rnea(tree, q, v, a, with_gravity),
     }
 }
@@ -327,7 +356,9 @@ fn joint_wrenches(
     a: &[Sym],
 ) -> Vec<Force<Sym>> {
     let f = match form {
-        Formulation::Specialized => newton_euler::classical_node_forces(tree, q, v, a, true),
+        Formulation::Specialized | Formulation::SpecializedRootFrame => {
+            newton_euler::classical_node_forces(tree, q, v, a, true)
+        }
         Formulation::Reference => reference::node_forces(tree, q, v, a, true),
     };
     tree.body_node.iter().map(|&n| f[n]).collect()
@@ -342,7 +373,9 @@ fn inertial_forces(
     a: &[Sym],
 ) -> (Vec<Transform<Sym>>, Vec<Force<Sym>>) {
     match form {
-        Formulation::Specialized => newton_euler::classical_inertial_forces(tree, q, v, a, true),
+        Formulation::Specialized | Formulation::SpecializedRootFrame => {
+            newton_euler::classical_inertial_forces(tree, q, v, a, true)
+        }
         Formulation::Reference => reference::inertial_forces(tree, q, v, a, true),
     }
 }
@@ -356,6 +389,9 @@ fn wrench_entries(wrenches: &[Force<Sym>]) -> Vec<Sym> {
 pub(crate) fn mass_matrix(form: Formulation, tree: &Tree<Sym>, q: &[Sym]) -> Vec<Sym> {
     match form {
         Formulation::Specialized => crba::crba(tree, q, regroup::coordinate_axis),
+        Formulation::SpecializedRootFrame => {
+            crba::crba_in_root_frame(tree, q, regroup::coordinate_axis)
+        }
         Formulation::Reference => reference::crba(tree, q),
     }
 }

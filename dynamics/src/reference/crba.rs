@@ -29,15 +29,7 @@ pub fn crba_with<T: Scalar>(
     to_parent: impl Fn(&Inertia<T>, usize, &Transform<T>) -> Inertia<T>,
 ) -> Vec<T> {
     let nv = tree.nv;
-    let x_up = tree.x_up(q);
-    let mut ic: Vec<_> = tree.nodes.iter().map(|n| n.inertia).collect();
-    for (i, node) in tree.nodes.iter().enumerate().rev() {
-        ic[i] = ic[i].label(format_args!("{}_ic", node.name));
-        if let Some(p) = node.parent {
-            let up = to_parent(&ic[i], i, &x_up[i]).label(format_args!("{}_ic_up", node.name));
-            ic[p] = ic[p].add(&up);
-        }
-    }
+    let (x_up, ic) = composite_inertias_with(tree, q, to_parent);
     let mut m = alloc::vec![T::zero(); nv * nv];
     for (i, node) in tree.nodes.iter().enumerate() {
         for k in 0..node.nv() {
@@ -64,4 +56,24 @@ pub fn crba_with<T: Scalar>(
         }
     }
     m
+}
+
+/// Each node's transform from its parent (`X_up`, [`Tree::x_up`]) and its composite inertia
+/// (its own and its descendants', in its frame), from the leaves in, each carried to the parent
+/// by `to_parent` as in [`crba_with`]; labelled `n_ic_*` and `n_ic_up_*`.
+pub fn composite_inertias_with<T: Scalar>(
+    tree: &Tree<T>,
+    q: &[T],
+    to_parent: impl Fn(&Inertia<T>, usize, &Transform<T>) -> Inertia<T>,
+) -> (Vec<Transform<T>>, Vec<Inertia<T>>) {
+    let x_up = tree.x_up(q);
+    let mut ic: Vec<_> = tree.nodes.iter().map(|n| n.inertia).collect();
+    for (i, node) in tree.nodes.iter().enumerate().rev() {
+        ic[i] = ic[i].label(format_args!("{}_ic", node.name));
+        if let Some(p) = node.parent {
+            let up = to_parent(&ic[i], i, &x_up[i]).label(format_args!("{}_ic_up", node.name));
+            ic[p] = ic[p].add(&up);
+        }
+    }
+    (x_up, ic)
 }

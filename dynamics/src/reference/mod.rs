@@ -35,7 +35,7 @@ use core::fmt;
 use nalgebra::{DMatrix, DVector};
 
 pub use aba::{aba, AbaOutput};
-pub use crba::{crba, crba_with};
+pub use crba::{composite_inertias_with, crba, crba_with};
 pub use ltdl::ltdl_solve;
 pub use rnea::{bottom_up, inertial_forces, joint_forces, node_forces, project, rnea, transmit};
 pub use tree::{Node, NodeJoint, Tree};

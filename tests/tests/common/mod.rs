@@ -18,6 +18,30 @@ use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
 use serde_json::Value as Json;
 
+/// The five basic outputs in `f64`, which every chain generated with the default outputs has.
+pub trait BasicOutputs<const NQ: usize, const NV: usize>:
+    MassMatrix<f64, NQ, NV>
+    + Bias<f64, NQ, NV>
+    + Gravity<f64, NQ, NV>
+    + InverseDynamics<f64, NQ, NV>
+    + ForwardDynamics<f64, NQ, NV>
+{
+}
+
+impl<C, const NQ: usize, const NV: usize> BasicOutputs<NQ, NV> for C where
+    C: MassMatrix<f64, NQ, NV>
+        + Bias<f64, NQ, NV>
+        + Gravity<f64, NQ, NV>
+        + InverseDynamics<f64, NQ, NV>
+        + ForwardDynamics<f64, NQ, NV>
+{
+}
+
+/// The rows of a matrix stored as a JSON list of rows, concatenated (row-major).
+pub fn rows_of(j: &Json) -> Vec<f64> {
+    j.as_array().unwrap().iter().flat_map(vec_of).collect()
+}
+
 /// Reads one of this crate's JSON data files (`rel` from the crate's directory, e.g.
 /// `data/pinocchio-arm7.json`). Python's `json.dump` writes NaN as a bare `NaN`, which is not
 /// JSON: it is read as `null`. Pinocchio gives NaN accelerations where `M(q)` is singular.
@@ -208,11 +232,7 @@ pub fn compare_state<C, const NQ: usize, const NV: usize>(
     a: &[f64],
 ) -> Errors
 where
-    C: MassMatrix<f64, NQ, NV>
-        + Bias<f64, NQ, NV>
-        + Gravity<f64, NQ, NV>
-        + InverseDynamics<f64, NQ, NV>
-        + ForwardDynamics<f64, NQ, NV>,
+    C: BasicOutputs<NQ, NV>,
 {
     assert_eq!((r.nq(), r.nv()), (NQ, NV), "the reference's sizes");
     let (qs, vs, as_) = (
@@ -309,11 +329,7 @@ pub fn check_chain<C, const NQ: usize, const NV: usize>(
     state: impl Fn(u64) -> (Vec<f64>, Vec<f64>, Vec<f64>),
 ) -> Worst
 where
-    C: MassMatrix<f64, NQ, NV>
-        + Bias<f64, NQ, NV>
-        + Gravity<f64, NQ, NV>
-        + InverseDynamics<f64, NQ, NV>
-        + ForwardDynamics<f64, NQ, NV>,
+    C: BasicOutputs<NQ, NV>,
 {
     check_coordinates::<C>(label, r);
     // A fixed seed: the same states on every run, so a failure reproduces.
@@ -359,11 +375,7 @@ pub fn compare_pinocchio<C, const NQ: usize, const NV: usize>(
     tol: f64,
 ) -> Vec<String>
 where
-    C: MassMatrix<f64, NQ, NV>
-        + Bias<f64, NQ, NV>
-        + Gravity<f64, NQ, NV>
-        + InverseDynamics<f64, NQ, NV>
-        + ForwardDynamics<f64, NQ, NV>,
+    C: BasicOutputs<NQ, NV>,
 {
     assert_eq!(case["nq"].as_u64(), Some(NQ as u64), "{label}: nq");
     assert_eq!(case["nv"].as_u64(), Some(NV as u64), "{label}: nv");
@@ -376,12 +388,7 @@ where
         let v = SVector::<f64, NV>::from_column_slice(&vec_of(&s["v"]));
         let a = SVector::<f64, NV>::from_column_slice(&vec_of(&s["a"]));
         let tau = SVector::<f64, NV>::from_column_slice(&vec_of(&s["tau"]));
-        let m_theirs: Vec<f64> = s["mass_matrix"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .flat_map(vec_of)
-            .collect();
+        let m_theirs = rows_of(&s["mass_matrix"]);
         let m = C::mass_matrix(&q);
         // Row-major on both sides (M is symmetric, but compare the layout honestly).
         let m_ours: Vec<f64> = (0..NV)
