@@ -40,10 +40,13 @@ fn root() -> PathBuf {
         .to_path_buf()
 }
 
-/// SplitMix64: a fixed, dependency-free stream of numbers for the chains' parameters.
+/// SplitMix64: a fixed, dependency-free stream of numbers for the chains' parameters (the
+/// state).
 struct SplitMix(u64);
 
+/// Draws.
 impl SplitMix {
+    /// The next 64 random bits.
     fn next(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
         let mut z = self.0;
@@ -94,7 +97,9 @@ fn vec3(v: [f64; 3]) -> String {
 /// The `.chain` text of the generic serial chain of `n` revolute joints (see the module docs);
 /// the same approach as `models/make_scale_models.py`'s `chain50`, every link 0.1 m long.
 pub fn chain_text(n: usize) -> String {
+    /// The joint axes, cycled.
     const AXES: [char; 4] = ['z', 'y', 'x', 'y'];
+    /// Every link's length (m).
     const LENGTH: f64 = 0.1;
     let mut rng = SplitMix(0x5eed_0000 + n as u64);
     let mut text = format!(
@@ -143,6 +148,7 @@ pub fn chain_text(n: usize) -> String {
 /// The counts of one chain length.
 #[derive(Clone, Debug)]
 struct Row {
+    /// The number of joints.
     n: usize,
     /// `inverse_dynamics` (Newton–Euler, the variant the generator keeps).
     rnea: OpCounts,
@@ -200,7 +206,9 @@ struct Published {
     adds: fn(f64) -> f64,
 }
 
+/// Evaluation.
 impl Published {
+    /// Multiplications and additions together for `n` joints.
     fn total(&self, n: usize) -> f64 {
         (self.muls)(n as f64) + (self.adds)(n as f64)
     }
@@ -220,43 +228,41 @@ and D. Orin, \"Dynamics\", *Springer Handbook of Robotics*, Springer 2008, §2.5
 fn figure(rows: &[Row]) -> Result<String, String> {
     let text = |e: &dyn std::fmt::Display| e.to_string();
     let n_max = rows.last().map_or(1, |r| r.n) as f64;
-    let ours: [(&str, Vec<(f64, f64)>, RGBColor); 5] = [
+    /// One of our curves: its label, the count it reads from a row, its colour.
+    type Curve = (&'static str, fn(&Row) -> OpCounts, RGBColor);
+    let curves: [Curve; 5] = [
         (
             "inverse_dynamics (our RNEA)",
-            rows.iter()
-                .map(|r| (r.n as f64, r.rnea.total() as f64))
-                .collect(),
+            |r| r.rnea,
             RGBColor(31, 119, 180),
         ),
-        (
-            "mass_matrix (our CRBA)",
-            rows.iter()
-                .map(|r| (r.n as f64, r.crba.total() as f64))
-                .collect(),
-            RGBColor(214, 39, 40),
-        ),
+        ("mass_matrix (our CRBA)", |r| r.crba, RGBColor(214, 39, 40)),
         (
             "forward_dynamics (kept variant)",
-            rows.iter()
-                .map(|r| (r.n as f64, r.fd.total() as f64))
-                .collect(),
+            |r| r.fd,
             RGBColor(44, 160, 44),
         ),
         (
             "forward_dynamics, best ABA variant",
-            rows.iter()
-                .map(|r| (r.n as f64, r.fd_aba.total() as f64))
-                .collect(),
+            |r| r.fd_aba,
             RGBColor(148, 103, 189),
         ),
         (
             "forward_dynamics, best CRBA + LᵀDL variant",
-            rows.iter()
-                .map(|r| (r.n as f64, r.fd_ltdl.total() as f64))
-                .collect(),
+            |r| r.fd_ltdl,
             RGBColor(255, 127, 14),
         ),
     ];
+    let ours: Vec<_> = curves
+        .iter()
+        .map(|&(label, count, colour)| {
+            let points: Vec<(f64, f64)> = rows
+                .iter()
+                .map(|r| (r.n as f64, count(r).total() as f64))
+                .collect();
+            (label, points, colour)
+        })
+        .collect();
     let published: Vec<(String, Vec<(f64, f64)>)> = FEATHERSTONE
         .iter()
         .map(|p| {
@@ -439,6 +445,7 @@ fn markdown(rows: &[Row]) -> String {
     s
 }
 
+/// Traces every chain, writes the figure and the CSV, prints the section.
 fn main() -> ExitCode {
     let mut max = MAX_N;
     let mut args = std::env::args().skip(1);
