@@ -5,6 +5,8 @@
 //! cargo run --release -p articulated-bench --bin size_table                # everything (~1 h)
 //! cargo run --release -p articulated-bench --bin size_table -- --repeats 1 --models arm7,tree
 //!                                                 # a quick look: printed, docs/size.md untouched
+//! cargo run --release -p articulated-bench --bin size_table -- --render
+//!                                                 # the page again from bench/size/size.json
 //! ```
 //!
 //! What it does, in order, with progress on stderr:
@@ -33,8 +35,10 @@
 //! 6. **op counts against n**: runs the `op_counts` binary (which also writes
 //!    `docs/figures/op_counts.svg`) and includes its section.
 //!
-//! Then writes `docs/size.md` whole (a temporary file renamed over it), or, with `--models` or
-//! `--repeats` other than 3, prints it instead. Needs `nm` and `size` (GNU binutils),
+//! Then saves the measurements in `bench/size/size.json` and writes `docs/size.md`, each whole
+//! (a temporary file renamed over it); with `--models` or `--repeats` other than 3 it prints
+//! the page instead and writes nothing. `--render` rewrites the page from `size.json` without
+//! measuring (after a change to the page's text). Needs `nm` and `size` (GNU binutils),
 //! `lscpu`, and the `thumbv7em-none-eabihf` target (`rustup target add thumbv7em-none-eabihf`;
 //! without it the ARM columns say "n/a" and the page says why).
 
@@ -50,6 +54,7 @@ use articulated_codegen::emit;
 use articulated_codegen::generate::generate;
 use articulated_codegen::load::load;
 use articulated_codegen::options::Output;
+use serde_json::{json, Value};
 
 /// A shipped model: its file stem under `models/` and the struct the scratch crates derive.
 struct Model {
@@ -568,8 +573,8 @@ fn expansion_time(dir: &Path, config: Config, package: &str) -> Result<(f64, f64
     Ok((secs, wall))
 }
 
-/// Per model: the medians of every timing.
-#[derive(Clone, Copy, Debug, Default)]
+/// Per model: the medians of every timing, in seconds.
+#[derive(Clone, Copy, Debug)]
 struct Times {
     /// `macro_expand_crate`, the macros at opt-level 0 (cargo's default in release).
     expand_o0: f64,
@@ -583,15 +588,572 @@ struct Times {
     build_o3: f64,
 }
 
-// ---------------------------------------------------------------------------------------------
-// The page.
+/// Not measured: `n/a` on the page.
+impl Default for Times {
+    /// Every time missing (`NaN`).
+    fn default() -> Self {
+        Times {
+            expand_o0: f64::NAN,
+            expand_o3: f64::NAN,
+            build_default: f64::NAN,
+            build_v3: f64::NAN,
+            build_o3: f64::NAN,
+        }
+    }
+}
+
+/// The JSON of `bench/size/size.json`.
+impl Times {
+    /// The field names, in the order of the struct.
+    const KEYS: [&'static str; 5] = [
+        "expand_o0",
+        "expand_o3",
+        "build_default",
+        "build_v3",
+        "build_o3",
+    ];
+
+    /// The values, in the order of [`Times::KEYS`].
+    fn values(&self) -> [f64; 5] {
+        [
+            self.expand_o0,
+            self.expand_o3,
+            self.build_default,
+            self.build_v3,
+            self.build_o3,
+        ]
+    }
+
+    /// As a JSON object (a missing value as `null`).
+    fn to_json(self) -> Value {
+        let mut o = serde_json::Map::new();
+        for (k, v) in Self::KEYS.iter().zip(self.values()) {
+            o.insert((*k).into(), json!(v.is_finite().then_some(v)));
+        }
+        Value::Object(o)
+    }
+
+    /// From [`Times::to_json`].
+    fn from_json(v: &Value) -> Times {
+        let [expand_o0, expand_o3, build_default, build_v3, build_o3] =
+            Self::KEYS.map(|k| v[k].as_f64().unwrap_or(f64::NAN));
+        Times {
+            expand_o0,
+            expand_o3,
+            build_default,
+            build_v3,
+            build_o3,
+        }
+    }
+}
+
+/// The byte columns of the page, in order.
+const COLUMNS: [&str; 4] = [
+    "x86-64",
+    "x86-64-v3",
+    "thumbv7em-none-eabihf f64",
+    "thumbv7em-none-eabihf f32",
+];
+
+/// One function of one model: everything measured.
+#[derive(Clone, Debug)]
+struct Function {
+    /// Which output.
+    output: Output,
+    /// The generator's operation count.
+    ops: OpCounts,
+    /// Lines of the formatted impl, without doc comments and blank lines.
+    lines: usize,
+    /// Machine-code bytes per column of [`COLUMNS`] (`None`: not built).
+    bytes: [Option<u64>; 4],
+}
+
+/// One model: its functions, its constants, its timings.
+#[derive(Clone, Debug)]
+struct ModelRow {
+    /// The file stem under `models/`.
+    stem: String,
+    /// Position coordinates.
+    nq: usize,
+    /// Velocity coordinates.
+    nv: usize,
+    /// The seven functions, in the order of [`OUTPUTS`].
+    functions: Vec<Function>,
+    /// The `.rodata` bytes of its `bytes_` crate, x86-64 and x86-64-v3.
+    rodata: [Option<u64>; 2],
+    /// The medians of its timings.
+    times: Times,
+}
+
+/// Everything measured: the page's data, saved as `bench/size/size.json`.
+#[derive(Clone, Debug)]
+struct Report {
+    /// Each model's figures.
+    models: Vec<ModelRow>,
+    /// The empty crate's timings.
+    empty: Times,
+    /// Why the ARM columns are empty, if they are.
+    arm_missing: Option<String>,
+    /// Runs per timing.
+    repeats: usize,
+    /// `lscpu`'s model name.
+    cpu: String,
+    /// `nproc`.
+    nproc: String,
+    /// `rustc --version`.
+    rustc: String,
+    /// The 1-minute load average when the run started.
+    load_before: String,
+    /// The same when it ended.
+    load_after: String,
+    /// How long the measurements took, in minutes.
+    minutes: f64,
+}
+
+/// An operation count as JSON.
+fn ops_json(o: &OpCounts) -> Value {
+    json!({
+        "adds": o.adds, "muls": o.muls, "divs": o.divs,
+        "negs": o.negs, "sin_cos": o.sin_cos, "sqrts": o.sqrts,
+    })
+}
+
+/// From [`ops_json`].
+fn ops_from_json(v: &Value) -> OpCounts {
+    let n = |k: &str| v[k].as_u64().unwrap_or(0) as usize;
+    OpCounts {
+        adds: n("adds"),
+        muls: n("muls"),
+        divs: n("divs"),
+        negs: n("negs"),
+        sin_cos: n("sin_cos"),
+        sqrts: n("sqrts"),
+    }
+}
+
+/// A string field of a JSON object, or `unknown`.
+fn text_of(v: &Value, k: &str) -> String {
+    v[k].as_str().unwrap_or("unknown").to_string()
+}
+
+/// The JSON of the data file and the page.
+impl Report {
+    /// As the JSON of `bench/size/size.json`.
+    fn to_json(&self) -> Value {
+        let models: Vec<Value> = self
+            .models
+            .iter()
+            .map(|m| {
+                let functions: Vec<Value> = m
+                    .functions
+                    .iter()
+                    .map(|f| {
+                        let bytes: serde_json::Map<String, Value> = COLUMNS
+                            .iter()
+                            .zip(f.bytes)
+                            .map(|(c, b)| ((*c).to_string(), json!(b)))
+                            .collect();
+                        json!({
+                            "output": f.output.name(), "ops": ops_json(&f.ops),
+                            "lines": f.lines, "bytes": bytes,
+                        })
+                    })
+                    .collect();
+                json!({
+                    "model": m.stem, "nq": m.nq, "nv": m.nv, "functions": functions,
+                    "rodata": { "x86-64": m.rodata[0], "x86-64-v3": m.rodata[1] },
+                    "times": m.times.to_json(),
+                })
+            })
+            .collect();
+        json!({
+            "written_by": "cargo run --release -p articulated-bench --bin size_table",
+            "cpu": self.cpu, "nproc": self.nproc, "rustc": self.rustc,
+            "load_before": self.load_before, "load_after": self.load_after,
+            "minutes": self.minutes, "repeats": self.repeats, "arm_missing": self.arm_missing,
+            "empty": self.empty.to_json(), "models": models,
+        })
+    }
+
+    /// From [`Report::to_json`].
+    fn from_json(v: &Value) -> Result<Report> {
+        let models = v["models"]
+            .as_array()
+            .ok_or("no `models` in the data file")?
+            .iter()
+            .map(|m| {
+                let functions = m["functions"]
+                    .as_array()
+                    .ok_or("a model without `functions`")?
+                    .iter()
+                    .map(|f| {
+                        let name = f["output"].as_str().unwrap_or("");
+                        Ok(Function {
+                            output: Output::from_name(name)
+                                .ok_or_else(|| format!("unknown output `{name}`"))?,
+                            ops: ops_from_json(&f["ops"]),
+                            lines: f["lines"].as_u64().unwrap_or(0) as usize,
+                            bytes: COLUMNS.map(|c| f["bytes"][c].as_u64()),
+                        })
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                Ok(ModelRow {
+                    stem: text_of(m, "model"),
+                    nq: m["nq"].as_u64().unwrap_or(0) as usize,
+                    nv: m["nv"].as_u64().unwrap_or(0) as usize,
+                    functions,
+                    rodata: ["x86-64", "x86-64-v3"].map(|c| m["rodata"][c].as_u64()),
+                    times: Times::from_json(&m["times"]),
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Report {
+            models,
+            empty: Times::from_json(&v["empty"]),
+            arm_missing: v["arm_missing"].as_str().map(str::to_string),
+            repeats: v["repeats"].as_u64().unwrap_or(0) as usize,
+            cpu: text_of(v, "cpu"),
+            nproc: text_of(v, "nproc"),
+            rustc: text_of(v, "rustc"),
+            load_before: text_of(v, "load_before"),
+            load_after: text_of(v, "load_after"),
+            minutes: v["minutes"].as_f64().unwrap_or(f64::NAN),
+        })
+    }
+
+    /// The whole page, with `op_counts`' section.
+    fn markdown(&self, op_counts: &str) -> String {
+        let mut s = String::new();
+        let w = &mut s;
+        let _ = writeln!(
+            w,
+            "# What the generated code costs: size, build time, operations\n\n\
+             Regenerate this page with\n\n\
+             ```text\ncargo run --release -p articulated-bench --bin size_table\n```\n\n\
+             It is written whole by `bench/src/bin/size_table.rs`, which also runs \
+             `bench/src/bin/op_counts.rs` and keeps its measurements in `bench/size/size.json` \
+             (`-- --render` rewrites the page from that file without measuring): edit those, not \
+             this file. The measurements took {:.0} minutes here, with the scratch crates' \
+             dependencies already compiled by an earlier run; a first run also compiles them for \
+             each target, which takes about as long again.\n",
+            self.minutes.max(1.0)
+        );
+        let _ = writeln!(
+            w,
+            "## The machine\n\n\
+             - CPU: {} (`lscpu` model name), `nproc` = {}: a virtual machine shared with other \
+             builds (1-minute load average {} when the measurements started, {} when they \
+             ended). The times are medians of {} runs; on a loaded machine they can move by tens \
+             of per cent from one run to the next, so read them as orders of magnitude and \
+             ratios;\n- compiler: `{}`.\n",
+            self.cpu, self.nproc, self.load_before, self.load_after, self.repeats, self.rustc
+        );
+        self.summary(w);
+        self.function_table(w);
+        self.size_table(w);
+        self.time_table(w);
+        let _ = writeln!(
+            w,
+            "## Operations against the number of joints\n\n\
+             ![Operations against n](figures/op_counts.svg)\n\n{}\n",
+            op_counts.trim_end()
+        );
+        let _ = writeln!(
+            w,
+            "What is compared: the generator traces the recursions on symbolic values and \
+             emits only the operations whose result is not a known constant. Every product with a \
+             structural zero (the zero entries of a joint's motion subspace, a base at rest) and \
+             every sum with a zero is gone, constants are multiplied out, shared subexpressions \
+             are computed once, and of several formulations the one with the fewest operations \
+             is kept. Published operation counts are for an algorithm run on a general model \
+             whose numbers are data (a generic joint axis, a full spatial inertia): they count \
+             what a library computes for any robot, ours what one robot's specialized code \
+             computes. Our totals also count the sines and cosines (one per joint angle) and, \
+             in `forward_dynamics`, the pivot checks, which published counts of multiplications \
+             and additions leave out."
+        );
+        s
+    }
+
+    /// The model with the most operations in its default functions (the largest).
+    fn largest(&self) -> Option<&ModelRow> {
+        self.models.iter().max_by_key(|m| default_ops(m))
+    }
+
+    /// The findings, each computed from the tables below.
+    fn summary(&self, w: &mut String) {
+        let _ = writeln!(w, "## In short\n");
+        let per_op: Vec<String> = COLUMNS
+            .iter()
+            .enumerate()
+            .filter_map(|(k, column)| {
+                bytes_per_op(&self.models, k).map(|r| format!("{r:.0} on {column}"))
+            })
+            .collect();
+        let _ = writeln!(
+            w,
+            "- **Size follows the operation count**: over all functions of all models, the \
+             bytes of machine code per operation are {} (`f64` on ARM is soft float: every \
+             operation a call).",
+            per_op.join(", ")
+        );
+        if let Some(big) = self.largest() {
+            let sum = |k: usize| default_bytes(big, k).map_or("n/a".into(), kib);
+            let mm = big
+                .functions
+                .iter()
+                .find(|f| f.output == Output::MassMatrix);
+            let _ = writeln!(
+                w,
+                "- **The largest model**, `{}` ({} velocity coordinates), takes {} of machine \
+                 code for its five default functions on x86-64 and, on {THUMB}, {} in `f64` and \
+                 {} in `f32`; its `mass_matrix` alone has {} operations ({} on x86-64), because \
+                 `M` has n² entries (see the last section): a long serial chain is where \
+                 straight-line code costs the most flash.",
+                big.stem,
+                big.nv,
+                sum(0),
+                sum(2),
+                sum(3),
+                mm.map_or(0, |f| f.ops.total()),
+                mm.and_then(|f| f.bytes[0]).map_or("n/a".into(), kib),
+            );
+            let t = &big.times;
+            let saved = t.expand_o0 - t.expand_o3;
+            let small_saved = self
+                .models
+                .iter()
+                .filter(|m| m.times.build_default < 1.0)
+                .map(|m| m.times.expand_o0 - m.times.expand_o3)
+                .fold(f64::NAN, f64::max);
+            let _ = writeln!(
+                w,
+                "- **Build time**: the crate holding `{}` builds in {} s in release ({} s for \
+                 x86-64-v3), of which the derive's expansion is {} s; the rest is compiling and \
+                 optimizing the generated code. With the procedural macro optimized \
+                 (`[profile.release.build-override] opt-level = 3` in the user's `Cargo.toml`) \
+                 the expansion takes {} s: {} s saved on every build of that crate ({:.0} % of \
+                 it), against at most {} s on the small models. Worth setting for large models \
+                 that are rebuilt often; the price is a one-time optimized build of `syn` and of \
+                 the generator with the other dependencies.",
+                big.stem,
+                secs(t.build_default),
+                secs(t.build_v3),
+                secs(t.expand_o0),
+                secs(t.expand_o3),
+                secs(saved),
+                100.0 * saved / t.build_default,
+                secs(small_saved),
+            );
+        }
+        let small: Vec<&ModelRow> = self
+            .models
+            .iter()
+            .filter(|m| m.times.build_default < 1.0)
+            .collect();
+        if let Some(max_nv) = small.iter().map(|m| m.nv).max() {
+            let _ = writeln!(
+                w,
+                "- **Small models cost little**: the {} models with up to {max_nv} velocity \
+                 coordinates each add under a second to a release build ({} s for an empty \
+                 crate) and at most {} of x86-64 code for the five default functions.",
+                small.len(),
+                secs(self.empty.build_default),
+                small
+                    .iter()
+                    .filter_map(|m| default_bytes(m, 0))
+                    .max()
+                    .map_or("n/a".into(), kib),
+            );
+        }
+        let _ = writeln!(w);
+    }
+
+    /// The table per model and function.
+    fn function_table(&self, w: &mut String) {
+        let _ = writeln!(
+            w,
+            "## Per model and function\n\n\
+             - **ops**: the generator's operation count (add/sub, mul, div, neg, sin/cos, sqrt; \
+             the figure of the `…_OPS` constants and of `articulated expand`'s header);\n\
+             - **lines**: the function's impl as `articulated expand` formats it, without its \
+             doc comments and blank lines;\n\
+             - **bytes**: the function's machine code, `nm --print-size` of the trait method \
+             (`<bytes_arm7::Arm7 as articulated::generated::MassMatrix<f64,7_usize,7_usize>>::\
+             mass_matrix_with`) in a release build of a user crate with cargo's defaults \
+             (opt-level 3, 16 codegen units, no LTO): what a user pays in flash for it. Not in \
+             these bytes: constants that x86-64 loads from `.rodata` (their total per model is in \
+             the next table), and the shared code the functions call (the `sin`/`cos` fallback \
+             for large angles; on ARM, the soft-float routines);\n\
+             - **x86-64**: the default target (`x86_64-unknown-linux-gnu`, SSE2); **x86-64-v3**: \
+             `RUSTFLAGS=\"-C target-cpu=x86-64-v3\"` (AVX2 and FMA, so sums of products become \
+             fused multiply–adds); **{THUMB}**: Cortex-M4F/M7, `no_std` (`articulated` without \
+             default features). Its FPU is single precision, so in `f64` every operation is a \
+             call to a soft-float routine; **f32** is the same model generated with \
+             `scalar = f32`, what such a target would run;\n\
+             - **sines and cosines**: an `f64` function that needs those of two or more angles \
+             computes them with `articulated::math::sincos_array`, which is inlined: its \
+             polynomials are in the function's bytes (about 500 bytes on x86-64, 2 KiB in \
+             soft-float `f64` on ARM; the floor of the small models' sizes). With one angle, and \
+             in `f32`, the function calls `libm`'s `sincos`/`sincosf`, shared code that is not in \
+             its bytes: so the `f32` column is smaller than the `f64` one by more than the width \
+             of the numbers.\n"
+        );
+        if let Some(why) = &self.arm_missing {
+            let _ = writeln!(w, "The {THUMB} columns are empty: {why}\n");
+        }
+        let _ = writeln!(
+            w,
+            "| model | function | ops | lines | bytes {} | bytes {} | bytes {} | bytes {} |",
+            COLUMNS[0], COLUMNS[1], COLUMNS[2], COLUMNS[3]
+        );
+        let _ = writeln!(w, "|---|---|---:|---:|---:|---:|---:|---:|");
+        for m in &self.models {
+            for f in &m.functions {
+                let b = f.bytes.map(bytes_cell);
+                let _ = writeln!(
+                    w,
+                    "| {} | `{}` | {} | {} | {} | {} | {} | {} |",
+                    m.stem,
+                    f.output.name(),
+                    f.ops.total(),
+                    f.lines,
+                    b[0],
+                    b[1],
+                    b[2],
+                    b[3]
+                );
+            }
+        }
+        let _ = writeln!(w);
+    }
+
+    /// The table per model: the five default functions together.
+    fn size_table(&self, w: &mut String) {
+        let _ = writeln!(
+            w,
+            "## Per model: the five default functions together\n\n\
+             What a crate with one `#[derive(articulated::Chain)]` and the default outputs \
+             (`mass_matrix`, `bias`, `gravity`, `inverse_dynamics`, `forward_dynamics`) adds to \
+             the program: the sums of the table above, and the constants of the model's \
+             functions in `.rodata` on x86-64 (`size -A` of the crate's rlib, all seven \
+             functions; on ARM the constants sit in literal pools inside the functions, so they \
+             are already in its bytes).\n"
+        );
+        let _ = writeln!(
+            w,
+            "| model | nq / nv | ops | bytes {} | bytes {} | bytes {} | bytes {} | .rodata bytes x86-64 / v3 (7 functions) |",
+            COLUMNS[0], COLUMNS[1], COLUMNS[2], COLUMNS[3]
+        );
+        let _ = writeln!(w, "|---|---:|---:|---:|---:|---:|---:|---:|");
+        for m in &self.models {
+            let ops = default_ops(m);
+            let sums = [0, 1, 2, 3].map(|k| bytes_cell(default_bytes(m, k)));
+            let _ = writeln!(
+                w,
+                "| {} | {} / {} | {ops} | {} | {} | {} | {} | {} / {} |",
+                m.stem,
+                m.nq,
+                m.nv,
+                sums[0],
+                sums[1],
+                sums[2],
+                sums[3],
+                bytes_cell(m.rodata[0]),
+                bytes_cell(m.rodata[1])
+            );
+        }
+        let _ = writeln!(w);
+    }
+
+    /// The table per model: expansion and build times.
+    fn time_table(&self, w: &mut String) {
+        let _ = writeln!(
+            w,
+            "## Per model: build time\n\n\
+             A user crate holding one `#[derive(articulated::Chain)]` of the model with the \
+             default outputs, its dependencies already built; medians of {} runs, in seconds.\n\n\
+             - **expansion**: the `macro_expand_crate` line of `RUSTC_BOOTSTRAP=1 cargo rustc \
+             --release -- -Z time-passes` (an unstable flag, used here for the measurement \
+             only): the time the derive takes to read the file and generate the code. \
+             **opt 0**: the procedural macro compiled as cargo does by default in release \
+             builds (`[profile.release.build-override]` defaults to opt-level 0); **opt 3**: \
+             with\n\n  ```toml\n  [profile.release.build-override]\n  opt-level = 3\n  ```\n\n  \
+             in the user's `Cargo.toml`, which also compiles `syn` and the generator optimized \
+             (a one-time cost, when the dependencies are built);\n\
+             - **build**: the wall clock of `touch src/lib.rs && cargo build --release`, \
+             expansion included: for the default target and for x86-64-v3 with the default \
+             opt-0 macros, and, in the last column, of the `-Z time-passes` builds with opt-3 \
+             macros (default target);\n\
+             - **(empty)** is a crate without a model (`use articulated as _;`): cargo's and \
+             rustc's fixed cost, included in every other row.\n",
+            self.repeats
+        );
+        let _ = writeln!(
+            w,
+            "| model | expansion, macros opt 0 | expansion, macros opt 3 | build x86-64 | build x86-64-v3 | build x86-64, macros opt 3 |"
+        );
+        let _ = writeln!(w, "|---|---:|---:|---:|---:|---:|");
+        let rows = std::iter::once(("(empty)", &self.empty))
+            .chain(self.models.iter().map(|m| (m.stem.as_str(), &m.times)));
+        for (name, t) in rows {
+            let v = t.values().map(secs);
+            let _ = writeln!(
+                w,
+                "| {name} | {} | {} | {} | {} | {} |",
+                v[0], v[1], v[2], v[3], v[4]
+            );
+        }
+        let _ = writeln!(w);
+    }
+}
+
+/// The operations of a model's five default functions.
+fn default_ops(m: &ModelRow) -> usize {
+    m.functions
+        .iter()
+        .filter(|f| Output::DEFAULT.contains(&f.output))
+        .map(|f| f.ops.total())
+        .sum()
+}
+
+/// The bytes of a model's five default functions in column `k` of [`COLUMNS`], if measured.
+fn default_bytes(m: &ModelRow, k: usize) -> Option<u64> {
+    m.functions
+        .iter()
+        .filter(|f| Output::DEFAULT.contains(&f.output))
+        .map(|f| f.bytes[k])
+        .sum()
+}
+
+/// Bytes per operation in column `k`, over every measured function of `models`.
+fn bytes_per_op(models: &[ModelRow], k: usize) -> Option<f64> {
+    let (mut bytes, mut ops) = (0u64, 0u64);
+    for f in models.iter().flat_map(|m| &m.functions) {
+        if let Some(b) = f.bytes[k] {
+            bytes += b;
+            ops += f.ops.total() as u64;
+        }
+    }
+    (ops > 0).then(|| bytes as f64 / ops as f64)
+}
+
+/// `12.3 KiB`, `1.50 MiB`.
+fn kib(bytes: u64) -> String {
+    let k = bytes as f64 / 1024.0;
+    if k >= 1024.0 {
+        format!("{:.2} MiB", k / 1024.0)
+    } else {
+        format!("{k:.1} KiB")
+    }
+}
 
 /// A byte count, or `n/a`.
 fn bytes_cell(x: Option<u64>) -> String {
     x.map_or_else(|| "n/a".into(), |x| x.to_string())
 }
 
-/// Seconds with two decimals.
+/// Seconds with two decimals, or `n/a`.
 fn secs(x: f64) -> String {
     if x.is_finite() {
         format!("{x:.2}")
@@ -636,214 +1198,6 @@ fn load_average() -> String {
         .unwrap_or_else(|| "unknown".into())
 }
 
-/// Everything measured, for the page.
-struct Report {
-    /// Each model with its ops and lines.
-    models: Vec<(&'static Model, ModelStatic)>,
-    /// By configuration name: each crate's sizes.
-    bytes: BTreeMap<&'static str, BTreeMap<String, Bytes>>,
-    /// Why the ARM columns are empty, if they are.
-    arm_missing: Option<String>,
-    /// Each model's timings.
-    times: BTreeMap<&'static str, Times>,
-    /// The empty crate's timings.
-    empty: Times,
-    /// Runs per timing.
-    repeats: usize,
-    /// `lscpu`'s model name.
-    cpu: String,
-    /// `nproc`.
-    nproc: String,
-    /// `rustc --version`.
-    rustc: String,
-    /// The load average when the run started.
-    load_before: String,
-    /// The load average when it ended.
-    load_after: String,
-    /// How long the run took.
-    minutes: f64,
-    /// `op_counts`'s section.
-    op_counts: String,
-}
-
-/// Lookups and the page.
-impl Report {
-    /// The bytes of `ty`'s function for `output` in `model`'s crate built in `config`.
-    fn bytes_of(&self, config: &str, model: &Model, ty: &str, output: Output) -> Option<u64> {
-        self.bytes
-            .get(config)?
-            .get(&format!("bytes_{}", model.stem))?
-            .functions
-            .get(&(ty.to_string(), output))
-            .copied()
-    }
-
-    /// The `.rodata` bytes of `model`'s crate built in `config`.
-    fn rodata_of(&self, config: &str, model: &Model) -> Option<u64> {
-        Some(
-            self.bytes
-                .get(config)?
-                .get(&format!("bytes_{}", model.stem))?
-                .rodata,
-        )
-    }
-
-    /// The whole page.
-    fn markdown(&self) -> String {
-        let mut s = String::new();
-        let w = &mut s;
-        let _ = writeln!(
-            w,
-            "# What the generated code costs: size, build time, operations\n"
-        );
-        let _ = writeln!(
-            w,
-            "Regenerate this page (about {:.0} minutes here) with\n\n\
-             ```text\ncargo run --release -p articulated-bench --bin size_table\n```\n\n\
-             It is written whole by `bench/src/bin/size_table.rs` (which also runs \
-             `bench/src/bin/op_counts.rs`): edit those, not this file. Every figure below comes \
-             from that one run.\n",
-            self.minutes.max(1.0)
-        );
-        let _ = writeln!(w, "## The machine\n");
-        let _ = writeln!(
-            w,
-            "- CPU: {} (`lscpu` model name), `nproc` = {}; a virtual machine shared with other \
-             builds (1-minute load average {} at the start of the run, {} at the end), so the \
-             times are medians of {} runs and can be off by tens of per cent from one run to the \
-             next;\n- compiler: `{}`.\n",
-            self.cpu, self.nproc, self.load_before, self.load_after, self.repeats, self.rustc
-        );
-
-        let _ = writeln!(w, "## Per model and function\n");
-        let _ = writeln!(
-            w,
-            "- **ops**: the generator's operation count of the function (add/sub, mul, div, neg, \
-             sin/cos, sqrt; the same figure as the `…_OPS` constants and `articulated expand`'s \
-             header);\n\
-             - **lines**: the function's impl as `articulated expand` formats it, without its doc \
-             comments and blank lines;\n\
-             - **bytes**: the machine code of the function (`nm --print-size` of the trait method \
-             `<T as articulated::generated::Trait<…>>::…_with` in a release build of a user crate \
-             with default settings): what a user pays in flash. Constants loaded from memory are \
-             not in these bytes (on x86-64 they sit in `.rodata`; their total per model is in the \
-             next table); the `sin`/`cos` fallback and, on ARM, the soft-float routines are \
-             shared code outside the functions;\n\
-             - **x86-64**: the default target (`x86_64-unknown-linux-gnu`, SSE2); **x86-64-v3**: \
-             `RUSTFLAGS=\"-C target-cpu=x86-64-v3\"` (AVX2 and FMA: generated sums of products \
-             become fused multiply–adds); **{THUMB}**: a Cortex-M4F/M7 with `no_std` \
-             (`articulated` without default features). Its FPU is single-precision only, so \
-             `f64` arithmetic is calls to soft-float routines; the **f32** column is the same \
-             model generated with `scalar = f32`, what such a target would use.\n"
-        );
-        if let Some(why) = &self.arm_missing {
-            let _ = writeln!(w, "The {THUMB} columns are empty: {why}\n");
-        }
-        let _ = writeln!(
-            w,
-            "| model | function | ops | lines | bytes x86-64 | bytes x86-64-v3 | bytes {THUMB} f64 | bytes {THUMB} f32 |"
-        );
-        let _ = writeln!(w, "|---|---|---:|---:|---:|---:|---:|---:|");
-        for (m, st) in &self.models {
-            for output in OUTPUTS {
-                let f = st.functions.get(&output).copied().unwrap_or_default();
-                let f32_ty = format!("{}F32", m.ty);
-                let _ = writeln!(
-                    w,
-                    "| {} | `{}` | {} | {} | {} | {} | {} | {} |",
-                    m.stem,
-                    output.name(),
-                    f.ops.total(),
-                    f.lines,
-                    bytes_cell(self.bytes_of(DEFAULT.name, m, m.ty, output)),
-                    bytes_cell(self.bytes_of(V3.name, m, m.ty, output)),
-                    bytes_cell(self.bytes_of(ARM.name, m, m.ty, output)),
-                    bytes_cell(self.bytes_of(ARM.name, m, &f32_ty, output)),
-                );
-            }
-        }
-
-        let _ = writeln!(w, "\n## Per model: build cost\n");
-        let _ = writeln!(
-            w,
-            "A user crate holding one `#[derive(articulated::Chain)]` of the model with the \
-             default outputs (`mass_matrix`, `bias`, `gravity`, `inverse_dynamics`, \
-             `forward_dynamics`), its dependencies already built; the medians of {} runs, in \
-             seconds.\n\n\
-             - **expansion**: the `macro_expand_crate` pass of `RUSTC_BOOTSTRAP=1 cargo rustc \
-             --release -- -Z time-passes` (an unstable flag, used here for the measurement only): \
-             the time the derive takes to read the file and generate the code, with the \
-             procedural macro compiled as cargo does by default in release builds (opt-level 0) \
-             and with\n\n  ```toml\n  [profile.release.build-override]\n  opt-level = 3\n  \
-             ```\n\n  in the user's `Cargo.toml` (which also compiles `syn` and the generator \
-             optimized: a one-time cost when the dependencies are built);\n\
-             - **build**: the wall clock of `touch src/lib.rs && cargo build --release`, \
-             expansion included, for the default target and for x86-64-v3 (opt-level 0 macros), \
-             and, in the last column, of the `-Z time-passes` builds with opt-level 3 macros;\n\
-             - the **empty** row is a crate with no model (`use articulated as _;`): cargo's and \
-             rustc's fixed cost, included in every other row.\n",
-            self.repeats
-        );
-        let _ = writeln!(
-            w,
-            "| model | nq / nv | expansion, macros opt 0 | expansion, macros opt 3 | build x86-64 | build x86-64-v3 | build x86-64, macros opt 3 | .rodata bytes x86-64 / v3 |"
-        );
-        let _ = writeln!(w, "|---|---:|---:|---:|---:|---:|---:|---:|");
-        let e = &self.empty;
-        let _ = writeln!(
-            w,
-            "| (empty) | – | {} | {} | {} | {} | {} | – |",
-            secs(e.expand_o0),
-            secs(e.expand_o3),
-            secs(e.build_default),
-            secs(e.build_v3),
-            secs(e.build_o3)
-        );
-        for (m, st) in &self.models {
-            let t = self.times.get(m.stem).copied().unwrap_or_default();
-            let _ = writeln!(
-                w,
-                "| {} | {} / {} | {} | {} | {} | {} | {} | {} / {} |",
-                m.stem,
-                st.nq,
-                st.nv,
-                secs(t.expand_o0),
-                secs(t.expand_o3),
-                secs(t.build_default),
-                secs(t.build_v3),
-                secs(t.build_o3),
-                bytes_cell(self.rodata_of(DEFAULT.name, m)),
-                bytes_cell(self.rodata_of(V3.name, m)),
-            );
-        }
-        let _ = writeln!(
-            w,
-            "\nThe `.rodata` column is the constants of all seven functions of the model's \
-             `bytes_` crate (`size -A`: the sections `.rodata*` of its rlib; on ARM the constants \
-             sit in literal pools inside the functions, so they are in the bytes above).\n"
-        );
-
-        let _ = writeln!(w, "## Operations against the number of joints\n");
-        let _ = writeln!(w, "![Operations against n](figures/op_counts.svg)\n");
-        let _ = writeln!(w, "{}", self.op_counts.trim_end());
-        let _ = writeln!(
-            w,
-            "\nWhat is compared: the generator traces the recursions on symbolic values and \
-             emits only the operations whose result is not a known constant. Every product with a \
-             structural zero (joint axes along coordinate axes, the zero entries of `S`, the \
-             base's zero velocity) and every sum with a zero is gone, constants are multiplied \
-             out, and shared subexpressions are computed once; of several formulations it keeps \
-             the one with the fewest operations. Published counts are for an algorithm run on a \
-             general model, with the model's numbers as data (a generic joint axis, a full \
-             spatial inertia): they count what a library computes, ours what one model's \
-             specialized code computes. Our counts also include the sines and cosines (one \
-             sin/cos per joint) and, for `forward_dynamics`, the pivot checks; the published \
-             ones count multiplications and additions only."
-        );
-        s
-    }
-}
-
 // ---------------------------------------------------------------------------------------------
 
 /// Command-line options.
@@ -852,17 +1206,24 @@ struct Args {
     repeats: usize,
     /// The models measured (all for the page).
     models: Vec<&'static Model>,
+    /// Rewrite the page from `bench/size/size.json` without measuring.
+    render: bool,
 }
+
+/// The usage line.
+const USAGE: &str = "usage: size_table [--repeats R] [--models a,b,…] | size_table --render";
 
 /// Reads the command line.
 fn parse_args() -> Result<Args> {
     let mut args = Args {
         repeats: 3,
         models: MODELS.iter().collect(),
+        render: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(arg) = it.next() {
         match arg.as_str() {
+            "--render" => args.render = true,
             "--repeats" => {
                 args.repeats = it
                     .next()
@@ -882,11 +1243,7 @@ fn parse_args() -> Result<Args> {
                     })
                     .collect::<Result<_>>()?;
             }
-            _ => {
-                return Err(format!(
-                    "unknown argument `{arg}`\nusage: size_table [--repeats R] [--models a,b,…]"
-                ))
-            }
+            _ => return Err(format!("unknown argument `{arg}`\n{USAGE}")),
         }
     }
     Ok(args)
@@ -904,7 +1261,7 @@ fn arm_installed() -> bool {
         })
 }
 
-/// Runs every measurement (see the module docs), in order.
+/// Runs every measurement (steps 1 to 5 of the module docs), in order.
 fn measure(args: &Args) -> Result<Report> {
     let start = Instant::now();
     let load_before = load_average();
@@ -913,22 +1270,8 @@ fn measure(args: &Args) -> Result<Report> {
     say!("generating the code of {} models in-process", models.len());
     let mut statics = Vec::new();
     for m in models {
-        statics.push((*m, static_figures(m)?));
+        statics.push(static_figures(m)?);
     }
-
-    say!("op counts against n: running the op_counts binary");
-    let mut c = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
-    c.current_dir(root())
-        .args([
-            "run",
-            "--release",
-            "-p",
-            "articulated-bench",
-            "--bin",
-            "op_counts",
-        ])
-        .stderr(Stdio::inherit());
-    let op_counts = String::from_utf8_lossy(&run(c)?.stdout).into_owned();
 
     let ws = scratch().join("ws");
     let ws_o3 = scratch().join("ws-o3");
@@ -939,8 +1282,7 @@ fn measure(args: &Args) -> Result<Report> {
     let mut bytes = BTreeMap::new();
     let arm_missing = (!arm_installed()).then(|| {
         format!(
-            "the target is not installed here (`rustup target add {THUMB}` did not run or \
-             failed)."
+            "the target is not installed here (`rustup target add {THUMB}` did not run or failed)."
         )
     });
     for config in [DEFAULT, V3, ARM] {
@@ -948,7 +1290,7 @@ fn measure(args: &Args) -> Result<Report> {
             continue;
         }
         say!(
-            "{}: building the bytes_ crates (dependencies first, this takes minutes)",
+            "{}: building the bytes_ crates (dependencies first: minutes)",
             config.name
         );
         let t = Instant::now();
@@ -990,18 +1332,13 @@ fn measure(args: &Args) -> Result<Report> {
         }
     }
 
-    let packages: Vec<(String, Option<&Model>)> = std::iter::once(("time_empty".to_string(), None))
-        .chain(
-            models
-                .iter()
-                .map(|m| (format!("time_{}", m.stem), Some(*m))),
-        )
+    let packages: Vec<String> = std::iter::once("time_empty".to_string())
+        .chain(models.iter().map(|m| format!("time_{}", m.stem)))
         .collect();
     let total = packages.len() * 4 * args.repeats;
     let mut done = 0;
-    let mut times = BTreeMap::new();
-    let mut empty = Times::default();
-    for (package, model) in &packages {
+    let mut times = Vec::new();
+    for package in &packages {
         let mut runs: [Vec<f64>; 5] = Default::default();
         for r in 0..args.repeats {
             let mut step = |what: &str, x: f64| {
@@ -1023,71 +1360,132 @@ fn measure(args: &Args) -> Result<Report> {
                 runs[k].push(x);
             }
         }
-        let [e0, e3, bd, bv, b3] = runs.map(median);
-        let t = Times {
-            expand_o0: e0,
-            expand_o3: e3,
-            build_default: bd,
-            build_v3: bv,
-            build_o3: b3,
-        };
-        match model {
-            Some(m) => {
-                times.insert(m.stem, t);
-            }
-            None => empty = t,
-        }
+        let [expand_o0, expand_o3, build_default, build_v3, build_o3] = runs.map(median);
+        times.push(Times {
+            expand_o0,
+            expand_o3,
+            build_default,
+            build_v3,
+            build_o3,
+        });
     }
+    let load_after = load_average();
 
+    // Everything measured, per model.
+    let byte_of = |config: &str, stem: &str, ty: &str, output: Output| {
+        bytes
+            .get(config)
+            .and_then(|per: &BTreeMap<String, Bytes>| per.get(&format!("bytes_{stem}")))
+            .and_then(|b| b.functions.get(&(ty.to_string(), output)).copied())
+    };
+    let rodata_of = |config: &str, stem: &str| {
+        bytes
+            .get(config)
+            .and_then(|per: &BTreeMap<String, Bytes>| per.get(&format!("bytes_{stem}")))
+            .map(|b| b.rodata)
+    };
+    let mut rows = Vec::new();
+    for ((m, st), t) in models.iter().zip(statics).zip(times.iter().skip(1)) {
+        let f32_ty = format!("{}F32", m.ty);
+        let functions = OUTPUTS
+            .iter()
+            .map(|&output| {
+                let s = st.functions.get(&output).copied().unwrap_or_default();
+                Function {
+                    output,
+                    ops: s.ops,
+                    lines: s.lines,
+                    bytes: [
+                        byte_of(DEFAULT.name, m.stem, m.ty, output),
+                        byte_of(V3.name, m.stem, m.ty, output),
+                        byte_of(ARM.name, m.stem, m.ty, output),
+                        byte_of(ARM.name, m.stem, &f32_ty, output),
+                    ],
+                }
+            })
+            .collect();
+        rows.push(ModelRow {
+            stem: m.stem.to_string(),
+            nq: st.nq,
+            nv: st.nv,
+            functions,
+            rodata: [rodata_of(DEFAULT.name, m.stem), rodata_of(V3.name, m.stem)],
+            times: *t,
+        });
+    }
     Ok(Report {
-        models: statics,
-        bytes,
+        models: rows,
+        empty: times.first().copied().unwrap_or_default(),
         arm_missing,
-        times,
-        empty,
         repeats: args.repeats,
         cpu: cpu_model(),
         nproc: first_line("nproc", &[]),
         rustc: first_line("rustc", &["--version"]),
         load_before,
-        load_after: load_average(),
+        load_after,
         minutes: start.elapsed().as_secs_f64() / 60.0,
-        op_counts,
     })
 }
 
-/// Measures, then writes `docs/size.md` (or prints a partial run's page).
+/// Runs the `op_counts` binary (which also writes the figure) and returns its section.
+fn op_counts() -> Result<String> {
+    say!("op counts against n: running the op_counts binary");
+    let mut c = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
+    c.current_dir(root())
+        .args([
+            "run",
+            "--release",
+            "-p",
+            "articulated-bench",
+            "--bin",
+            "op_counts",
+        ])
+        .stderr(Stdio::inherit());
+    Ok(String::from_utf8_lossy(&run(c)?.stdout).into_owned())
+}
+
+/// Measures (or, with `--render`, reads the last measurements), then writes
+/// `bench/size/size.json` and `docs/size.md`, or prints a partial run's page.
 fn main() -> ExitCode {
-    let args = match parse_args() {
-        Ok(a) => a,
+    match main_inner() {
+        Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             say!("{e}");
-            return ExitCode::FAILURE;
-        }
-    };
-    let report = match measure(&args) {
-        Ok(r) => r,
-        Err(e) => {
-            say!("{e}");
-            return ExitCode::FAILURE;
-        }
-    };
-    let page = report.markdown();
-    let whole = args.repeats == 3 && args.models.len() == MODELS.len();
-    if !whole {
-        say!("a partial run (--models or --repeats): the page goes to stdout, docs/size.md is left as it is");
-        print!("{page}");
-        return ExitCode::SUCCESS;
-    }
-    let path = root().join("docs/size.md");
-    match write_atomically(&path, page.as_bytes()) {
-        Ok(()) => {
-            say!("wrote {}", path.display());
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            say!("cannot write {}: {e}", path.display());
             ExitCode::FAILURE
         }
     }
+}
+
+/// [`main`], with errors as values.
+fn main_inner() -> Result<()> {
+    let args = parse_args()?;
+    let data = root().join("bench/size/size.json");
+    let page = root().join("docs/size.md");
+    if args.render {
+        let text =
+            std::fs::read_to_string(&data).map_err(|e| format!("{}: {e}", data.display()))?;
+        let value: Value =
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", data.display()))?;
+        let report = Report::from_json(&value)?;
+        let markdown = report.markdown(&op_counts()?);
+        write_atomically(&page, markdown.as_bytes())
+            .map_err(|e| format!("{}: {e}", page.display()))?;
+        say!("wrote {} from {}", page.display(), data.display());
+        return Ok(());
+    }
+    // The page is rendered from the data file's form of the measurements, as `--render` does.
+    let value = measure(&args)?.to_json();
+    let markdown = Report::from_json(&value)?.markdown(&op_counts()?);
+    if args.repeats != 3 || args.models.len() != MODELS.len() {
+        say!("a partial run (--models or --repeats): the page goes to stdout; docs/size.md and bench/size/size.json are left as they are");
+        print!("{markdown}");
+        return Ok(());
+    }
+    let json = serde_json::to_string_pretty(&value).map_err(|e| e.to_string())? + "\n";
+    for (path, contents) in [(&data, json), (&page, markdown)] {
+        write_atomically(path, contents.as_bytes())
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        say!("wrote {}", path.display());
+    }
+    Ok(())
 }
