@@ -167,6 +167,30 @@ pub fn callgrind(args: &[&str]) -> Result<u64, String> {
         .ok_or_else(|| format!("no `Collected :` line in valgrind's output: {stderr}"))
 }
 
+/// Runs `f` on `0..n` (each closure cycles through its own states) and returns the time
+/// taken. `bench_table` and `peers` time their batches with it.
+#[inline(never)]
+pub fn batch<F: FnMut(usize)>(f: &mut F, n: usize) -> std::time::Duration {
+    let start = std::time::Instant::now();
+    for i in 0..n {
+        f(black_box(i));
+    }
+    start.elapsed()
+}
+
+/// How many calls of `f` take about `target` (at least [`STATES`]).
+pub fn calibrate<F: FnMut(usize)>(f: &mut F, target: std::time::Duration) -> usize {
+    let mut n = STATES;
+    loop {
+        let t = batch(f, n);
+        if t >= target / 4 || n >= 1 << 30 {
+            let per = t.as_secs_f64() / n as f64;
+            return ((target.as_secs_f64() / per) as usize).max(STATES);
+        }
+        n *= 2;
+    }
+}
+
 /// [`STATES`] random states of model `M`, the same for every run (seeded by [`SEED`] and the
 /// model's name).
 pub fn states<M: Model<NQ, NV>, const NQ: usize, const NV: usize>() -> Vec<State<NQ, NV>> {

@@ -82,7 +82,7 @@ fn humanoid_nonlinear_effects_match_pinocchio() {
         let m_theirs = rows_of(&s["mass_matrix"]);
         let nle = Humanoid::nonlinear_effects(&q, &v);
         let (m, nle2) = Humanoid::mass_matrix_and_nonlinear_effects(&q, &v);
-        // M is symmetric: its column-major slice reads as Pinocchio's rows.
+        // Pinocchio's M is stored by rows: compare with the column-major slice of Mᵀ.
         for (what, e) in [
             ("nonlinear_effects", rel_err(nle.as_slice(), &nle_theirs)),
             ("(M, nle).1", rel_err(nle2.as_slice(), &nle_theirs)),

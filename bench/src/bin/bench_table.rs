@@ -18,37 +18,14 @@
 
 use std::hint::black_box;
 use std::process::ExitCode;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use articulated::OpCounts;
-use articulated_bench::{each_model, Engine, Output, Visit, STATES};
+use articulated_bench::{batch, calibrate, each_model, Engine, Output, Visit, STATES};
 
 const USAGE: &str = "usage: bench_table [--repeats R] [--batch-ms T] [--min]
        bench_table --instructions [--calls K]
        bench_table --calls K MODEL OUTPUT ENGINE   (ENGINE: generated, reference, reference_aba)";
-
-/// Runs `f` on states `0..n` (cycled) and returns the time taken.
-#[inline(never)]
-fn batch<F: FnMut(usize)>(f: &mut F, n: usize) -> Duration {
-    let start = Instant::now();
-    for i in 0..n {
-        f(black_box(i % STATES));
-    }
-    start.elapsed()
-}
-
-/// How many calls of `f` take about `target`.
-fn calibrate<F: FnMut(usize)>(f: &mut F, target: Duration) -> usize {
-    let mut n = STATES;
-    loop {
-        let t = batch(f, n);
-        if t >= target / 4 || n >= 1 << 30 {
-            let per = t.as_secs_f64() / n as f64;
-            return ((target.as_secs_f64() / per) as usize).max(STATES);
-        }
-        n *= 2;
-    }
-}
 
 fn median(mut xs: Vec<f64>) -> f64 {
     xs.sort_by(f64::total_cmp);
@@ -218,10 +195,10 @@ fn print_sincos(timer: &Timer) {
         black_box(articulated::math::sincos_array(black_box(six(i))));
     };
     let mut libm = |i: usize| {
-        black_box(articulated::libm::sincos(black_box(angles[i])));
+        black_box(articulated::libm::sincos(black_box(angles[i % STATES])));
     };
     let mut std = |i: usize| {
-        black_box(black_box(angles[i]).sin_cos());
+        black_box(black_box(angles[i % STATES]).sin_cos());
     };
     let na = calibrate(&mut array, timer.batch_time);
     let nl = calibrate(&mut libm, timer.batch_time);

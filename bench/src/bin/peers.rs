@@ -23,12 +23,12 @@
 use std::hint::black_box;
 use std::path::Path;
 use std::process::ExitCode;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use articulated::model::JointKind;
 use articulated::nalgebra::SVector;
 use articulated::prelude::*;
-use articulated_bench::Output;
+use articulated_bench::{batch, calibrate, Output};
 
 const USAGE: &str = "usage: peers --layout MODEL
        peers --states FILE --values MODEL
@@ -236,29 +236,6 @@ where
             black_box(&x.v),
         ));
     });
-}
-
-/// Runs `f` on states `0..n` and returns the time taken.
-#[inline(never)]
-fn batch<F: FnMut(usize)>(f: &mut F, n: usize) -> Duration {
-    let start = Instant::now();
-    for i in 0..n {
-        f(black_box(i));
-    }
-    start.elapsed()
-}
-
-/// How many calls of `f` take about `target`.
-fn calibrate<F: FnMut(usize)>(f: &mut F, target: Duration) -> usize {
-    let mut n = 16;
-    loop {
-        let t = batch(f, n);
-        if t >= target / 4 || n >= 1 << 30 {
-            let per = t.as_secs_f64() / n as f64;
-            return ((target.as_secs_f64() / per) as usize).max(16);
-        }
-        n *= 2;
-    }
 }
 
 /// Times each output: `batches` batches of about `batch`, the fastest and the median.
