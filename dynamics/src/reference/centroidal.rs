@@ -187,6 +187,14 @@ pub fn centroidal_momentum<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T]) -> Force
     Force::new(k_o - com.cross(p), p)
 }
 
+/// The velocity of the centre of mass, `ẋ_G = p / m`, world frame, labelled `com_v_x, …`.
+pub fn center_of_mass_velocity<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T]) -> Vec3<T> {
+    let mass = tree.nodes.iter().fold(T::zero(), |m, n| m + n.inertia.m);
+    let inv_mass = (T::one() / mass).label(format_args!("inv_mass"));
+    let p = centroidal_momentum(tree, q, v).lin;
+    p.scale(inv_mass).label(format_args!("com_v"))
+}
+
 /// The centroidal momentum matrix `A_G(q)` (`h_G = A_G·v`), `6 × nv` row-major, angular rows
 /// first. `to_parent` carries a composite inertia to the parent as in
 /// [`super::crba::crba_with`].
