@@ -218,37 +218,29 @@ fn two_link_emitted_code() {
     insta::assert_snapshot!(code);
 }
 
-articulated::chain! {
-    /// The quantities of the whole system of `models/two_link.chain` in `f32`.
-    chain TwoLinkWholeF32 {
-        scalar: f32;
-        outputs: [
-            center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
-            centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
-        ];
-        gravity: [0.0, 0.0, -9.81];
-        body legs { mass: 22.0, com: [0.0, 0.0, 0.54], inertia: diag(1.46, 1.29, 0.24) }
-        body trunk { mass: 50.9, com: [0.0, 0.0, 0.32], inertia: diag(3.2, 2.8, 0.7) }
-        joint ankle: spherical(xyz) { parent: world, child: legs }
-        joint hip: spherical(xyz) { parent: legs, child: trunk, xyz: [0.0, 0.0, 0.86] }
-    }
-}
+/// The quantities of the whole system of `models/two_link.chain` in `f32`.
+#[derive(articulated::Chain)]
+#[chain(
+    file = "../models/two_link.chain",
+    scalar = f32,
+    outputs = [
+        center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
+        centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+    ]
+)]
+struct TwoLinkWholeF32;
 
-articulated::chain! {
-    /// The quantities of the whole system of `models/two_link.chain` for any scalar.
-    chain TwoLinkWholeGeneric {
-        scalar: generic;
-        outputs: [
-            center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
-            centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
-        ];
-        gravity: [0.0, 0.0, -9.81];
-        body legs { mass: 22.0, com: [0.0, 0.0, 0.54], inertia: diag(1.46, 1.29, 0.24) }
-        body trunk { mass: 50.9, com: [0.0, 0.0, 0.32], inertia: diag(3.2, 2.8, 0.7) }
-        joint ankle: spherical(xyz) { parent: world, child: legs }
-        joint hip: spherical(xyz) { parent: legs, child: trunk, xyz: [0.0, 0.0, 0.86] }
-    }
-}
+/// The quantities of the whole system of `models/two_link.chain` for any scalar.
+#[derive(articulated::Chain)]
+#[chain(
+    file = "../models/two_link.chain",
+    scalar = generic,
+    outputs = [
+        center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
+        centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+    ]
+)]
+struct TwoLinkWholeGeneric;
 
 /// The whole-system outputs in `f32` (to 1e-4, as the basic ones above) and generic over `f64`
 /// (to 1e-12) against the `f64` reference, on inputs exactly representable in `f32`.
