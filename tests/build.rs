@@ -42,9 +42,16 @@ fn main() {
             model.nv()
         )
         .unwrap();
-        // The five default outputs and the joint wrenches (from the free ends down: the trees
-        // branch, so not bottom-up).
-        let outputs = Output::DEFAULT.into_iter().chain([Output::JointWrenches]);
+        // The five default outputs, the joint wrenches (from the free ends down: the trees
+        // branch, so not bottom-up) and every quantity of the whole system.
+        let whole_body = Output::ALL
+            .into_iter()
+            .map(|(o, _)| o)
+            .filter(|o| o.whole_body());
+        let outputs = Output::DEFAULT
+            .into_iter()
+            .chain([Output::JointWrenches])
+            .chain(whole_body);
         builder = builder.model(model).name(name).outputs(outputs);
     }
     list.push_str("    };\n}\n");

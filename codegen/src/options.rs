@@ -74,11 +74,29 @@ pub enum Output {
     /// `joint_wrenches_bottom_up(q, v, a, base)`: the same from the base up, starting from the
     /// wrench the world exerts on the root body (a serial chain only).
     JointWrenchesBottomUp,
+    /// `center_of_mass(q)`: the centre of mass `x_G`, world frame.
+    CenterOfMass,
+    /// `center_of_mass_velocity(q, v)`: `ẋ_G`, world frame.
+    CenterOfMassVelocity,
+    /// `center_of_mass_jacobian(q)`: `J_G` with `ẋ_G = J_G·v`, `3 × NV`.
+    CenterOfMassJacobian,
+    /// `centroidal_momentum(q, v)`: `h_G = [k_G; p]`, the angular momentum about the centre of
+    /// mass and the linear momentum, world axes.
+    CentroidalMomentum,
+    /// `centroidal_momentum_matrix(q)`: `A_G` with `h_G = A_G·v`, `6 × NV`, angular rows first.
+    CentroidalMomentumMatrix,
+    /// `kinetic_energy(q, v)`: `½·vᵀ·M(q)·v`.
+    KineticEnergy,
+    /// `potential_energy(q)`: `−Σ m_k·gᵀ·x_k`.
+    PotentialEnergy,
+    /// `coriolis_matrix(q, v)`: `N(q, q̇)` of Wieber's eq. 7, with `N·v = bias` and `Ṁ − 2N`
+    /// skew-symmetric.
+    CoriolisMatrix,
 }
 
 impl Output {
     /// Every output, with its name in the grammar, in the order the generator emits them.
-    pub const ALL: [(Output, &'static str); 9] = [
+    pub const ALL: [(Output, &'static str); 17] = [
         (Output::MassMatrix, "mass_matrix"),
         (Output::Bias, "bias"),
         (Output::Gravity, "gravity"),
@@ -91,6 +109,17 @@ impl Output {
         ),
         (Output::JointWrenches, "joint_wrenches"),
         (Output::JointWrenchesBottomUp, "joint_wrenches_bottom_up"),
+        (Output::CenterOfMass, "center_of_mass"),
+        (Output::CenterOfMassVelocity, "center_of_mass_velocity"),
+        (Output::CenterOfMassJacobian, "center_of_mass_jacobian"),
+        (Output::CentroidalMomentum, "centroidal_momentum"),
+        (
+            Output::CentroidalMomentumMatrix,
+            "centroidal_momentum_matrix",
+        ),
+        (Output::KineticEnergy, "kinetic_energy"),
+        (Output::PotentialEnergy, "potential_energy"),
+        (Output::CoriolisMatrix, "coriolis_matrix"),
     ];
 
     /// The outputs generated when a description names none.
@@ -114,7 +143,31 @@ impl Output {
             Output::MassMatrixAndNonlinearEffects => "mass_matrix_and_nonlinear_effects",
             Output::JointWrenches => "joint_wrenches",
             Output::JointWrenchesBottomUp => "joint_wrenches_bottom_up",
+            Output::CenterOfMass => "center_of_mass",
+            Output::CenterOfMassVelocity => "center_of_mass_velocity",
+            Output::CenterOfMassJacobian => "center_of_mass_jacobian",
+            Output::CentroidalMomentum => "centroidal_momentum",
+            Output::CentroidalMomentumMatrix => "centroidal_momentum_matrix",
+            Output::KineticEnergy => "kinetic_energy",
+            Output::PotentialEnergy => "potential_energy",
+            Output::CoriolisMatrix => "coriolis_matrix",
         }
+    }
+
+    /// Whether it is a quantity of the whole system (centre of mass, momenta, energies, the
+    /// Coriolis matrix; `reference::centroidal`) rather than one of the dynamics' terms.
+    pub fn whole_body(self) -> bool {
+        matches!(
+            self,
+            Output::CenterOfMass
+                | Output::CenterOfMassVelocity
+                | Output::CenterOfMassJacobian
+                | Output::CentroidalMomentum
+                | Output::CentroidalMomentumMatrix
+                | Output::KineticEnergy
+                | Output::PotentialEnergy
+                | Output::CoriolisMatrix
+        )
     }
 
     /// The output of that name.

@@ -92,7 +92,10 @@ fn unknown_output() {
         24,
         "unknown output `mas_matrix`: expected one of `mass_matrix`, `bias`, `gravity`, \
          `inverse_dynamics`, `forward_dynamics`, `nonlinear_effects`, \
-         `mass_matrix_and_nonlinear_effects`, `joint_wrenches` or `joint_wrenches_bottom_up`",
+         `mass_matrix_and_nonlinear_effects`, `joint_wrenches`, `joint_wrenches_bottom_up`, \
+         `center_of_mass`, `center_of_mass_velocity`, `center_of_mass_jacobian`, \
+         `centroidal_momentum`, `centroidal_momentum_matrix`, `kinetic_energy`, \
+         `potential_energy` or `coriolis_matrix`",
     );
 }
 

@@ -15,6 +15,14 @@
 //! | [`MassMatrixAndNonlinearEffects`] | `C::mass_matrix_and_nonlinear_effects(&q, &v)` | both, the kinematics shared |
 //! | [`JointWrenches`] | `C::joint_wrenches(&q, &v, &a)` | each joint's wrench, `6 × NB` |
 //! | [`JointWrenchesBottomUp`] | `C::joint_wrenches_bottom_up(&q, &v, &a, &base)` | the same from a base wrench up |
+//! | [`CenterOfMass`] | `C::center_of_mass(&q)` | `x_G`, world frame |
+//! | [`CenterOfMassVelocity`] | `C::center_of_mass_velocity(&q, &v)` | `ẋ_G` |
+//! | [`CenterOfMassJacobian`] | `C::center_of_mass_jacobian(&q)` | `J_G`, `3 × NV` |
+//! | [`CentroidalMomentum`] | `C::centroidal_momentum(&q, &v)` | `[k_G; p]`, world axes, about the centre of mass |
+//! | [`CentroidalMomentumMatrix`] | `C::centroidal_momentum_matrix(&q)` | `A_G`, `6 × NV` |
+//! | [`KineticEnergy`] | `C::kinetic_energy(&q, &v)` | `½·vᵀ·M·v` |
+//! | [`PotentialEnergy`] | `C::potential_energy(&q)` | `−Σ m_k·gᵀ·x_k` |
+//! | [`CoriolisMatrix`] | `C::coriolis_matrix(&q, &v)` | `N(q, q̇)` with `N·v = bias`, `Ṁ − 2N` skew |
 //!
 //! Each takes and returns nalgebra fixed-size types and allocates nothing. A chain with runtime
 //! parameters takes them through the `_with` twin of each function (`C::mass_matrix_with(&q,
@@ -254,6 +262,104 @@ pub trait JointWrenchesBottomUp<T, const NQ: usize, const NV: usize, const NB: u
         base: &SVector<T, 6>,
     ) -> SMatrix<T, 6, NB> {
         Self::joint_wrenches_bottom_up_with(q, v, a, base, &Self::default_params())
+    }
+}
+
+/// `x_G(q)`: the centre of mass of the whole system, world frame (Wieber 2005, §4).
+pub trait CenterOfMass<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `x_G` for the parameters `p`.
+    fn center_of_mass_with(q: &SVector<T, NQ>, p: &Self::Params) -> SVector<T, 3>;
+    /// `x_G` with the default parameters.
+    fn center_of_mass(q: &SVector<T, NQ>) -> SVector<T, 3> {
+        Self::center_of_mass_with(q, &Self::default_params())
+    }
+}
+
+/// `ẋ_G(q, v) = p / m`: the velocity of the centre of mass, world frame.
+pub trait CenterOfMassVelocity<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `ẋ_G` for the parameters `p`.
+    fn center_of_mass_velocity_with(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        p: &Self::Params,
+    ) -> SVector<T, 3>;
+    /// `ẋ_G` with the default parameters.
+    fn center_of_mass_velocity(q: &SVector<T, NQ>, v: &SVector<T, NV>) -> SVector<T, 3> {
+        Self::center_of_mass_velocity_with(q, v, &Self::default_params())
+    }
+}
+
+/// `J_G(q)`, `3 × NV`: the centre of mass Jacobian, `ẋ_G = J_G·v`, world frame.
+pub trait CenterOfMassJacobian<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `J_G` for the parameters `p`.
+    fn center_of_mass_jacobian_with(q: &SVector<T, NQ>, p: &Self::Params) -> SMatrix<T, 3, NV>;
+    /// `J_G` with the default parameters.
+    fn center_of_mass_jacobian(q: &SVector<T, NQ>) -> SMatrix<T, 3, NV> {
+        Self::center_of_mass_jacobian_with(q, &Self::default_params())
+    }
+}
+
+/// `h_G = [k_G; p]`: the angular momentum about the centre of mass, then the linear momentum,
+/// world axes (angular first, like every spatial vector here). Internal forces leave it
+/// constant up to gravity, which changes `p` only (Wieber 2005, §5).
+pub trait CentroidalMomentum<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `h_G` for the parameters `p`.
+    fn centroidal_momentum_with(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        p: &Self::Params,
+    ) -> SVector<T, 6>;
+    /// `h_G` with the default parameters.
+    fn centroidal_momentum(q: &SVector<T, NQ>, v: &SVector<T, NV>) -> SVector<T, 6> {
+        Self::centroidal_momentum_with(q, v, &Self::default_params())
+    }
+}
+
+/// `A_G(q)`, `6 × NV`, angular rows first: the centroidal momentum matrix, `h_G = A_G·v`
+/// (Orin, Goswami & Lee 2013), what humanoid balance controllers use.
+pub trait CentroidalMomentumMatrix<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `A_G` for the parameters `p`.
+    fn centroidal_momentum_matrix_with(q: &SVector<T, NQ>, p: &Self::Params) -> SMatrix<T, 6, NV>;
+    /// `A_G` with the default parameters.
+    fn centroidal_momentum_matrix(q: &SVector<T, NQ>) -> SMatrix<T, 6, NV> {
+        Self::centroidal_momentum_matrix_with(q, &Self::default_params())
+    }
+}
+
+/// `½·vᵀ·M(q)·v`: the kinetic energy.
+pub trait KineticEnergy<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// The kinetic energy for the parameters `p`.
+    fn kinetic_energy_with(q: &SVector<T, NQ>, v: &SVector<T, NV>, p: &Self::Params) -> T;
+    /// The kinetic energy with the default parameters.
+    fn kinetic_energy(q: &SVector<T, NQ>, v: &SVector<T, NV>) -> T {
+        Self::kinetic_energy_with(q, v, &Self::default_params())
+    }
+}
+
+/// `−Σ m_k·gᵀ·x_k`: the potential energy of gravity, zero with every centre of mass at the
+/// world origin.
+pub trait PotentialEnergy<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// The potential energy for the parameters `p`.
+    fn potential_energy_with(q: &SVector<T, NQ>, p: &Self::Params) -> T;
+    /// The potential energy with the default parameters.
+    fn potential_energy(q: &SVector<T, NQ>) -> T {
+        Self::potential_energy_with(q, &Self::default_params())
+    }
+}
+
+/// `N(q, q̇)` of Wieber 2005, eq. 7, `NV × NV`: `N·v` is [`Bias`], and `Ṁ − 2N` is
+/// skew-symmetric. Where `v = q̇` (no quaternion joint) it is the matrix of the Christoffel
+/// symbols of `M`, on Euler joints too.
+pub trait CoriolisMatrix<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `N` for the parameters `p`.
+    fn coriolis_matrix_with(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        p: &Self::Params,
+    ) -> SMatrix<T, NV, NV>;
+    /// `N` with the default parameters.
+    fn coriolis_matrix(q: &SVector<T, NQ>, v: &SVector<T, NV>) -> SMatrix<T, NV, NV> {
+        Self::coriolis_matrix_with(q, v, &Self::default_params())
     }
 }
 

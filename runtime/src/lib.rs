@@ -161,9 +161,11 @@ pub mod prelude {
     };
     pub use crate::simulate::Simulation;
     pub use crate::{
-        Bias, Chain, Coordinates, ForwardDynamics, Gravity, InverseDynamics, JointWrenches,
-        JointWrenchesBottomUp, MassMatrix, MassMatrixAndNonlinearEffects, NonlinearEffects,
-        OpCounts, SingularMassMatrix,
+        Bias, CenterOfMass, CenterOfMassJacobian, CenterOfMassVelocity, CentroidalMomentum,
+        CentroidalMomentumMatrix, Chain, Coordinates, CoriolisMatrix, ForwardDynamics, Gravity,
+        InverseDynamics, JointWrenches, JointWrenchesBottomUp, KineticEnergy, MassMatrix,
+        MassMatrixAndNonlinearEffects, NonlinearEffects, OpCounts, PotentialEnergy,
+        SingularMassMatrix,
     };
 }
 

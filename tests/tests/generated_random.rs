@@ -21,7 +21,9 @@ use articulated::nalgebra::SVector;
 use articulated::prelude::*;
 use articulated::reference::Reference;
 use articulated_dynamics::random::{random_model, random_state};
-use common::{check_chain, rel_err};
+use common::{
+    check_chain, coriolis_error, rel_err, whole_body_errors, WholeBodyOutputs, WHOLE_BODY_OUTPUTS,
+};
 
 /// The generated trees, exactly as the Builder wrote them.
 mod trees {
@@ -63,6 +65,32 @@ fn check_wrenches<C, const NQ: usize, const NV: usize, const NB: usize>(
     }
 }
 
+/// The generated centre of mass, momenta, energies and Coriolis matrix against the reference's
+/// at random states, to 1e-12 (relative, see `common::whole_body_errors`).
+fn check_whole_body<C, const NQ: usize, const NV: usize>(
+    label: &str,
+    r: &Reference,
+    state: impl Fn(u64) -> (Vec<f64>, Vec<f64>, Vec<f64>),
+) where
+    C: WholeBodyOutputs<NQ, NV> + CoriolisMatrix<f64, NQ, NV>,
+{
+    let mut worst = [0.0f64; 8];
+    for seed in 0..u64::from(CASES) {
+        let (q, v, _) = state(seed);
+        let e = whole_body_errors::<C, NQ, NV>(r, &q, &v);
+        let n = coriolis_error::<C, NQ, NV>(r, &q, &v);
+        for (w, e) in worst.iter_mut().zip(e.into_iter().chain([n])) {
+            *w = w.max(e);
+        }
+    }
+    let names = WHOLE_BODY_OUTPUTS.iter().chain(&["coriolis_matrix"]);
+    for (name, e) in names.zip(worst) {
+        assert!(e < 1e-12, "{label}: {name} off by {e:e}");
+    }
+    let worst: Vec<String> = worst.iter().map(|e| format!("{e:.1e}")).collect();
+    println!("    whole body, worst relative errors {}", worst.join(" "));
+}
+
 #[test]
 fn random_trees_match_the_reference() {
     let mut kinds = BTreeSet::new();
@@ -92,6 +120,7 @@ fn random_trees_match_the_reference() {
             check_wrenches::<trees::$name, $nq, $nv, { trees::$name::NB }>(&label, &r, |s| {
                 random_state(&model, s)
             });
+            check_whole_body::<trees::$name, $nq, $nv>(&label, &r, |s| random_state(&model, s));
             println!(
                 "    ops: mass_matrix {} | bias {} | gravity {} | inverse_dynamics {} | forward_dynamics {} | joint_wrenches {}",
                 trees::$name::MASS_MATRIX_OPS.total(),
@@ -100,6 +129,17 @@ fn random_trees_match_the_reference() {
                 trees::$name::INVERSE_DYNAMICS_OPS.total(),
                 trees::$name::FORWARD_DYNAMICS_OPS.total(),
                 trees::$name::JOINT_WRENCHES_OPS.total(),
+            );
+            println!(
+                "    ops: center_of_mass {} | center_of_mass_velocity {} | center_of_mass_jacobian {} | centroidal_momentum {} | centroidal_momentum_matrix {} | kinetic_energy {} | potential_energy {} | coriolis_matrix {}",
+                trees::$name::CENTER_OF_MASS_OPS.total(),
+                trees::$name::CENTER_OF_MASS_VELOCITY_OPS.total(),
+                trees::$name::CENTER_OF_MASS_JACOBIAN_OPS.total(),
+                trees::$name::CENTROIDAL_MOMENTUM_OPS.total(),
+                trees::$name::CENTROIDAL_MOMENTUM_MATRIX_OPS.total(),
+                trees::$name::KINETIC_ENERGY_OPS.total(),
+                trees::$name::POTENTIAL_ENERGY_OPS.total(),
+                trees::$name::CORIOLIS_MATRIX_OPS.total(),
             );
         }};
     }

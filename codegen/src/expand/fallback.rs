@@ -16,6 +16,8 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
     let fd = quote!(::core::result::Result<#v, ::articulated::SingularMassMatrix>);
     let w = quote!(::articulated::nalgebra::SMatrix<T, 6, N>);
     let v6 = quote!(::articulated::nalgebra::SVector<T, 6>);
+    let v3 = quote!(::articulated::nalgebra::SVector<T, 3>);
+    let j3 = quote!(::articulated::nalgebra::SMatrix<T, 3, N>);
     let never = quote!({ ::core::unreachable!() });
     let name_str = name.to_string();
     quote! {
@@ -59,6 +61,30 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
         }
         impl #sizes ::articulated::JointWrenchesBottomUp<T, N, N, N> for #name {
             fn joint_wrenches_bottom_up_with(_: &#v, _: &#v, _: &#v, _: &#v6, _: &()) -> #w #never
+        }
+        impl #sizes ::articulated::CenterOfMass<T, N, N> for #name {
+            fn center_of_mass_with(_: &#v, _: &()) -> #v3 #never
+        }
+        impl #sizes ::articulated::CenterOfMassVelocity<T, N, N> for #name {
+            fn center_of_mass_velocity_with(_: &#v, _: &#v, _: &()) -> #v3 #never
+        }
+        impl #sizes ::articulated::CenterOfMassJacobian<T, N, N> for #name {
+            fn center_of_mass_jacobian_with(_: &#v, _: &()) -> #j3 #never
+        }
+        impl #sizes ::articulated::CentroidalMomentum<T, N, N> for #name {
+            fn centroidal_momentum_with(_: &#v, _: &#v, _: &()) -> #v6 #never
+        }
+        impl #sizes ::articulated::CentroidalMomentumMatrix<T, N, N> for #name {
+            fn centroidal_momentum_matrix_with(_: &#v, _: &()) -> #w #never
+        }
+        impl #sizes ::articulated::KineticEnergy<T, N, N> for #name {
+            fn kinetic_energy_with(_: &#v, _: &#v, _: &()) -> T #never
+        }
+        impl #sizes ::articulated::PotentialEnergy<T, N, N> for #name {
+            fn potential_energy_with(_: &#v, _: &()) -> T #never
+        }
+        impl #sizes ::articulated::CoriolisMatrix<T, N, N> for #name {
+            fn coriolis_matrix_with(_: &#v, _: &#v, _: &()) -> #m #never
         }
     }
 }

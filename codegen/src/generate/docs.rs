@@ -113,6 +113,33 @@ fn equation(output: Output) -> &'static str {
              wrench it equals `joint_wrenches`; on measured motion their difference checks the \
              data."
         }
+        Output::CenterOfMass => {
+            "`x_G(q) = Σ m_k·x_k / Σ m_k`, the centre of mass in the world frame."
+        }
+        Output::CenterOfMassVelocity => {
+            "`ẋ_G(q, v) = p / m`, the velocity of the centre of mass in the world frame."
+        }
+        Output::CenterOfMassJacobian => {
+            "`J_G(q)`, `3 × NV`, with `ẋ_G = J_G·v`: the centre of mass Jacobian, world frame."
+        }
+        Output::CentroidalMomentum => {
+            "`h_G = [k_G; p]`: the angular momentum about the centre of mass, then the linear \
+             momentum, world axes (Wieber 2005, §4: the Newton and Euler equations of the whole \
+             system are its rate of change)."
+        }
+        Output::CentroidalMomentumMatrix => {
+            "`A_G(q)`, `6 × NV`, angular rows first, with `h_G = A_G·v`: the centroidal momentum \
+             matrix (Orin, Goswami & Lee 2013)."
+        }
+        Output::KineticEnergy => "`½·vᵀ·M(q)·v = ½·Σ v_kᵀ·I_k·v_k`, the kinetic energy.",
+        Output::PotentialEnergy => {
+            "`−Σ m_k·gᵀ·x_k`, the potential energy of gravity, zero with every centre of mass at \
+             the world origin."
+        }
+        Output::CoriolisMatrix => {
+            "`N(q, q̇)` of Wieber 2005, eq. 7, `NV × NV`: `N·v` is the bias and `Ṁ − 2N` is \
+             skew-symmetric; where `v = q̇` it is the matrix of the Christoffel symbols of `M`."
+        }
     }
 }
 
@@ -136,6 +163,18 @@ fn formulation(traced: &Traced) -> String {
             crba_name(specialized, root_frame),
             rnea_name(specialized)
         ),
+        (Output::CentroidalMomentumMatrix, _) => format!(
+            "Each column the composite inertia's momentum `I_c·S` moved to the centre of mass \
+             (`reference::centroidal`), the composite inertias carried as in {}",
+            crba_name(specialized, false)
+        ),
+        (Output::CoriolisMatrix, _) => "By body Jacobian columns and their rates, each body \
+             adding `Jᵀ·(I·J̇ + B(I, v)·J)` (Echeandia & Wensing 2021; \
+             `reference::centroidal`)"
+            .to_string(),
+        (output, _) if output.whole_body() => "By each subtree's mass, first moment and momentum \
+             carried from the leaves in (`reference::centroidal`)"
+            .to_string(),
         (Output::JointWrenchesBottomUp, _) => format!(
             "Each body's own force by {}, then up the chain",
             rnea_name(specialized)
@@ -153,12 +192,19 @@ fn formulation(traced: &Traced) -> String {
         .iter()
         .map(|(_, ops)| ops.total().to_string())
         .collect();
-    format!(
-        "{how}{regrouped}; sums regrouped so that late terms are added last. The generator traced \
-         {} variants ({} operations) and kept the fewest.",
-        counts.len(),
-        counts.join(", ")
-    )
+    let traced = if counts.len() == 1 {
+        format!(
+            "The generator traced one variant ({} operations).",
+            counts[0]
+        )
+    } else {
+        format!(
+            "The generator traced {} variants ({} operations) and kept the fewest.",
+            counts.len(),
+            counts.join(", ")
+        )
+    };
+    format!("{how}{regrouped}; sums regrouped so that late terms are added last. {traced}")
 }
 
 fn crba_name(specialized: bool, root_frame: bool) -> &'static str {

@@ -133,6 +133,54 @@ fn signature(cx: &Context, traced: &Traced, emitted: &Emitted) -> Signature {
             matrix(&Literal::usize_unsuffixed(6), &nb),
             columns(cx, values, 6),
         ),
+        Output::CenterOfMass => (
+            quote!(CenterOfMass<#scalar, #nq, #nv>),
+            &["q"],
+            cx.vector_type(3),
+            vector(cx, values),
+        ),
+        Output::CenterOfMassVelocity => (
+            quote!(CenterOfMassVelocity<#scalar, #nq, #nv>),
+            &["q", "v"],
+            cx.vector_type(3),
+            vector(cx, values),
+        ),
+        Output::CenterOfMassJacobian => (
+            quote!(CenterOfMassJacobian<#scalar, #nq, #nv>),
+            &["q"],
+            matrix(&Literal::usize_unsuffixed(3), &nv),
+            columns(cx, &transposed(values, 3), 3),
+        ),
+        Output::CentroidalMomentum => (
+            quote!(CentroidalMomentum<#scalar, #nq, #nv>),
+            &["q", "v"],
+            cx.vector_type(6),
+            vector(cx, values),
+        ),
+        Output::CentroidalMomentumMatrix => (
+            quote!(CentroidalMomentumMatrix<#scalar, #nq, #nv>),
+            &["q"],
+            matrix(&Literal::usize_unsuffixed(6), &nv),
+            columns(cx, &transposed(values, 6), 6),
+        ),
+        Output::KineticEnergy => (
+            quote!(KineticEnergy<#scalar, #nq, #nv>),
+            &["q", "v"],
+            scalar.clone(),
+            values[0].clone(),
+        ),
+        Output::PotentialEnergy => (
+            quote!(PotentialEnergy<#scalar, #nq, #nv>),
+            &["q"],
+            scalar.clone(),
+            values[0].clone(),
+        ),
+        Output::CoriolisMatrix => (
+            quote!(CoriolisMatrix<#scalar, #nq, #nv>),
+            &["q", "v"],
+            matrix(&nv, &nv),
+            columns(cx, &transposed(values, cx.nv), cx.nv),
+        ),
         Output::ForwardDynamics => {
             let checks = pivot_checks(cx, traced, emitted);
             let finite = values.iter().enumerate().map(|(k, x)| {
@@ -160,9 +208,17 @@ fn signature(cx: &Context, traced: &Traced, emitted: &Emitted) -> Signature {
     }
 }
 
+/// A row-major matrix of `rows` rows as its entries column by column.
+fn transposed(values: &[TokenStream], rows: usize) -> Vec<TokenStream> {
+    let cols = values.len() / rows;
+    (0..cols)
+        .flat_map(|c| (0..rows).map(move |r| values[r * cols + c].clone()))
+        .collect()
+}
+
 /// `SVector::from_array_storage(ArrayStorage([[v0, v1, …]]))`.
 fn vector(cx: &Context, values: &[TokenStream]) -> TokenStream {
-    let (scalar, nv) = (&cx.scalar, Literal::usize_unsuffixed(cx.nv));
+    let (scalar, nv) = (&cx.scalar, Literal::usize_unsuffixed(values.len()));
     quote! {
         ::articulated::nalgebra::SVector::<#scalar, #nv>::from_array_storage(
             ::articulated::nalgebra::ArrayStorage([[#(#values),*]])

@@ -21,7 +21,9 @@
 //! The rest (each `F = I_c·S_i`, carried up by `X_upᵀ`, `M_ji = S_jᵀ·F`) is the reference's
 //! own code ([`articulated_dynamics::reference::crba_with`]).
 
-use articulated_dynamics::reference::{composite_inertias_with, crba_with, NodeJoint, Tree};
+use articulated_dynamics::reference::{
+    centroidal, composite_inertias_with, crba_with, NodeJoint, Tree,
+};
 use articulated_dynamics::spatial::{Inertia, Mat3, Transform, Vec3};
 use articulated_dynamics::Scalar;
 
@@ -34,6 +36,18 @@ pub fn crba<T: Scalar>(
     axis: impl Fn(&Vec3<T>) -> Option<usize>,
 ) -> Vec<T> {
     crba_with(tree, q, |ic, i, x_up| carried(tree, q, &axis, ic, i, x_up))
+}
+
+/// The centroidal momentum matrix `A_G(q)` (`articulated_dynamics::reference::centroidal`) with
+/// the composite inertias carried as [`crba`] carries them.
+pub fn centroidal_momentum_matrix<T: Scalar>(
+    tree: &Tree<T>,
+    q: &[T],
+    axis: impl Fn(&Vec3<T>) -> Option<usize>,
+) -> Vec<T> {
+    centroidal::centroidal_momentum_matrix_with(tree, q, |ic, i, x_up| {
+        carried(tree, q, &axis, ic, i, x_up)
+    })
 }
 
 /// `X_upᵀ·I_c·X_up` for node `i`: by double angles through a revolute joint about a coordinate

@@ -26,7 +26,7 @@ pub mod regroup;
 use std::fmt;
 
 use articulated_dynamics::model::Model;
-use articulated_dynamics::reference::{self, Tree};
+use articulated_dynamics::reference::{self, centroidal, Tree};
 use articulated_dynamics::spatial::{Force, Transform, Vec3};
 use articulated_dynamics::Scalar;
 
@@ -192,8 +192,17 @@ impl Traced {
 /// [module docs](self)).
 pub fn trace(model: &Model, output: Output) -> Traced {
     // Regrouping moves inertia between bodies: the joint wrenches change, so they never use it.
+    // So do the centre of mass, the momenta and the potential energy; the kinetic energy and
+    // the Coriolis matrix depend on `M(q)` only, which regrouping keeps.
     let regroupings: &[bool] = match output {
-        Output::JointWrenches | Output::JointWrenchesBottomUp => &[false],
+        Output::JointWrenches
+        | Output::JointWrenchesBottomUp
+        | Output::CenterOfMass
+        | Output::CenterOfMassVelocity
+        | Output::CenterOfMassJacobian
+        | Output::CentroidalMomentum
+        | Output::CentroidalMomentumMatrix
+        | Output::PotentialEnergy => &[false],
         _ => &[false, true],
     };
     let traced: Vec<Traced> = match output {
@@ -214,6 +223,9 @@ pub fn trace(model: &Model, output: Output) -> Traced {
                         Formulation::Specialized,
                         Formulation::SpecializedRootFrame,
                     ]
+                } else if output.whole_body() && output != Output::CentroidalMomentumMatrix {
+                    // One recursion only (`reference::centroidal`).
+                    &[Formulation::Reference]
                 } else {
                     &[Formulation::Reference, Formulation::Specialized]
                 };
@@ -273,6 +285,21 @@ fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
                 let base = Force::new(Vec3([b[0], b[1], b[2]]), Vec3([b[3], b[4], b[5]]));
                 wrench_entries(&reference::bottom_up(&tree, &x_up, &h, base))
             }
+            Output::CenterOfMass => centroidal::center_of_mass(&tree, &q).0.to_vec(),
+            Output::CenterOfMassVelocity => centroidal::center_of_mass_velocity(&tree, &q, &v)
+                .0
+                .to_vec(),
+            Output::CenterOfMassJacobian => centroidal::center_of_mass_jacobian(&tree, &q),
+            Output::CentroidalMomentum => centroidal::centroidal_momentum(&tree, &q, &v)
+                .to_array()
+                .to_vec(),
+            Output::CentroidalMomentumMatrix => match form {
+                Formulation::Reference => centroidal::centroidal_momentum_matrix(&tree, &q),
+                _ => crba::centroidal_momentum_matrix(&tree, &q, regroup::coordinate_axis),
+            },
+            Output::KineticEnergy => vec![centroidal::kinetic_energy(&tree, &q, &v)],
+            Output::PotentialEnergy => vec![centroidal::potential_energy(&tree, &q)],
+            Output::CoriolisMatrix => centroidal::coriolis_matrix(&tree, &q, &v),
             Output::ForwardDynamics => unreachable!("traced by `forward`"),
         };
         label_outputs(output, values, tree.nv)
@@ -301,12 +328,39 @@ fn label_outputs(output: Output, values: Vec<Sym>, nv: usize) -> Vec<Sym> {
         Output::MassMatrixAndNonlinearEffects => return values,
         // The recursions label every wrench; nothing is left unnamed.
         Output::JointWrenches | Output::JointWrenchesBottomUp => return values,
+        Output::CenterOfMass => "com",
+        Output::CenterOfMassVelocity => "com_v",
+        Output::CenterOfMassJacobian => "com_j",
+        Output::CentroidalMomentum => "h_g",
+        Output::CentroidalMomentumMatrix => "a_g",
+        Output::KineticEnergy => "kinetic_energy",
+        Output::PotentialEnergy => "potential_energy",
+        Output::CoriolisMatrix => "n",
     };
+    const AXES: [&str; 3] = ["x", "y", "z"];
     values
         .into_iter()
         .enumerate()
         .map(|(k, x)| match output {
-            Output::MassMatrix => x.label(format_args!("{stem}_{}_{}", k / nv, k % nv)),
+            Output::MassMatrix | Output::CoriolisMatrix | Output::CenterOfMassJacobian => {
+                x.label(format_args!("{stem}_{}_{}", k / nv, k % nv))
+            }
+            Output::CentroidalMomentumMatrix => {
+                let part = if k / nv < 3 { "k" } else { "p" };
+                x.label(format_args!(
+                    "{stem}_{part}{}_{}",
+                    AXES[(k / nv) % 3],
+                    k % nv
+                ))
+            }
+            Output::CenterOfMass | Output::CenterOfMassVelocity => {
+                x.label(format_args!("{stem}_{}", AXES[k]))
+            }
+            Output::CentroidalMomentum => {
+                let part = if k < 3 { "k_g" } else { "p" };
+                x.label(format_args!("{part}_{}", AXES[k % 3]))
+            }
+            Output::KineticEnergy | Output::PotentialEnergy => x.label(format_args!("{stem}")),
             _ => x.label(format_args!("{stem}_{k}")),
         })
         .collect()

@@ -22,6 +22,7 @@
 //! - An independent cross-check, [`jacobian`]: Wieber 2005, eqs. 6–8 from plain 3D kinematics.
 
 pub mod aba;
+pub mod centroidal;
 pub mod crba;
 pub mod jacobian;
 pub mod ltdl;
@@ -32,7 +33,7 @@ use alloc::string::String;
 use alloc::vec::Vec;
 use core::fmt;
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Vector3, Vector6};
 
 pub use aba::{aba, AbaOutput};
 pub use crba::{composite_inertias_with, crba, crba_with};
@@ -41,7 +42,7 @@ pub use rnea::{bottom_up, inertial_forces, joint_forces, node_forces, project, r
 pub use tree::{Node, NodeJoint, Tree};
 
 use crate::model::{JointKind, Model, ModelError};
-use crate::spatial::{Force, Transform, Vec3};
+use crate::spatial::{Force, Vec3};
 
 /// What can go wrong in the reference dynamics. No function of [`Reference`] panics.
 #[derive(Debug, Clone, PartialEq)]
@@ -456,16 +457,82 @@ impl Reference {
         Ok(DVector::from_vec(out.qdd))
     }
 
-    /// The kinetic energy `½·vᵀ·M(q)·v`.
+    /// The kinetic energy `½·Σ v_iᵀ·I_i·v_i` over the bodies (`= ½·vᵀ·M(q)·v`).
     ///
     /// # Errors
     /// As [`Reference::mass_matrix`], and for a `v` of the wrong length or not finite.
     pub fn kinetic_energy(&self, q: &[f64], v: &[f64]) -> Result<f64, Error> {
+        check_q(&self.model, q)?;
         check_vector("v", v, self.nv())?;
-        let m = self.mass_matrix(q)?;
-        let v = DVector::from_column_slice(v);
-        let e = 0.5 * v.dot(&(&m * &v));
+        let e = centroidal::kinetic_energy(&self.tree, q, v);
         finite("kinetic_energy", alloc::vec![e]).map(|_| e)
+    }
+
+    /// The centre of mass `x_G(q)`, world frame.
+    ///
+    /// # Errors
+    /// As [`Reference::mass_matrix`].
+    pub fn center_of_mass(&self, q: &[f64]) -> Result<Vector3<f64>, Error> {
+        check_q(&self.model, q)?;
+        let c = finite(
+            "center_of_mass",
+            centroidal::center_of_mass(&self.tree, q).0.to_vec(),
+        )?;
+        Ok(Vector3::from_column_slice(&c))
+    }
+
+    /// The centre of mass Jacobian `J_G(q)`, `3 × nv`: `ẋ_G = J_G·v`.
+    ///
+    /// # Errors
+    /// As [`Reference::mass_matrix`].
+    pub fn center_of_mass_jacobian(&self, q: &[f64]) -> Result<DMatrix<f64>, Error> {
+        check_q(&self.model, q)?;
+        let j = finite(
+            "center_of_mass_jacobian",
+            centroidal::center_of_mass_jacobian(&self.tree, q),
+        )?;
+        Ok(DMatrix::from_row_slice(3, self.nv(), &j))
+    }
+
+    /// The centroidal momentum `h_G = [k_G; p]`: angular momentum about the centre of mass, then
+    /// linear momentum, world axes.
+    ///
+    /// # Errors
+    /// As [`Reference::bias`].
+    pub fn centroidal_momentum(&self, q: &[f64], v: &[f64]) -> Result<Vector6<f64>, Error> {
+        check_q(&self.model, q)?;
+        check_vector("v", v, self.nv())?;
+        let h = centroidal::centroidal_momentum(&self.tree, q, v).to_array();
+        let h = finite("centroidal_momentum", h.to_vec())?;
+        Ok(Vector6::from_column_slice(&h))
+    }
+
+    /// The centroidal momentum matrix `A_G(q)`, `6 × nv`, angular rows first: `h_G = A_G·v`.
+    ///
+    /// # Errors
+    /// As [`Reference::mass_matrix`].
+    pub fn centroidal_momentum_matrix(&self, q: &[f64]) -> Result<DMatrix<f64>, Error> {
+        check_q(&self.model, q)?;
+        let a = finite(
+            "centroidal_momentum_matrix",
+            centroidal::centroidal_momentum_matrix(&self.tree, q),
+        )?;
+        Ok(DMatrix::from_row_slice(6, self.nv(), &a))
+    }
+
+    /// The Coriolis matrix `N(q, q̇)` of Wieber 2005, eq. 7 (`nv × nv`): `N·v` is
+    /// [`Reference::bias`] and `Ṁ − 2N` is skew-symmetric ([`centroidal::coriolis_matrix`]).
+    ///
+    /// # Errors
+    /// As [`Reference::bias`].
+    pub fn coriolis_matrix(&self, q: &[f64], v: &[f64]) -> Result<DMatrix<f64>, Error> {
+        check_q(&self.model, q)?;
+        check_vector("v", v, self.nv())?;
+        let n = finite(
+            "coriolis_matrix",
+            centroidal::coriolis_matrix(&self.tree, q, v),
+        )?;
+        Ok(DMatrix::from_row_slice(self.nv(), self.nv(), &n))
     }
 
     /// The potential energy of gravity, `−Σ m_k·gᵀ·x_k` over the bodies' centres of mass `x_k`
@@ -475,21 +542,7 @@ impl Reference {
     /// As [`Reference::mass_matrix`].
     pub fn potential_energy(&self, q: &[f64]) -> Result<f64, Error> {
         check_q(&self.model, q)?;
-        let x_up = self.tree.x_up(q);
-        let g = self.tree.gravity;
-        // Each node's pose from the world: `e` world → node, `r` its origin in the world.
-        let mut x0: Vec<Transform<f64>> = Vec::with_capacity(self.tree.nodes.len());
-        let mut e = 0.0;
-        for (i, node) in self.tree.nodes.iter().enumerate() {
-            let x = match node.parent {
-                None => x_up[i],
-                Some(p) => x_up[i].after(&x0[p]),
-            };
-            // m·x_com = m·r + Eᵀ·h, with h = m·c the body's first moment in its frame.
-            let moment = x.r.scale(node.inertia.m) + x.e.tr_mul_vec(node.inertia.h);
-            e -= g.dot(moment);
-            x0.push(x);
-        }
+        let e = centroidal::potential_energy(&self.tree, q);
         finite("potential_energy", alloc::vec![e]).map(|_| e)
     }
 

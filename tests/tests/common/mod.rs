@@ -11,7 +11,7 @@
 // Each test crate that includes this module uses part of it.
 #![allow(dead_code)]
 
-use articulated::nalgebra::{DMatrix, SMatrix, SVector};
+use articulated::nalgebra::{DMatrix, DVector, SMatrix, SVector};
 use articulated::prelude::*;
 use articulated::reference::{Error, Reference};
 use proptest::prelude::*;
@@ -445,4 +445,102 @@ where
     }
     println!("{line}");
     failures
+}
+
+/// The whole-system outputs in `f64` (centre of mass, momenta, energies, Coriolis matrix).
+pub trait WholeBodyOutputs<const NQ: usize, const NV: usize>:
+    CenterOfMass<f64, NQ, NV>
+    + CenterOfMassVelocity<f64, NQ, NV>
+    + CenterOfMassJacobian<f64, NQ, NV>
+    + CentroidalMomentum<f64, NQ, NV>
+    + CentroidalMomentumMatrix<f64, NQ, NV>
+    + KineticEnergy<f64, NQ, NV>
+    + PotentialEnergy<f64, NQ, NV>
+{
+}
+
+impl<C, const NQ: usize, const NV: usize> WholeBodyOutputs<NQ, NV> for C where
+    C: CenterOfMass<f64, NQ, NV>
+        + CenterOfMassVelocity<f64, NQ, NV>
+        + CenterOfMassJacobian<f64, NQ, NV>
+        + CentroidalMomentum<f64, NQ, NV>
+        + CentroidalMomentumMatrix<f64, NQ, NV>
+        + KineticEnergy<f64, NQ, NV>
+        + PotentialEnergy<f64, NQ, NV>
+{
+}
+
+/// The names of [`whole_body_errors`]' entries, in order.
+pub const WHOLE_BODY_OUTPUTS: [&str; 7] = [
+    "center_of_mass",
+    "center_of_mass_velocity",
+    "center_of_mass_jacobian",
+    "centroidal_momentum",
+    "centroidal_momentum_matrix",
+    "kinetic_energy",
+    "potential_energy",
+];
+
+/// The generated whole-system outputs against the reference's at one state, each relative to
+/// the largest entry of the reference's value; the energies relative to the largest of their
+/// value and the state's kinetic energy plus `m·|g|` (metres: the tree's size), so that a value
+/// crossing zero is still compared at its natural scale.
+pub fn whole_body_errors<C, const NQ: usize, const NV: usize>(
+    r: &Reference,
+    q: &[f64],
+    v: &[f64],
+) -> [f64; 7]
+where
+    C: WholeBodyOutputs<NQ, NV>,
+{
+    let (qs, vs) = (SVector::from_column_slice(q), SVector::from_column_slice(v));
+    let row_major = |m: DMatrix<f64>| m.transpose().as_slice().to_vec();
+    let com_v = r.center_of_mass_jacobian(q).unwrap() * DVector::from_column_slice(v);
+    let kinetic = r.kinetic_energy(q, v).unwrap();
+    let mass: f64 = r.tree().nodes.iter().map(|n| n.inertia.m).sum();
+    let energy_scale = kinetic.abs() + mass * 9.81;
+    let energy = |ours: f64, theirs: f64| (ours - theirs).abs() / energy_scale.max(theirs.abs());
+    [
+        rel_err(
+            C::center_of_mass(&qs).as_slice(),
+            r.center_of_mass(q).unwrap().as_slice(),
+        ),
+        rel_err(
+            C::center_of_mass_velocity(&qs, &vs).as_slice(),
+            com_v.as_slice(),
+        ),
+        rel_err(
+            C::center_of_mass_jacobian(&qs).transpose().as_slice(),
+            &row_major(r.center_of_mass_jacobian(q).unwrap()),
+        ),
+        rel_err(
+            C::centroidal_momentum(&qs, &vs).as_slice(),
+            r.centroidal_momentum(q, v).unwrap().as_slice(),
+        ),
+        rel_err(
+            C::centroidal_momentum_matrix(&qs).transpose().as_slice(),
+            &row_major(r.centroidal_momentum_matrix(q).unwrap()),
+        ),
+        energy(C::kinetic_energy(&qs, &vs), kinetic),
+        energy(C::potential_energy(&qs), r.potential_energy(q).unwrap()),
+    ]
+}
+
+/// The generated Coriolis matrix against the reference's at one state, relative to its largest
+/// entry (or to `max|M|·max|v|`, its natural size, where the matrix vanishes).
+pub fn coriolis_error<C, const NQ: usize, const NV: usize>(
+    r: &Reference,
+    q: &[f64],
+    v: &[f64],
+) -> f64
+where
+    C: CoriolisMatrix<f64, NQ, NV>,
+{
+    let (qs, vs) = (SVector::from_column_slice(q), SVector::from_column_slice(v));
+    let want = r.coriolis_matrix(q, v).unwrap();
+    let scale = want
+        .amax()
+        .max(r.mass_matrix(q).unwrap().amax() * max_abs(v))
+        .max(1e-300);
+    abs_err(C::coriolis_matrix(&qs, &vs).as_slice(), want.as_slice()) / scale
 }
