@@ -48,16 +48,16 @@ use articulated::model::Model;
 use articulated::nalgebra::{Const, Quaternion, SVector, UnitQuaternion, Vector3};
 use articulated::prelude::*;
 
-use crate::free_floating::{
-    base_orientation, momentum, swing_angle, twist_angle, Hybrid, JointMotion,
-};
+pub use crate::free_floating::Conservation;
+use crate::free_floating::{self, base_orientation, swing_angle, twist_angle, Hybrid, JointMotion};
 
 /// The cat, generated from `models/falling_cat.chain`: 10 positions (the front half's position
-/// and quaternion, the waist's yaw, pitch and twist), 9 velocities.
+/// and quaternion, the waist's yaw, pitch and twist), 9 velocities. `M` and `nle` move it; the
+/// centre of mass and the centroidal momentum `[k_G; p]` measure it.
 #[derive(Chain)]
 #[chain(
     file = "../models/falling_cat.chain",
-    outputs = [mass_matrix_and_nonlinear_effects]
+    outputs = [mass_matrix_and_nonlinear_effects, center_of_mass, centroidal_momentum]
 )]
 pub struct FallingCat;
 
@@ -401,38 +401,11 @@ pub fn plan(target: f64, max_cycles: usize, settings: Settings) -> Result<Plan, 
     ))
 }
 
-/// How well a fall kept the conservation laws, measured with [`momentum`] (body Jacobians,
-/// independent of the generated code): the angular momentum about the centre of mass, and the
-/// centre of mass against free fall.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Conservation {
-    /// `max_t |k_G(t)| / max_t Σ_k |k_k(t)|`.
-    pub momentum: f64,
-    /// `max_t Σ_k |k_k(t)|` (kg·m²/s): the scale.
-    pub momentum_scale: f64,
-    /// `max_t |x_G(t) − (x_G(0) + ½·g·t²)|` (m), `g = [0, 0, −9.81]`: the cat starts at rest.
-    pub com: f64,
-}
-
 /// [`Conservation`] over a fall's recorded states, `model` being `models/falling_cat.chain`
 /// loaded by the reference.
 ///
 /// # Errors
 /// The reference's, as text.
 pub fn conservation(model: &Model, fall: &Fall) -> Result<Conservation, String> {
-    let g = Vector3::new(0.0, 0.0, -9.81);
-    let mut x_g0 = None;
-    let (mut k, mut scale, mut com) = (0.0f64, 0.0f64, 0.0f64);
-    for s in &fall.states {
-        let m = momentum(model, s.q.as_slice(), s.v.as_slice()).map_err(|e| e.to_string())?;
-        let x0 = *x_g0.get_or_insert(m.com);
-        k = k.max(m.k_g.norm());
-        scale = scale.max(m.scale);
-        com = com.max((m.com - (x0 + g * (0.5 * s.t * s.t))).norm());
-    }
-    Ok(Conservation {
-        momentum: k / scale,
-        momentum_scale: scale,
-        com,
-    })
+    free_floating::conservation::<FallingCat, NQ, NV>(model, &fall.states)
 }

@@ -36,6 +36,7 @@
 use core::marker::PhantomData;
 
 use articulated::integrate::{Cause, SecondOrder, State};
+
 use articulated::model::Model;
 use articulated::nalgebra::{Const, Quaternion, SVector, UnitQuaternion, Vector3};
 use articulated::prelude::*;
@@ -233,4 +234,75 @@ pub fn momentum(model: &Model, q: &[f64], v: &[f64]) -> Result<Momentum, Referen
         k_g,
         scale,
     })
+}
+
+/// How well a run kept the conservation laws of a free-floating chain under internal forces and
+/// gravity (Wieber 2005, §4.2): the angular momentum about the centre of mass stays zero, the
+/// centre of mass falls freely. Each is measured twice: by the generated `centroidal_momentum`
+/// and `center_of_mass`, and by [`momentum`] (the reference's body Jacobians, independent of
+/// the generated code).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Conservation {
+    /// `max_t |k_G(t)| / max_t Σ_k |k_k(t)|`, `k_G` generated.
+    pub momentum: f64,
+    /// The same with `k_G` from body Jacobians.
+    pub momentum_check: f64,
+    /// `max_t Σ_k |k_k(t)|` (kg·m²/s): the scale, the bodies' own angular momenta about the
+    /// centre of mass (body Jacobians; [`Momentum::scale`]).
+    pub momentum_scale: f64,
+    /// `max_t |x_G(t) − (x_G(0) + ẋ_G(0)·t + ½·g·t²)|` (m), `x_G` generated.
+    pub com: f64,
+    /// The same with `x_G` from body Jacobians.
+    pub com_check: f64,
+    /// `max_t |p(t) − p(0) − m·g·t|` (kg·m/s), the generated linear momentum.
+    pub linear_momentum: f64,
+}
+
+/// [`Conservation`] over the recorded `states` of the generated chain `C` (gravity `g =
+/// [0, 0, −9.81]`), `model` being its description loaded by the reference.
+///
+/// # Errors
+/// The reference's, as text; no states.
+pub fn conservation<C, const NQ: usize, const NV: usize>(
+    model: &Model,
+    states: &[State<f64, Const<NQ>, Const<NV>>],
+) -> Result<Conservation, String>
+where
+    C: CentroidalMomentum<f64, NQ, NV> + CenterOfMass<f64, NQ, NV>,
+{
+    let g = Vector3::new(0.0, 0.0, -9.81);
+    let params = model.param_defaults();
+    let mass: f64 = model.bodies.iter().map(|b| b.mass.get(&params)).sum();
+    let first = states.first().ok_or("no states")?;
+    let t0 = first.t;
+    let m0 = momentum(model, first.q.as_slice(), first.v.as_slice()).map_err(|e| e.to_string())?;
+    let x0 = C::center_of_mass(&first.q);
+    let p0 = C::centroidal_momentum(&first.q, &first.v)
+        .fixed_rows::<3>(3)
+        .into_owned();
+    let mut c = Conservation {
+        momentum: 0.0,
+        momentum_check: 0.0,
+        momentum_scale: 0.0,
+        com: 0.0,
+        com_check: 0.0,
+        linear_momentum: 0.0,
+    };
+    for s in states {
+        let m = momentum(model, s.q.as_slice(), s.v.as_slice()).map_err(|e| e.to_string())?;
+        let h = C::centroidal_momentum(&s.q, &s.v);
+        let t = s.t - t0;
+        let fallen = m0.com_velocity * t + g * (0.5 * t * t);
+        c.momentum = c.momentum.max(h.fixed_rows::<3>(0).norm());
+        c.momentum_check = c.momentum_check.max(m.k_g.norm());
+        c.momentum_scale = c.momentum_scale.max(m.scale);
+        c.com = c.com.max((C::center_of_mass(&s.q) - (x0 + fallen)).norm());
+        c.com_check = c.com_check.max((m.com - (m0.com + fallen)).norm());
+        c.linear_momentum = c
+            .linear_momentum
+            .max((h.fixed_rows::<3>(3) - p0 - g * (mass * t)).norm());
+    }
+    c.momentum /= c.momentum_scale;
+    c.momentum_check /= c.momentum_scale;
+    Ok(c)
 }
