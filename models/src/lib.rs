@@ -18,7 +18,7 @@
 //! quaternion; `humanoid.urdf` describes the tree under it, so it matches the `.chain` file
 //! only with a free base added ([`ModelFiles::free_base`]). The two free-floating models of the
 //! examples `falling_cat` and `walking_rotation` have no URDF: their roots are on a free base with
-//! a quaternion, which URDF has no joint for.
+//! a quaternion, and the URDF import adds a free base only in Euler angles (`floating`).
 #![no_std]
 
 /// A model shipped in this crate: its name and the paths of its files.
