@@ -241,31 +241,18 @@ impl Fall {
     }
 
     /// The roll (rotation about the long axis since the start, rad) at each recorded state,
-    /// with the time.
+    /// with the time, unwrapped: the twist angle is taken modulo 2π nearest the previous one (it
+    /// jumps by 4π where a recorded quaternion's `(x, w)` crosses the negative `w` axis).
     pub fn roll(&self) -> Vec<(f64, f64)> {
         let first = base_orientation(self.states[0].q.as_slice()).inverse();
+        let mut prev = 0.0;
         self.states
             .iter()
             .map(|s| {
                 let net = (first * base_orientation(s.q.as_slice())).into_inner();
-                (s.t, twist_angle(&net, &long_axis()))
-            })
-            .collect::<Vec<_>>()
-            .into_iter()
-            .scan(None::<f64>, |last, (t, a)| {
-                // Unwrap through ±2π (a twist angle is defined modulo 4π on the quaternion's
-                // branch, but a recorded quaternion may cross w = 0).
-                let mut a = a;
-                if let Some(prev) = *last {
-                    while a - prev > PI {
-                        a -= 2.0 * PI;
-                    }
-                    while prev - a > PI {
-                        a += 2.0 * PI;
-                    }
-                }
-                *last = Some(a);
-                Some((t, a))
+                let a = twist_angle(&net, &long_axis());
+                prev = a - 2.0 * PI * ((a - prev) / (2.0 * PI)).round();
+                (s.t, prev)
             })
             .collect()
     }

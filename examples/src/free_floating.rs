@@ -26,6 +26,8 @@
 //! reference's body Jacobians (Wieber 2005, eq. 3: plain 3D kinematics, sharing no code with the
 //! generated recursions):
 //! `k_G = Σ_k (x_k − x_G) × m_k·ẋ_k + R_k·𝕀_k·ω_k` (the bracket of Wieber's eq. 18).
+//! [`conservation`] sets it, and the generated `centroidal_momentum` and `center_of_mass`,
+//! against the conservation laws over a run.
 //!
 //! # Orientation
 //! The base's orientation is a unit quaternion `[w, x, y, z]` (child → world); how far the body
@@ -36,7 +38,6 @@
 use core::marker::PhantomData;
 
 use articulated::integrate::{Cause, SecondOrder, State};
-
 use articulated::model::Model;
 use articulated::nalgebra::{Const, Quaternion, SVector, UnitQuaternion, Vector3};
 use articulated::prelude::*;
