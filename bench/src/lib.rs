@@ -21,27 +21,47 @@ use nalgebra::SVector;
 
 /// Hemami's two-link system: two spherical roll-pitch-yaw joints, 6 coordinates.
 #[derive(articulated::Chain)]
-#[chain(file = "../models/two_link.chain")]
+#[chain(file = "../models/two_link.chain", outputs = [
+    mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
+    center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
+    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+])]
 pub struct TwoLink;
 
 /// A three-dimensional inverted pendulum on a spherical joint, 3 coordinates.
 #[derive(articulated::Chain)]
-#[chain(file = "../models/inverted_pendulum.chain")]
+#[chain(file = "../models/inverted_pendulum.chain", outputs = [
+    mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
+    center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
+    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+])]
 pub struct InvertedPendulum;
 
 /// The planar double pendulum, 2 coordinates.
 #[derive(articulated::Chain)]
-#[chain(file = "../models/double_pendulum.chain")]
+#[chain(file = "../models/double_pendulum.chain", outputs = [
+    mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
+    center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
+    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+])]
 pub struct DoublePendulum;
 
 /// The 7-DOF arm, 7 coordinates.
 #[derive(articulated::Chain)]
-#[chain(file = "../models/arm7.chain")]
+#[chain(file = "../models/arm7.chain", outputs = [
+    mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
+    center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
+    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+])]
 pub struct Arm7;
 
 /// The branching tree (torso, two three-link arms, fixed head), 7 coordinates.
 #[derive(articulated::Chain)]
-#[chain(file = "../models/tree.chain")]
+#[chain(file = "../models/tree.chain", outputs = [
+    mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
+    center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
+    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+])]
 pub struct Tree;
 
 /// The generated functions, named as in the description grammar and the benchmark ids.
@@ -76,18 +96,27 @@ impl Engine {
     }
 }
 
-/// A shipped model whose generated type implements all five outputs.
+/// A shipped model whose generated type implements the five basic outputs and the quantities
+/// of the whole system.
 pub trait Model<const NQ: usize, const NV: usize>:
     MassMatrix<f64, NQ, NV>
     + Bias<f64, NQ, NV>
     + Gravity<f64, NQ, NV>
     + InverseDynamics<f64, NQ, NV>
     + ForwardDynamics<f64, NQ, NV>
+    + CenterOfMass<f64, NQ, NV>
+    + CenterOfMassVelocity<f64, NQ, NV>
+    + CenterOfMassJacobian<f64, NQ, NV>
+    + CentroidalMomentum<f64, NQ, NV>
+    + CentroidalMomentumMatrix<f64, NQ, NV>
+    + KineticEnergy<f64, NQ, NV>
+    + PotentialEnergy<f64, NQ, NV>
+    + CoriolisMatrix<f64, NQ, NV>
 {
     /// Its files in `articulated-models` (the generated type comes from `FILES.chain`).
     const FILES: ModelFiles;
     /// The generator's operation counts of `output` (`C::<OUTPUT>_OPS`); zero for an output
-    /// the benchmarks' chains are not generated with (only the five default ones are).
+    /// the benchmarks' chains are not generated with.
     fn ops(output: Output) -> OpCounts;
 }
 
@@ -102,6 +131,14 @@ macro_rules! model {
                     Output::Gravity => $ty::GRAVITY_OPS,
                     Output::InverseDynamics => $ty::INVERSE_DYNAMICS_OPS,
                     Output::ForwardDynamics => $ty::FORWARD_DYNAMICS_OPS,
+                    Output::CenterOfMass => $ty::CENTER_OF_MASS_OPS,
+                    Output::CenterOfMassVelocity => $ty::CENTER_OF_MASS_VELOCITY_OPS,
+                    Output::CenterOfMassJacobian => $ty::CENTER_OF_MASS_JACOBIAN_OPS,
+                    Output::CentroidalMomentum => $ty::CENTROIDAL_MOMENTUM_OPS,
+                    Output::CentroidalMomentumMatrix => $ty::CENTROIDAL_MOMENTUM_MATRIX_OPS,
+                    Output::KineticEnergy => $ty::KINETIC_ENERGY_OPS,
+                    Output::PotentialEnergy => $ty::POTENTIAL_ENERGY_OPS,
+                    Output::CoriolisMatrix => $ty::CORIOLIS_MATRIX_OPS,
                     _ => OpCounts::default(),
                 }
             }
@@ -346,6 +383,48 @@ pub fn each_kernel<M, V, const NQ: usize, const NV: usize>(
         },
         Some(&mut bare_aba),
     );
+    macro_rules! of_q {
+        ($output:expr, $f:ident) => {
+            visitor.visit(
+                name,
+                $output,
+                M::ops($output),
+                |i| {
+                    black_box(M::$f(black_box(&s(i).q)));
+                },
+                |i| {
+                    let _ = black_box(r.$f(black_box(s(i).q.as_slice())));
+                },
+                None,
+            )
+        };
+    }
+    macro_rules! of_q_v {
+        ($output:expr, $f:ident) => {
+            visitor.visit(
+                name,
+                $output,
+                M::ops($output),
+                |i| {
+                    let x = s(i);
+                    black_box(M::$f(black_box(&x.q), black_box(&x.v)));
+                },
+                |i| {
+                    let x = s(i);
+                    let _ = black_box(r.$f(black_box(x.q.as_slice()), black_box(x.v.as_slice())));
+                },
+                None,
+            )
+        };
+    }
+    of_q!(Output::CenterOfMass, center_of_mass);
+    of_q_v!(Output::CenterOfMassVelocity, center_of_mass_velocity);
+    of_q!(Output::CenterOfMassJacobian, center_of_mass_jacobian);
+    of_q_v!(Output::CentroidalMomentum, centroidal_momentum);
+    of_q!(Output::CentroidalMomentumMatrix, centroidal_momentum_matrix);
+    of_q_v!(Output::KineticEnergy, kinetic_energy);
+    of_q!(Output::PotentialEnergy, potential_energy);
+    of_q_v!(Output::CoriolisMatrix, coriolis_matrix);
 }
 
 /// Runs [`each_kernel`] for every small shipped model, in the order of `articulated_models::SMALL`.
@@ -399,6 +478,43 @@ mod tests {
             assert!(max_diff(qdd_ref.as_slice(), a) < 1e-8);
             let bare = articulated::reference::aba(r.tree(), q, v, tau, true);
             assert!(max_diff(&bare.qdd, a) < 1e-8);
+            let pairs: [(Vec<f64>, Vec<f64>); 8] = [
+                (
+                    M::center_of_mass(&x.q).as_slice().to_vec(),
+                    r.center_of_mass(q).unwrap().as_slice().to_vec(),
+                ),
+                (
+                    M::center_of_mass_velocity(&x.q, &x.v).as_slice().to_vec(),
+                    r.center_of_mass_velocity(q, v).unwrap().as_slice().to_vec(),
+                ),
+                (
+                    M::center_of_mass_jacobian(&x.q).as_slice().to_vec(),
+                    r.center_of_mass_jacobian(q).unwrap().as_slice().to_vec(),
+                ),
+                (
+                    M::centroidal_momentum(&x.q, &x.v).as_slice().to_vec(),
+                    r.centroidal_momentum(q, v).unwrap().as_slice().to_vec(),
+                ),
+                (
+                    M::centroidal_momentum_matrix(&x.q).as_slice().to_vec(),
+                    r.centroidal_momentum_matrix(q).unwrap().as_slice().to_vec(),
+                ),
+                (
+                    vec![M::kinetic_energy(&x.q, &x.v)],
+                    vec![r.kinetic_energy(q, v).unwrap()],
+                ),
+                (
+                    vec![M::potential_energy(&x.q)],
+                    vec![r.potential_energy(q).unwrap()],
+                ),
+                (
+                    M::coriolis_matrix(&x.q, &x.v).as_slice().to_vec(),
+                    r.coriolis_matrix(q, v).unwrap().as_slice().to_vec(),
+                ),
+            ];
+            for (ours, theirs) in pairs {
+                assert!(max_diff(&ours, &theirs) < 1e-10);
+            }
         }
     }
 

@@ -107,19 +107,19 @@ const OUTPUTS: [Output; 7] = [
     Output::MassMatrixAndNonlinearEffects,
 ];
 
-/// The trait each output's function implements (`articulated::generated::…`).
-fn trait_name(output: Output) -> &'static str {
-    match output {
-        Output::MassMatrix => "MassMatrix",
-        Output::Bias => "Bias",
-        Output::Gravity => "Gravity",
-        Output::InverseDynamics => "InverseDynamics",
-        Output::ForwardDynamics => "ForwardDynamics",
-        Output::NonlinearEffects => "NonlinearEffects",
-        Output::MassMatrixAndNonlinearEffects => "MassMatrixAndNonlinearEffects",
-        Output::JointWrenches => "JointWrenches",
-        Output::JointWrenchesBottomUp => "JointWrenchesBottomUp",
-    }
+/// The trait each output's function implements (`articulated::generated::…`): its name in
+/// CamelCase (`mass_matrix` → `MassMatrix`).
+fn trait_name(output: Output) -> String {
+    output
+        .name()
+        .split('_')
+        .map(|w| {
+            let mut c = w.chars();
+            c.next()
+                .map(|f| f.to_ascii_uppercase().to_string() + c.as_str())
+                .unwrap_or_default()
+        })
+        .collect()
 }
 
 /// The ARM target of the embedded columns.
@@ -193,7 +193,7 @@ fn static_figures(model: &Model) -> Result<ModelStatic> {
     let text = emit::format(g.tokens).map_err(|e| e.to_string())?;
     let mut functions = BTreeMap::new();
     for f in &g.functions {
-        let lines = impl_lines(&text, trait_name(f.output))
+        let lines = impl_lines(&text, &trait_name(f.output))
             .ok_or_else(|| format!("{}: no impl of {:?} in the code", model.stem, f.output))?;
         functions.insert(f.output, Static { ops: f.ops, lines });
     }

@@ -168,10 +168,12 @@ fn formulation(traced: &Traced) -> String {
              (`reference::centroidal`), the composite inertias carried as in {}",
             crba_name(specialized, false)
         ),
-        (Output::CoriolisMatrix, _) => "By body Jacobian columns and their rates, each body \
-             adding `Jᵀ·(I·J̇ + B(I, v)·J)` (Echeandia & Wensing 2021; \
-             `reference::centroidal`)"
-            .to_string(),
+        (Output::CoriolisMatrix, _) => format!(
+            "By three composites per body (inertia, its rate, momentum) and the Jacobian columns \
+             with their rates, CRBA-like (`reference::centroidal::coriolis_matrix_with`; \
+             Echeandia & Wensing 2021's factorization), the composite inertias carried as in {}",
+            crba_name(specialized, false)
+        ),
         (output, _) if output.whole_body() => "By each subtree's mass, first moment and momentum \
              carried from the leaves in (`reference::centroidal`)"
             .to_string(),

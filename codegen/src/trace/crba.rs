@@ -50,6 +50,19 @@ pub fn centroidal_momentum_matrix<T: Scalar>(
     })
 }
 
+/// The Coriolis matrix (`articulated_dynamics::reference::centroidal::coriolis_matrix_with`)
+/// with its composite inertias and their rates carried as [`crba`] carries them.
+pub fn coriolis_matrix<T: Scalar>(
+    tree: &Tree<T>,
+    q: &[T],
+    v: &[T],
+    axis: impl Fn(&Vec3<T>) -> Option<usize>,
+) -> Vec<T> {
+    centroidal::coriolis_matrix_with(tree, q, v, |ic, i, x_up| {
+        carried(tree, q, &axis, ic, i, x_up)
+    })
+}
+
 /// `X_upᵀ·I_c·X_up` for node `i`: by double angles through a revolute joint about a coordinate
 /// axis, then the fixed placement; by [`to_parent`] otherwise.
 fn carried<T: Scalar>(

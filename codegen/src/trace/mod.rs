@@ -223,7 +223,12 @@ pub fn trace(model: &Model, output: Output) -> Traced {
                         Formulation::Specialized,
                         Formulation::SpecializedRootFrame,
                     ]
-                } else if output.whole_body() && output != Output::CentroidalMomentumMatrix {
+                } else if output.whole_body()
+                    && !matches!(
+                        output,
+                        Output::CentroidalMomentumMatrix | Output::CoriolisMatrix
+                    )
+                {
                     // One recursion only (`reference::centroidal`).
                     &[Formulation::Reference]
                 } else {
@@ -299,7 +304,10 @@ fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
             },
             Output::KineticEnergy => vec![centroidal::kinetic_energy(&tree, &q, &v)],
             Output::PotentialEnergy => vec![centroidal::potential_energy(&tree, &q)],
-            Output::CoriolisMatrix => centroidal::coriolis_matrix(&tree, &q, &v),
+            Output::CoriolisMatrix => match form {
+                Formulation::Reference => centroidal::coriolis_matrix(&tree, &q, &v),
+                _ => crba::coriolis_matrix(&tree, &q, &v, regroup::coordinate_axis),
+            },
             Output::ForwardDynamics => unreachable!("traced by `forward`"),
         };
         label_outputs(output, values, tree.nv)

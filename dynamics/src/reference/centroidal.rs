@@ -27,7 +27,7 @@ use alloc::vec::Vec;
 
 use super::tree::Tree;
 use crate::scalar::Scalar;
-use crate::spatial::{Force, Inertia, Motion, Transform, Vec3};
+use crate::spatial::{Force, Inertia, Mat3, Motion, Transform, Vec3};
 
 /// Each node's subtree mass `m_c` and first moment `h_c` (its own body and its descendants'),
 /// in its frame about its origin, from the leaves in: `h_λ += E_upᵀ·h + m·r_up`. Labelled
@@ -245,9 +245,9 @@ pub fn kinetic_energy<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T]) -> T {
     twice * T::from_f64(0.5)
 }
 
-/// The Coriolis matrix `N(q, q̇)` of Wieber 2005, eq. 7, `nv × nv` row-major: `N·v` is the bias
-/// and `Ṁ − 2N` is skew-symmetric (see the [module docs](self)).
-pub fn coriolis_matrix<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T]) -> Vec<T> {
+/// [`coriolis_matrix`] body by body, as its definition reads: for each column, every body below
+/// its joint adds `Jᵀ·(I·J̇ + B(I, v_i)·J)`. `O(n·d²)`: the cross-check of the composite form.
+pub fn coriolis_matrix_by_bodies<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T]) -> Vec<T> {
     let nv = tree.nv;
     let nn = tree.nodes.len();
     let x_up = tree.x_up(q);
@@ -323,4 +323,119 @@ pub fn coriolis_matrix<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T]) -> Vec<T> {
         }
     }
     n_mat
+}
+
+/// The rate `İ = v ×* I − I·(v ×)` of a body's inertia `I` (in its frame) moving at `v = [ω; v]`:
+/// the world-frame derivative seen in the body's coordinates. It has the shape of an inertia:
+/// no mass, `ḣ = ω × h + m·v`, `dĪ = ω×·Ī − Ī·ω× − (h·vᵀ + v·hᵀ − 2·(v·h)·1)`.
+pub fn inertia_rate<T: Scalar>(inertia: &Inertia<T>, vel: Motion<T>) -> Inertia<T> {
+    let (w, lin) = (vel.ang, vel.lin);
+    let wx = Mat3::skew(w);
+    let turn = wx.mul_mat(&inertia.i).sub(&inertia.i.mul_mat(&wx));
+    let (h, vh) = (inertia.h, lin.dot(inertia.h));
+    let mut i = turn;
+    for r in 0..3 {
+        for c in 0..3 {
+            let mut x = h.0[r] * lin.0[c] + lin.0[r] * h.0[c];
+            if r == c {
+                x = x - (vh + vh);
+            }
+            i.0[r][c] = turn.0[r][c] - x;
+        }
+    }
+    Inertia {
+        m: T::zero(),
+        h: w.cross(h) + lin.scale(inertia.m),
+        i,
+    }
+}
+
+/// The Coriolis matrix `N(q, q̇)` of Wieber 2005, eq. 7, `nv × nv` row-major: `N·v` is the bias
+/// and `Ṁ − 2N` is skew-symmetric (see the [module docs](self)).
+///
+/// With the world-frame Jacobian columns `s` (the same for every body below a joint) and their
+/// rates `ṡ = v_j × s`, the definition `Σ_i Jᵀ·(I·J̇ + B(I, v_i)·J)` becomes
+/// `N_rk = Σ_i s_rᵀ·I_i·ṡ_k + ½·s_rᵀ·İ_i·s_k − ½·(s_k × s_r)ᵀ·I_i·v_i`, a sum over the bodies
+/// below both joints, which are those below the deeper one. So three composites per node suffice
+/// (inertia `I_c`, its rate `İ_c`, momentum `h_c`, carried from the leaves in, the inertias by
+/// `to_parent` as in [`super::crba::crba_with`]): where `k`'s joint is the deeper (or the same),
+/// `N_rk = s_rᵀ·(I_c·ṡ_k + ½·İ_c·s_k + ½·s_k ×* h_c)`, a force carried up like CRBA's; where
+/// `r`'s is the deeper, `N_rk = ṡ_kᵀ·(I_c·s_r) + s_kᵀ·½·(İ_c·s_r − s_r ×* h_c)`, two forces
+/// carried up and dotted with each ancestor's `ṡ` and `s`. `O(n·d)`, like CRBA.
+///
+/// Labels, per node `n`: `n_idc_*` (the composite inertia rate), `n_hc_n_x, …`, `n_hc_f_x, …`
+/// (the composite momentum), those of [`super::crba::composite_inertias_with`].
+pub fn coriolis_matrix_with<T: Scalar>(
+    tree: &Tree<T>,
+    q: &[T],
+    v: &[T],
+    to_parent: impl Fn(&Inertia<T>, usize, &Transform<T>) -> Inertia<T>,
+) -> Vec<T> {
+    let nv = tree.nv;
+    let x_up = tree.x_up(q);
+    let vel = velocities(tree, &x_up, v);
+    let mut ic: Vec<Inertia<T>> = tree.nodes.iter().map(|n| n.inertia).collect();
+    let mut idot: Vec<Inertia<T>> = tree
+        .nodes
+        .iter()
+        .zip(&vel)
+        .map(|(n, &v_i)| inertia_rate(&n.inertia, v_i))
+        .collect();
+    let mut hc: Vec<Force<T>> = tree
+        .nodes
+        .iter()
+        .zip(&vel)
+        .map(|(n, &v_i)| n.inertia.mul_motion(v_i))
+        .collect();
+    for (i, node) in tree.nodes.iter().enumerate().rev() {
+        let n = &node.name;
+        ic[i] = ic[i].label(format_args!("{n}_ic"));
+        idot[i] = idot[i].label(format_args!("{n}_idc"));
+        hc[i] = hc[i].label(format_args!("{n}_hc_n"), format_args!("{n}_hc_f"));
+        if let Some(p) = node.parent {
+            let x = &x_up[i];
+            ic[p] = ic[p].add(&to_parent(&ic[i], i, x).label(format_args!("{n}_ic_up")));
+            idot[p] = idot[p].add(&to_parent(&idot[i], i, x).label(format_args!("{n}_idc_up")));
+            hc[p] = hc[p] + x.inv_apply_force(hc[i]);
+        }
+    }
+    let half = T::from_f64(0.5);
+    let mut n_mat = alloc::vec![T::zero(); nv * nv];
+    for (j, node) in tree.nodes.iter().enumerate() {
+        for c in 0..node.nv() {
+            let col = node.v_at + c;
+            let s = node.s_col(c);
+            let s_dot = vel[j].cross_motion(s);
+            let idot_s = idot[j].mul_motion(s);
+            let s_h = s.cross_force(hc[j]);
+            // Column `col` against this node's and its ancestors' coordinates.
+            let mut f = ic[j].mul_motion(s_dot) + (idot_s + s_h).scale(half);
+            // Row `col` against the ancestors' coordinates.
+            let mut a = ic[j].mul_motion(s);
+            let mut b = (idot_s - s_h).scale(half);
+            for l in 0..node.nv() {
+                n_mat[(node.v_at + l) * nv + col] = node.s_col(l).dot(f);
+            }
+            let mut k = j;
+            while let Some(p) = tree.nodes[k].parent {
+                let x = &x_up[k];
+                f = x.inv_apply_force(f);
+                a = x.inv_apply_force(a);
+                b = x.inv_apply_force(b);
+                k = p;
+                let np = &tree.nodes[p];
+                for l in 0..np.nv() {
+                    let (row, s_l) = (np.v_at + l, np.s_col(l));
+                    n_mat[row * nv + col] = s_l.dot(f);
+                    n_mat[col * nv + row] = vel[p].cross_motion(s_l).dot(a) + s_l.dot(b);
+                }
+            }
+        }
+    }
+    n_mat
+}
+
+/// [`coriolis_matrix_with`] with the plain `Xᵀ·I·X`.
+pub fn coriolis_matrix<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T]) -> Vec<T> {
+    coriolis_matrix_with(tree, q, v, |ic, _, x| ic.to_parent(x))
 }

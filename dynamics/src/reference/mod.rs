@@ -481,6 +481,22 @@ impl Reference {
         Ok(Vector3::from_column_slice(&c))
     }
 
+    /// The velocity of the centre of mass `ẋ_G = p / m`, world frame.
+    ///
+    /// # Errors
+    /// As [`Reference::bias`].
+    pub fn center_of_mass_velocity(&self, q: &[f64], v: &[f64]) -> Result<Vector3<f64>, Error> {
+        check_q(&self.model, q)?;
+        check_vector("v", v, self.nv())?;
+        let c = finite(
+            "center_of_mass_velocity",
+            centroidal::center_of_mass_velocity(&self.tree, q, v)
+                .0
+                .to_vec(),
+        )?;
+        Ok(Vector3::from_column_slice(&c))
+    }
+
     /// The centre of mass Jacobian `J_G(q)`, `3 × nv`: `ẋ_G = J_G·v`.
     ///
     /// # Errors
