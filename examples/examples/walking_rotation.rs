@@ -435,10 +435,10 @@ fn write_table(root: &Path, rows: &[Row], speed: f64) -> Result<(), String> {
          damp the trunk's yaw, its swing about the vertical against the legs (the hips have no \
          yaw joint: the trunk alone turns against them). ",
     );
-    let _ = write!(
+    let _ = writeln!(
         md,
         "The same pattern at half the speed turns the walker by the same angle per step (25 cm: \
-         to {:.0e}°): the shape of the step sets the turn, not its speed.\n",
+         to {:.0e}°): the shape of the step sets the turn, not its speed.",
         speed.to_degrees()
     );
     md.push_str(
