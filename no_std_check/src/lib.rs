@@ -111,3 +111,52 @@ exports!(
     arm7_inverse_dynamics,
     arm7_forward_dynamics
 );
+
+articulated::chain! {
+    /// A free-floating two-body chain with every quantity of the whole system.
+    pub chain Floater {
+        gravity: [0.0, 0.0, -9.81];
+        outputs: [
+            center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
+            centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+        ];
+        body trunk { mass: 10.0, com: [0.0, 0.0, 0.2], inertia: diag(0.3, 0.3, 0.1) }
+        body arm { mass: 2.0, com: [0.0, 0.0, -0.2], inertia: diag(0.02, 0.02, 0.005) }
+        joint base: free(quaternion) { parent: world, child: trunk }
+        joint shoulder: spherical(zyx) { parent: trunk, child: arm, xyz: [0.0, 0.2, 0.4] }
+    }
+}
+
+/// Every quantity of the whole system of `Floater` at `(q, v)`: the centre of mass, its velocity,
+/// the centroidal momentum (6), the kinetic and potential energy, then the column sums of the
+/// centre of mass Jacobian (9), the centroidal momentum matrix (9) and the Coriolis matrix (9).
+#[no_mangle]
+pub extern "C" fn floater_whole_body(q: &[f64; 10], v: &[f64; 9], out: &mut [f64; 41]) {
+    let (q, v) = (SVector::from(*q), SVector::from(*v));
+    let com = Floater::center_of_mass(&q);
+    let com_v = Floater::center_of_mass_velocity(&q, &v);
+    let h = Floater::centroidal_momentum(&q, &v);
+    let sums = [
+        Floater::center_of_mass_jacobian(&q).row_sum_tr(),
+        Floater::centroidal_momentum_matrix(&q)
+            .row_sum_tr()
+            .fixed_rows::<9>(0)
+            .into_owned(),
+    ];
+    let coriolis = Floater::coriolis_matrix(&q, &v).row_sum_tr();
+    let scalars = [
+        Floater::kinetic_energy(&q, &v),
+        Floater::potential_energy(&q),
+    ];
+    let values = com
+        .iter()
+        .chain(com_v.iter())
+        .chain(h.iter())
+        .chain(scalars.iter())
+        .chain(sums[0].iter())
+        .chain(sums[1].iter())
+        .chain(coriolis.iter());
+    for (o, x) in out.iter_mut().zip(values) {
+        *o = *x;
+    }
+}

@@ -57,10 +57,12 @@ bases p = M[0:3, :] v; C v = nle - g to 1e-10.
 """
 import json
 import os
-import xml.etree.ElementTree as ET
 
 import numpy as np
 import pinocchio as pin
+
+# The joint order and its permutation are the scale script's (importing it runs nothing).
+from make_scale_reference import document_order, permutation
 
 here = os.path.dirname(os.path.abspath(__file__))
 models_dir = os.path.join(here, '..', '..', 'models')
@@ -68,40 +70,6 @@ rng = np.random.default_rng(20261125)
 GRAVITY = np.array([0.0, 0.0, -9.81])
 FD_STEP = 1e-5
 SKEW_TOL = 1e-6
-
-
-def document_order(urdf):
-    """Names of the movable joints, depth first from the root, children in document order."""
-    root = ET.parse(urdf).getroot()
-    joints = [j for j in root.findall('joint')]
-    children = {}
-    child_links = set()
-    for j in joints:
-        children.setdefault(j.find('parent').get('link'), []).append(j)
-        child_links.add(j.find('child').get('link'))
-    (base,) = [l.get('name') for l in root.findall('link') if l.get('name') not in child_links]
-    order = []
-
-    def visit(link):
-        for j in children.get(link, []):
-            if j.get('type') != 'fixed':
-                order.append(j.get('name'))
-            visit(j.find('child').get('link'))
-
-    visit(base)
-    return order
-
-
-def permutation(model, names, base):
-    """Index maps (q, v) from our order to Pinocchio's: ours[i] = pinocchio[perm[i]]."""
-    pq, pv = list(range(base[0])), list(range(base[1]))
-    for n in names:
-        j = model.joints[model.getJointId(n)]
-        assert j.nq == 1 and j.nv == 1, n
-        pq.append(j.idx_q)
-        pv.append(j.idx_v)
-    assert sorted(pq) == list(range(model.nq)) and sorted(pv) == list(range(model.nv))
-    return np.array(pq), np.array(pv)
 
 
 def euler_base():

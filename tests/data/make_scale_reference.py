@@ -101,28 +101,34 @@ def states(model, names, kind, count):
     return dict(nq=model.nq, nv=model.nv, joint_names=names, states=out)
 
 
-out = {
-    "generator": f"Pinocchio {pin.__version__} (pip package `pin`), tests/data/make_scale_reference.py",
-    "conventions": __doc__,
-    "models": {},
-}
 
-humanoid = os.path.join(models_dir, 'humanoid.urdf')
-names = document_order(humanoid)
-euler = pin.JointModelComposite(2)
-euler.addJoint(pin.JointModelTranslation())
-euler.addJoint(pin.JointModelSphericalZYX())
-out['models']['humanoid'] = {
-    'free_flyer': states(pin.buildModelFromUrdf(humanoid, pin.JointModelFreeFlyer()), names, 'free_flyer', 4),
-    'floating': states(pin.buildModelFromUrdf(humanoid, euler), names, 'floating', 4),
-}
-chain50 = os.path.join(models_dir, 'chain50.urdf')
-out['models']['chain50'] = {
-    'fixed': states(pin.buildModelFromUrdf(chain50), document_order(chain50), 'fixed', 3),
-}
+def main():
+    out = {
+        "generator": f"Pinocchio {pin.__version__} (pip package `pin`), tests/data/make_scale_reference.py",
+        "conventions": __doc__,
+        "models": {},
+    }
 
-path = os.path.join(here, 'pinocchio-scale.json')
-with open(path + '.tmp', 'w') as f:
-    json.dump(out, f, indent=None, separators=(',', ':'))
-os.replace(path + '.tmp', path)
-print(path, {m: {k: (v['nq'], v['nv']) for k, v in e.items()} for m, e in out['models'].items()})
+    humanoid = os.path.join(models_dir, 'humanoid.urdf')
+    names = document_order(humanoid)
+    euler = pin.JointModelComposite(2)
+    euler.addJoint(pin.JointModelTranslation())
+    euler.addJoint(pin.JointModelSphericalZYX())
+    out['models']['humanoid'] = {
+        'free_flyer': states(pin.buildModelFromUrdf(humanoid, pin.JointModelFreeFlyer()), names, 'free_flyer', 4),
+        'floating': states(pin.buildModelFromUrdf(humanoid, euler), names, 'floating', 4),
+    }
+    chain50 = os.path.join(models_dir, 'chain50.urdf')
+    out['models']['chain50'] = {
+        'fixed': states(pin.buildModelFromUrdf(chain50), document_order(chain50), 'fixed', 3),
+    }
+
+    path = os.path.join(here, 'pinocchio-scale.json')
+    with open(path + '.tmp', 'w') as f:
+        json.dump(out, f, indent=None, separators=(',', ':'))
+    os.replace(path + '.tmp', path)
+    print(path, {m: {k: (v['nq'], v['nv']) for k, v in e.items()} for m, e in out['models'].items()})
+
+
+if __name__ == '__main__':
+    main()

@@ -26,8 +26,8 @@ use articulated_codegen::load::load_model;
 use articulated_dynamics::model::Model;
 use articulated_dynamics::random::{random_state, Rng};
 use common::{
-    coriolis_error, read_json, rel_err, rows_of, vec_of, whole_body_errors, WholeBodyOutputs,
-    WHOLE_BODY_OUTPUTS,
+    coriolis_error, read_json, rel_err, row_major, rows_of, vec_of, whole_body_errors,
+    WholeBodyOutputs, WHOLE_BODY_OUTPUTS,
 };
 use serde_json::Value as Json;
 
@@ -166,14 +166,6 @@ where
             SVector::<f64, NQ>::from_column_slice(&q),
             SVector::<f64, NV>::from_column_slice(&v),
         );
-        let row_major = |m: Vec<f64>, rows: usize| -> Vec<f64> {
-            // nalgebra's column-major slice of a `rows × n` matrix, as rows.
-            let cols = m.len() / rows;
-            (0..rows)
-                .flat_map(|r| (0..cols).map(move |c| (r, c)))
-                .map(|(r, c)| m[c * rows + r])
-                .collect()
-        };
         let energy = |ours: f64, theirs: f64| (ours - theirs).abs() / theirs.abs().max(1.0);
         let e = [
             rel_err(
@@ -185,7 +177,7 @@ where
                 &vec_of(&s["center_of_mass_velocity"]),
             ),
             rel_err(
-                &row_major(C::center_of_mass_jacobian(&qs).as_slice().to_vec(), 3),
+                &row_major(C::center_of_mass_jacobian(&qs).as_slice(), 3),
                 &rows_of(&s["center_of_mass_jacobian"]),
             ),
             rel_err(
@@ -193,7 +185,7 @@ where
                 &vec_of(&s["centroidal_momentum"]),
             ),
             rel_err(
-                &row_major(C::centroidal_momentum_matrix(&qs).as_slice().to_vec(), 6),
+                &row_major(C::centroidal_momentum_matrix(&qs).as_slice(), 6),
                 &rows_of(&s["centroidal_momentum_matrix"]),
             ),
             energy(
@@ -205,7 +197,7 @@ where
                 s["potential_energy"].as_f64().unwrap(),
             ),
             rel_err(
-                &row_major(C::coriolis_matrix(&qs, &vs).as_slice().to_vec(), NV),
+                &row_major(C::coriolis_matrix(&qs, &vs).as_slice(), NV),
                 &rows_of(&s["coriolis_matrix"]),
             ),
             // The interpreted reference, on the same data.
@@ -219,17 +211,11 @@ where
                     &vec_of(&s["centroidal_momentum"]),
                 ),
                 rel_err(
-                    &row_major(
-                        r.centroidal_momentum_matrix(&q)
-                            .unwrap()
-                            .as_slice()
-                            .to_vec(),
-                        6,
-                    ),
+                    &row_major(r.centroidal_momentum_matrix(&q).unwrap().as_slice(), 6),
                     &rows_of(&s["centroidal_momentum_matrix"]),
                 ),
                 rel_err(
-                    &row_major(r.coriolis_matrix(&q, &v).unwrap().as_slice().to_vec(), NV),
+                    &row_major(r.coriolis_matrix(&q, &v).unwrap().as_slice(), NV),
                     &rows_of(&s["coriolis_matrix"]),
                 ),
             ]

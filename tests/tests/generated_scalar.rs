@@ -217,3 +217,105 @@ fn two_link_emitted_code() {
     .unwrap_or_else(|e| panic!("{e}"));
     insta::assert_snapshot!(code);
 }
+
+/// The quantities of the whole system of `models/two_link.chain` in `f32`.
+#[derive(articulated::Chain)]
+#[chain(
+    file = "../models/two_link.chain",
+    scalar = f32,
+    outputs = [
+        center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
+        centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+    ]
+)]
+struct TwoLinkWholeF32;
+
+/// The quantities of the whole system of `models/two_link.chain` for any scalar.
+#[derive(articulated::Chain)]
+#[chain(
+    file = "../models/two_link.chain",
+    scalar = generic,
+    outputs = [
+        center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
+        centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+    ]
+)]
+struct TwoLinkWholeGeneric;
+
+/// The whole-system outputs in `f32` (to 1e-4, as the basic ones above) and generic over `f64`
+/// (to 1e-12) against the `f64` reference, on inputs exactly representable in `f32`.
+#[test]
+fn whole_body_outputs_in_every_scalar() {
+    let model = two_link();
+    let r = Reference::new(&model).unwrap();
+    let (mut worst32, mut worst64) = (0.0f64, 0.0f64);
+    for seed in 0..64 {
+        let (q, v, _) = random_state(&model, seed);
+        let (qf, vf) = (f32s::<6>(&q), f32s::<6>(&v));
+        let (q, v) = (f64s(qf.as_slice()), f64s(vf.as_slice()));
+        let (qd, vd) = (
+            SVector::<f64, 6>::from_column_slice(&q),
+            SVector::<f64, 6>::from_column_slice(&v),
+        );
+        let energy = |ours: f64, theirs: f64| (ours - theirs).abs() / theirs.abs().max(1.0);
+        let want = [
+            r.center_of_mass(&q).unwrap().as_slice().to_vec(),
+            r.center_of_mass_velocity(&q, &v)
+                .unwrap()
+                .as_slice()
+                .to_vec(),
+            r.center_of_mass_jacobian(&q).unwrap().as_slice().to_vec(),
+            r.centroidal_momentum(&q, &v).unwrap().as_slice().to_vec(),
+            r.centroidal_momentum_matrix(&q)
+                .unwrap()
+                .as_slice()
+                .to_vec(),
+            r.coriolis_matrix(&q, &v).unwrap().as_slice().to_vec(),
+        ];
+        let (ke, pe) = (
+            r.kinetic_energy(&q, &v).unwrap(),
+            r.potential_energy(&q).unwrap(),
+        );
+        let f32_values = [
+            f64s(TwoLinkWholeF32::center_of_mass(&qf).as_slice()),
+            f64s(TwoLinkWholeF32::center_of_mass_velocity(&qf, &vf).as_slice()),
+            f64s(TwoLinkWholeF32::center_of_mass_jacobian(&qf).as_slice()),
+            f64s(TwoLinkWholeF32::centroidal_momentum(&qf, &vf).as_slice()),
+            f64s(TwoLinkWholeF32::centroidal_momentum_matrix(&qf).as_slice()),
+            f64s(TwoLinkWholeF32::coriolis_matrix(&qf, &vf).as_slice()),
+        ];
+        let f64_values = [
+            <TwoLinkWholeGeneric as CenterOfMass<f64, 6, 6>>::center_of_mass(&qd).as_slice().to_vec(),
+            <TwoLinkWholeGeneric as CenterOfMassVelocity<f64, 6, 6>>::center_of_mass_velocity(&qd, &vd).as_slice().to_vec(),
+            <TwoLinkWholeGeneric as CenterOfMassJacobian<f64, 6, 6>>::center_of_mass_jacobian(&qd).as_slice().to_vec(),
+            <TwoLinkWholeGeneric as CentroidalMomentum<f64, 6, 6>>::centroidal_momentum(&qd, &vd).as_slice().to_vec(),
+            <TwoLinkWholeGeneric as CentroidalMomentumMatrix<f64, 6, 6>>::centroidal_momentum_matrix(&qd).as_slice().to_vec(),
+            <TwoLinkWholeGeneric as CoriolisMatrix<f64, 6, 6>>::coriolis_matrix(&qd, &vd).as_slice().to_vec(),
+        ];
+        for ((w, ours32), ours64) in want.iter().zip(&f32_values).zip(&f64_values) {
+            worst32 = worst32.max(rel_err(ours32, w));
+            worst64 = worst64.max(rel_err(ours64, w));
+        }
+        worst32 = worst32
+            .max(energy(
+                f64::from(TwoLinkWholeF32::kinetic_energy(&qf, &vf)),
+                ke,
+            ))
+            .max(energy(
+                f64::from(TwoLinkWholeF32::potential_energy(&qf)),
+                pe,
+            ));
+        worst64 = worst64
+            .max(energy(
+                <TwoLinkWholeGeneric as KineticEnergy<f64, 6, 6>>::kinetic_energy(&qd, &vd),
+                ke,
+            ))
+            .max(energy(
+                <TwoLinkWholeGeneric as PotentialEnergy<f64, 6, 6>>::potential_energy(&qd),
+                pe,
+            ));
+    }
+    println!("whole-system outputs: f32 worst {worst32:.1e}, generic f64 worst {worst64:.1e}");
+    assert!(worst32 < 1e-4, "f32: {worst32:e}");
+    assert!(worst64 < 1e-12, "generic f64: {worst64:e}");
+}

@@ -481,6 +481,14 @@ pub const WHOLE_BODY_OUTPUTS: [&str; 7] = [
     "potential_energy",
 ];
 
+/// The entries of a `rows × n` matrix given column-major (nalgebra's `as_slice`), row by row.
+pub fn row_major(column_major: &[f64], rows: usize) -> Vec<f64> {
+    let cols = column_major.len() / rows;
+    (0..rows)
+        .flat_map(|r| (0..cols).map(move |c| column_major[c * rows + r]))
+        .collect()
+}
+
 /// The generated whole-system outputs against the reference's at one state, each relative to
 /// the largest entry of the reference's value; the energies relative to the largest of their
 /// value and the state's kinetic energy plus `m·|g|` (metres: the tree's size), so that a value
