@@ -1,1 +1,11 @@
-//! Runnable examples of `articulated` live in `examples/`.
+//! Runnable examples of `articulated` live in `examples/`; what they share with the tests
+//! (`tests/tests/falling_cat.rs`) lives here.
+//!
+//! - [`free_floating`]: a free-floating chain moved by its joints alone (hybrid dynamics with the
+//!   generated `M` and `nle`), and its momenta from body Jacobians as an independent check;
+//!   the examples `falling_cat` and `walking_rotation` both run on it.
+//! - [`falling_cat`]: the falling cat of Wieber (2005, §4.2): the cone cycles, one simulated
+//!   fall, and the planner that turns the cat over.
+
+pub mod falling_cat;
+pub mod free_floating;

@@ -10,11 +10,15 @@
 //! | [`TREE`] | yes | yes | a torso, two three-link arms and a head on a fixed joint |
 //! | [`HUMANOID`] | yes | yes (the tree under the free base) | a floating-base humanoid: waist, neck, 7-DOF arms, 6-DOF legs; 37 velocity coordinates |
 //! | [`CHAIN50`] | yes | yes | a 50-body serial chain, for scale |
+//! | [`FALLING_CAT`] | yes | no | the falling cat: two cylinders joined at the waist (spherical), the front one on a free base |
+//! | [`BIPED`] | yes | no | a free-floating walker from de Leva's (1996) segments: hips, knees, shoulders about y |
 //!
 //! The two models for scale are written by `models/make_scale_models.py` (the numbers and their
 //! sources are documented there). `humanoid.chain` puts the pelvis on a free base with a
 //! quaternion; `humanoid.urdf` describes the tree under it, so it matches the `.chain` file
-//! only with a free base added ([`ModelFiles::free_base`]).
+//! only with a free base added ([`ModelFiles::free_base`]). The two free-floating models of the
+//! examples `falling_cat` and `walking_rotation` have no URDF: their roots are on a free base with
+//! a quaternion, and the URDF import adds a free base only in Euler angles (`floating`).
 #![no_std]
 
 /// A model shipped in this crate: its name and the paths of its files.
@@ -32,6 +36,14 @@ pub struct ModelFiles {
 }
 
 macro_rules! model {
+    ($name:literal) => {
+        ModelFiles {
+            name: $name,
+            chain: concat!(env!("CARGO_MANIFEST_DIR"), "/", $name, ".chain"),
+            urdf: None,
+            free_base: false,
+        }
+    };
     ($name:literal, urdf) => {
         ModelFiles {
             name: $name,
@@ -64,13 +76,18 @@ pub const HUMANOID: ModelFiles = model!("humanoid", urdf, free_base);
 /// A 50-body serial chain.
 pub const CHAIN50: ModelFiles = model!("chain50", urdf);
 
+/// The falling cat (Wieber 2005, §4.2): 10 positions, 9 velocities.
+pub const FALLING_CAT: ModelFiles = model!("falling_cat");
+/// A free-floating walker (Wieber 2005, §5.1): 13 positions, 12 velocities.
+pub const BIPED: ModelFiles = model!("biped");
+
 /// The small models: Hemami's, the pendulums, the arm and the tree. Tests that compile the
 /// generated code of every model take these; the models for scale ([`HUMANOID`], [`CHAIN50`])
 /// have tests of their own.
 pub const SMALL: [ModelFiles; 5] = [TWO_LINK, INVERTED_PENDULUM, DOUBLE_PENDULUM, ARM7, TREE];
 
 /// Every model of this crate.
-pub const ALL: [ModelFiles; 7] = [
+pub const ALL: [ModelFiles; 9] = [
     TWO_LINK,
     INVERTED_PENDULUM,
     DOUBLE_PENDULUM,
@@ -78,4 +95,6 @@ pub const ALL: [ModelFiles; 7] = [
     TREE,
     HUMANOID,
     CHAIN50,
+    FALLING_CAT,
+    BIPED,
 ];
