@@ -224,7 +224,7 @@ where
         ];
         for ((w, e), name) in worst.iter_mut().zip(e).zip(names) {
             *w = w.max(e);
-            if !(e < TOL) {
+            if e.is_nan() || e >= TOL {
                 failures.push(format!(
                     "{label} state {k}: {name} differs from Pinocchio by {e:e}"
                 ));

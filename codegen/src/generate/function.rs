@@ -49,9 +49,20 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
         .map(|d| quote!(#[doc = #d]));
     let p_arg = if used.params { quote!(p) } else { quote!(_p) };
     let statements = &emitted.statements;
+    // A scalar result is the last `let`, named after what it is (`kinetic_energy`): returning
+    // the name reads better than inlining its expression, which is what clippy would have.
+    let allow = if matches!(
+        traced.output,
+        Output::KineticEnergy | Output::PotentialEnergy
+    ) {
+        quote!(#[allow(clippy::let_and_return)])
+    } else {
+        quote!()
+    };
     Ok(quote! {
         impl #generics ::articulated::#trait_ for #name {
             #(#doc)*
+            #allow
             fn #function(#(#args)* #p_arg: &#params_ty) -> #ret {
                 #(#inputs)*
                 #statements
