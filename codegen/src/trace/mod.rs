@@ -13,6 +13,12 @@
 //!   coordinate-axis revolute joints by double angles, for `M`;
 //! - [`forward`]: forward dynamics by ABA or by CRBA + `LᵀDL`.
 //!
+//! The quantities of the whole system (centre of mass, momenta, energies, the Coriolis matrix)
+//! are the reference's `articulated_dynamics::reference::centroidal`; the centroidal momentum
+//! matrix and the Coriolis matrix are also traced with their composite inertias carried as
+//! [`crba`] carries them. Regrouping moves mass between bodies, so only the kinetic energy and
+//! the Coriolis matrix, which depend on `M(q)` alone, are traced on regrouped inertias too.
+//!
 //! Every [`Variant`] of an output is traced; [`trace`] keeps the one with the fewest operations
 //! (the first of equals), then regroups its sums by arrival time ([`crate::optimize::reassociate()`]). All
 //! variants compute the same values (each formulation's tests hold it to the reference); they
