@@ -103,26 +103,34 @@ fn check_coriolis<C, const NQ: usize, const NV: usize>(
         worst = worst.max(coriolis_error::<C, NQ, NV>(r, &q, &v));
     }
     assert!(worst < 1e-12, "{label}: coriolis_matrix off by {worst:e}");
-    println!("    coriolis_matrix: worst relative error {worst:.1e}");
+    println!("    coriolis_matrix, worst relative error {worst:.1e}");
 }
 
 #[test]
 fn random_trees_match_the_reference() {
     let mut kinds = BTreeSet::new();
     let mut largest = 0;
-    // The Coriolis matrix, where the tree has it (see `build.rs`).
-    macro_rules! coriolis {
-        (with_coriolis, $name:ident, $nq:expr, $nv:expr, $label:expr, $r:expr, $model:expr) => {
+    // The quantities of the whole system, where the tree has them (see `build.rs`).
+    macro_rules! whole_body {
+        (whole_body, $name:ident, $nq:expr, $nv:expr, $label:expr, $r:expr, $model:expr) => {
+            check_whole_body::<trees::$name, $nq, $nv>($label, $r, |s| random_state($model, s));
             check_coriolis::<trees::$name, $nq, $nv>($label, $r, |s| random_state($model, s));
             println!(
-                "    ops: coriolis_matrix {}",
-                trees::$name::CORIOLIS_MATRIX_OPS.total()
+                "    ops: center_of_mass {} | center_of_mass_velocity {} | center_of_mass_jacobian {} | centroidal_momentum {} | centroidal_momentum_matrix {} | kinetic_energy {} | potential_energy {} | coriolis_matrix {}",
+                trees::$name::CENTER_OF_MASS_OPS.total(),
+                trees::$name::CENTER_OF_MASS_VELOCITY_OPS.total(),
+                trees::$name::CENTER_OF_MASS_JACOBIAN_OPS.total(),
+                trees::$name::CENTROIDAL_MOMENTUM_OPS.total(),
+                trees::$name::CENTROIDAL_MOMENTUM_MATRIX_OPS.total(),
+                trees::$name::KINETIC_ENERGY_OPS.total(),
+                trees::$name::POTENTIAL_ENERGY_OPS.total(),
+                trees::$name::CORIOLIS_MATRIX_OPS.total(),
             );
         };
-        (without_coriolis, $($rest:tt)*) => {};
+        (basic, $($rest:tt)*) => {};
     }
     macro_rules! check {
-        ($name:ident, $seed:expr, $n:expr, $nq:expr, $nv:expr, $coriolis:ident) => {{
+        ($name:ident, $seed:expr, $n:expr, $nq:expr, $nv:expr, $whole:ident) => {{
             let model = random_model($seed, $n);
             for j in &model.joints {
                 kinds.insert(match j.kind {
@@ -146,8 +154,7 @@ fn random_trees_match_the_reference() {
             check_wrenches::<trees::$name, $nq, $nv, { trees::$name::NB }>(&label, &r, |s| {
                 random_state(&model, s)
             });
-            check_whole_body::<trees::$name, $nq, $nv>(&label, &r, |s| random_state(&model, s));
-            coriolis!($coriolis, $name, $nq, $nv, &label, &r, &model);
+            whole_body!($whole, $name, $nq, $nv, &label, &r, &model);
             println!(
                 "    ops: mass_matrix {} | bias {} | gravity {} | inverse_dynamics {} | forward_dynamics {} | joint_wrenches {}",
                 trees::$name::MASS_MATRIX_OPS.total(),
@@ -156,16 +163,6 @@ fn random_trees_match_the_reference() {
                 trees::$name::INVERSE_DYNAMICS_OPS.total(),
                 trees::$name::FORWARD_DYNAMICS_OPS.total(),
                 trees::$name::JOINT_WRENCHES_OPS.total(),
-            );
-            println!(
-                "    ops: center_of_mass {} | center_of_mass_velocity {} | center_of_mass_jacobian {} | centroidal_momentum {} | centroidal_momentum_matrix {} | kinetic_energy {} | potential_energy {}",
-                trees::$name::CENTER_OF_MASS_OPS.total(),
-                trees::$name::CENTER_OF_MASS_VELOCITY_OPS.total(),
-                trees::$name::CENTER_OF_MASS_JACOBIAN_OPS.total(),
-                trees::$name::CENTROIDAL_MOMENTUM_OPS.total(),
-                trees::$name::CENTROIDAL_MOMENTUM_MATRIX_OPS.total(),
-                trees::$name::KINETIC_ENERGY_OPS.total(),
-                trees::$name::POTENTIAL_ENERGY_OPS.total(),
             );
         }};
     }
