@@ -55,6 +55,19 @@ struct Dynamics {
     gravity: DVector<f64>,
     tau: DVector<f64>,
     qdd: DVector<f64>,
+    /// The quantities of the whole system at `(q, v)`.
+    whole: WholeBody,
+}
+
+/// Centre of mass, its velocity, the centroidal momentum `[k_G; p]`, the energies and the
+/// Coriolis matrix (the same as the generated functions of those names).
+struct WholeBody {
+    center_of_mass: DVector<f64>,
+    center_of_mass_velocity: DVector<f64>,
+    centroidal_momentum: DVector<f64>,
+    kinetic_energy: f64,
+    potential_energy: f64,
+    coriolis_matrix: DMatrix<f64>,
 }
 
 /// Runs `eval`; the JSON text, or the error message for stderr.
@@ -91,6 +104,15 @@ pub fn run(args: &EvalArgs) -> Result<String, String> {
         ("gravity", vector(&d.gravity)),
         ("tau", vector(&d.tau)),
         ("qdd", vector(&d.qdd)),
+        ("center_of_mass", vector(&d.whole.center_of_mass)),
+        (
+            "center_of_mass_velocity",
+            vector(&d.whole.center_of_mass_velocity),
+        ),
+        ("centroidal_momentum", vector(&d.whole.centroidal_momentum)),
+        ("kinetic_energy", Value::from(d.whole.kinetic_energy)),
+        ("potential_energy", Value::from(d.whole.potential_energy)),
+        ("coriolis_matrix", matrix_rows(&d.whole.coriolis_matrix)),
     ];
     Ok(to_json(&fields))
 }
@@ -102,6 +124,18 @@ fn by_reference(r: &Reference, s: &State) -> Result<Dynamics, Error> {
         gravity: r.gravity(&s.q)?,
         tau: r.inverse_dynamics(&s.q, &s.v, &s.a)?,
         qdd: r.forward_dynamics(&s.q, &s.v, &s.tau)?,
+        whole: WholeBody {
+            center_of_mass: DVector::from_column_slice(r.center_of_mass(&s.q)?.as_slice()),
+            center_of_mass_velocity: DVector::from_column_slice(
+                r.center_of_mass_velocity(&s.q, &s.v)?.as_slice(),
+            ),
+            centroidal_momentum: DVector::from_column_slice(
+                r.centroidal_momentum(&s.q, &s.v)?.as_slice(),
+            ),
+            kinetic_energy: r.kinetic_energy(&s.q, &s.v)?,
+            potential_energy: r.potential_energy(&s.q)?,
+            coriolis_matrix: r.coriolis_matrix(&s.q, &s.v)?,
+        },
     })
 }
 
@@ -172,6 +206,14 @@ fn by_graph(model: &Model, s: &State) -> Result<Dynamics, String> {
         gravity: DVector::from_vec(values(Output::Gravity)?),
         tau: DVector::from_vec(values(Output::InverseDynamics)?),
         qdd: DVector::from_vec(values(Output::ForwardDynamics)?),
+        whole: WholeBody {
+            center_of_mass: DVector::from_vec(values(Output::CenterOfMass)?),
+            center_of_mass_velocity: DVector::from_vec(values(Output::CenterOfMassVelocity)?),
+            centroidal_momentum: DVector::from_vec(values(Output::CentroidalMomentum)?),
+            kinetic_energy: values(Output::KineticEnergy)?[0],
+            potential_energy: values(Output::PotentialEnergy)?[0],
+            coriolis_matrix: DMatrix::from_row_slice(nv, nv, &values(Output::CoriolisMatrix)?),
+        },
     })
 }
 

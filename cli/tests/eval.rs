@@ -300,7 +300,19 @@ fn symbolic_engine_agrees_with_the_reference() {
         );
         assert_eq!(r["nq"], s["nq"], "{what}");
         assert_eq!(r["nv"], s["nv"], "{what}");
-        for key in ["mass_matrix", "bias", "gravity", "tau", "qdd"] {
+        for key in [
+            "mass_matrix",
+            "bias",
+            "gravity",
+            "tau",
+            "qdd",
+            "center_of_mass",
+            "center_of_mass_velocity",
+            "centroidal_momentum",
+            "kinetic_energy",
+            "potential_energy",
+            "coriolis_matrix",
+        ] {
             let e = rel_err(&s[key], &r[key]);
             assert!(e <= 1e-12, "{what}: {key} differs by {e:e} relative");
         }
