@@ -18,6 +18,23 @@
 //   forward_dynamics_world             aba(model, data, q, v, tau, Convention::WORLD)
 //   mass_matrix_and_nonlinear_effects  crba(model, data, q) then nonLinearEffects(model, data, q, v)
 //
+// and the quantities of the whole system:
+//
+//   center_of_mass                     centerOfMass(model, data, q, false)  (data.com[0]; false:
+//                                      not the centres of mass of the subtrees)
+//   center_of_mass_velocity            centerOfMass(model, data, q, v, false)  (data.vcom[0])
+//   center_of_mass_jacobian            jacobianCenterOfMass(model, data, q, false)  (data.Jcom)
+//   centroidal_momentum                computeCentroidalMomentum(model, data, q, v)  (data.hg)
+//   centroidal_momentum_matrix         ccrba(model, data, q, v)  (data.Ag; computes more than
+//                                      A_G: also h_G = A_G v and the centroidal inertia Ig)
+//   centroidal_map                     computeCentroidalMap(model, data, q)  (data.Ag alone)
+//   kinetic_energy                     computeKineticEnergy(model, data, q, v)
+//   potential_energy                   computePotentialEnergy(model, data, q)
+//   coriolis_matrix                    computeCoriolisMatrix(model, data, q, v)  (data.C)
+//
+// In --values mode these are given in articulated's conventions: h_G and the rows of A_G
+// angular first (Pinocchio's are linear first).
+//
 // A timed call cycles through the states; the inputs are Eigen::Ref views made once, and an
 // empty asm statement with a memory clobber after each call makes the compiler assume the
 // result (in data) is read and the inputs may have changed. Each output: --batches batches of
@@ -38,7 +55,10 @@
 
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/aba.hpp>
+#include <pinocchio/algorithm/center-of-mass.hpp>
+#include <pinocchio/algorithm/centroidal.hpp>
 #include <pinocchio/algorithm/crba.hpp>
+#include <pinocchio/algorithm/energy.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/parsers/urdf.hpp>
 
@@ -160,6 +180,25 @@ void each_output(const pinocchio::Model &model, pinocchio::Data &data,
     pinocchio::crba(model, data, q[i & mask]);
     pinocchio::nonLinearEffects(model, data, q[i & mask], v[i & mask]);
   });
+  run("center_of_mass", [&](long i) { pinocchio::centerOfMass(model, data, q[i & mask], false); });
+  run("center_of_mass_velocity",
+      [&](long i) { pinocchio::centerOfMass(model, data, q[i & mask], v[i & mask], false); });
+  run("center_of_mass_jacobian",
+      [&](long i) { pinocchio::jacobianCenterOfMass(model, data, q[i & mask], false); });
+  run("centroidal_momentum", [&](long i) {
+    pinocchio::computeCentroidalMomentum(model, data, q[i & mask], v[i & mask]);
+  });
+  run("centroidal_momentum_matrix",
+      [&](long i) { pinocchio::ccrba(model, data, q[i & mask], v[i & mask]); });
+  run("centroidal_map", [&](long i) { pinocchio::computeCentroidalMap(model, data, q[i & mask]); });
+  // The energies return a scalar (also stored in data): kept by the clobber through data.
+  run("kinetic_energy",
+      [&](long i) { pinocchio::computeKineticEnergy(model, data, q[i & mask], v[i & mask]); });
+  run("potential_energy",
+      [&](long i) { pinocchio::computePotentialEnergy(model, data, q[i & mask]); });
+  run("coriolis_matrix", [&](long i) {
+    pinocchio::computeCoriolisMatrix(model, data, q[i & mask], v[i & mask]);
+  });
 }
 
 std::string json_vector(const Vec &x) {
@@ -178,7 +217,22 @@ std::string json_matrix(const Eigen::MatrixXd &m) {
   return s + "]";
 }
 
-// The outputs at state s, as JSON; the mass matrices as Pinocchio leaves them (upper triangle).
+// [angular; linear]: the rows of a linear-first 6-row block swapped (articulated's convention).
+Eigen::MatrixXd angular_first(const Eigen::MatrixXd &m) {
+  Eigen::MatrixXd out(m.rows(), m.cols());
+  out.topRows(3) = m.bottomRows(3);
+  out.bottomRows(3) = m.topRows(3);
+  return out;
+}
+
+std::string json_number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+// The outputs at state s, as JSON; the mass matrices as Pinocchio leaves them (upper triangle),
+// the centroidal momentum and its matrix angular first.
 std::string values(const pinocchio::Model &model, pinocchio::Data &data, const State &s) {
   using pinocchio::Convention;
   std::string out = "{";
@@ -199,6 +253,25 @@ std::string values(const pinocchio::Model &model, pinocchio::Data &data, const S
   pinocchio::nonLinearEffects(model, data, s.q, s.v);
   out += ", \"mass_matrix_and_nonlinear_effects\": {\"mass_matrix\": " + json_matrix(data.M) +
          ", \"nonlinear_effects\": " + json_vector(data.nle) + "}";
+  out += ", \"center_of_mass\": " + json_vector(pinocchio::centerOfMass(model, data, s.q, false));
+  pinocchio::centerOfMass(model, data, s.q, s.v, false);
+  out += ", \"center_of_mass_velocity\": " + json_vector(data.vcom[0]);
+  out += ", \"center_of_mass_jacobian\": " +
+         json_matrix(pinocchio::jacobianCenterOfMass(model, data, s.q, false));
+  out += ", \"centroidal_momentum\": " +
+         json_vector(angular_first(
+             pinocchio::computeCentroidalMomentum(model, data, s.q, s.v).toVector()));
+  out += ", \"centroidal_momentum_matrix\": " +
+         json_matrix(angular_first(pinocchio::ccrba(model, data, s.q, s.v)));
+  data.Ag.setZero();
+  out += ", \"centroidal_map\": " +
+         json_matrix(angular_first(pinocchio::computeCentroidalMap(model, data, s.q)));
+  out += ", \"kinetic_energy\": " +
+         json_number(pinocchio::computeKineticEnergy(model, data, s.q, s.v));
+  out += ", \"potential_energy\": " +
+         json_number(pinocchio::computePotentialEnergy(model, data, s.q));
+  out += ", \"coriolis_matrix\": " +
+         json_matrix(pinocchio::computeCoriolisMatrix(model, data, s.q, s.v));
   return out + "}";
 }
 

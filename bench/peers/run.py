@@ -7,8 +7,9 @@ For every model of MODELS it
   2. draws the random states once, in Pinocchio's convention, and writes one states file per
      program in that program's own convention and joint order;
   3. checks the values: every program's outputs at the first state, mapped back to Pinocchio's
-     convention, against Pinocchio's; ours to a relative 1e-9 (else it stops), MuJoCo to a
-     looser bound (its worst difference is reported either way);
+     convention, against Pinocchio's; ours to a relative 1e-9 (else it stops; the quantities
+     of the whole system to 1e-10), MuJoCo to a looser bound (its worst difference is reported
+     either way);
   4. times: ROUNDS rounds, each running every program once per model in a rotating order;
      each run reports per output the fastest and the median of its ~1 ms batches; the driver
      keeps the fastest over rounds (and the median of the medians);
@@ -59,6 +60,21 @@ ROWS = [
         "mass_matrix_and_nonlinear_effects",
     ),
 ]
+
+# The quantities of the whole system (their own table): our output name, Pinocchio's program
+# outputs (the first is the default call; the fastest of them is the figure). MuJoCo's program
+# times none of them (see WHOLE_MUJOCO).
+WHOLE_ROWS = [
+    ("center_of_mass", ["center_of_mass"]),
+    ("center_of_mass_velocity", ["center_of_mass_velocity"]),
+    ("center_of_mass_jacobian", ["center_of_mass_jacobian"]),
+    ("centroidal_momentum", ["centroidal_momentum"]),
+    ("centroidal_momentum_matrix", ["centroidal_momentum_matrix", "centroidal_map"]),
+    ("kinetic_energy", ["kinetic_energy"]),
+    ("potential_energy", ["potential_energy"]),
+    ("coriolis_matrix", ["coriolis_matrix"]),
+]
+WHOLE_TOL = 1e-10
 
 SEED = 0x5EED_2024
 STATES = 16
@@ -344,6 +360,12 @@ def check_values(model_entry, progs, maps, state0):
             e = rel(x, r)
             if e > OURS_TOL:
                 sys.exit(f"[run.py] VALUES DISAGREE: {name} {key} {what}: relative difference {e:.3g} > {OURS_TOL}")
+        whole_pairs = [(k, vals[k], ref[k]) for k, _ in WHOLE_ROWS]
+        whole_pairs.append(("centroidal_map", vals["centroidal_map"], ref["centroidal_momentum_matrix"]))
+        for what, x, r in whole_pairs:
+            e = rel(x, r)
+            if e > WHOLE_TOL:
+                sys.exit(f"[run.py] VALUES DISAGREE: {name} {key} {what}: relative difference {e:.3g} > {WHOLE_TOL}")
     # Ours, both builds.
     for key in ("ours_v3", "ours_default"):
         vals = run_json(progs[key] + ["--values", name])
@@ -375,6 +397,33 @@ def check_values(model_entry, progs, maps, state0):
                 )
         report.append((key, worst))
         log(f"{name}: {key} agrees with Pinocchio to {worst:.1e} (relative)")
+        # The quantities of the whole system. Ours are in our joint order: with P the
+        # permutation (v_ours = P v_pin), J_pin = J_ours P and C_pin = P' C_ours P; the centre
+        # of mass, h_G and the energies do not depend on the order. h_G and A_G are angular
+        # first on both sides (pinocchio_timing.cpp swaps Pinocchio's halves).
+        P = maps["ours"].a_matrix(state0["q"])
+        mapped = {
+            "center_of_mass": vals["center_of_mass"],
+            "center_of_mass_velocity": vals["center_of_mass_velocity"],
+            "center_of_mass_jacobian": np.array(vals["center_of_mass_jacobian"]) @ P,
+            "centroidal_momentum": vals["centroidal_momentum"],
+            "centroidal_momentum_matrix": np.array(vals["centroidal_momentum_matrix"]) @ P,
+            "kinetic_energy": vals["kinetic_energy"],
+            "potential_energy": vals["potential_energy"],
+            "coriolis_matrix": P.T @ np.array(vals["coriolis_matrix"]) @ P,
+        }
+        worst_whole = 0.0
+        for what, x in mapped.items():
+            e = rel(x, ref[what])
+            worst_whole = max(worst_whole, e)
+            if e > WHOLE_TOL:
+                sys.exit(
+                    f"[run.py] VALUES DISAGREE: {name}: ours ({key}) {what} differs from Pinocchio's "
+                    f"by {e:.3g} (relative) > {WHOLE_TOL}\n  ours:      {np.asarray(x).ravel()[:8]}\n"
+                    f"  Pinocchio: {np.asarray(ref[what]).ravel()[:8]}"
+                )
+        report.append((f"{key} (whole system)", worst_whole))
+        log(f"{name}: {key} agrees with Pinocchio on the whole-system outputs to {worst_whole:.1e} (relative)")
     # MuJoCo: reported, with a looser bound.
     vals = run_json(progs["mujoco"] + ["--values", name])
     m = maps["mujoco"].back(
@@ -607,7 +656,8 @@ def report(env, models, ops, results, instr, checks, args, load_end):
             for k, label in (("ours_default", "ours default"), ("mujoco", "MuJoCo")):
                 if k in ins:
                     parts.append(
-                        f"{label}: " + ", ".join(f"{o} {v:.0f}" for o, v in ins[k].items())
+                        f"{label}: "
+                        + ", ".join(f"{o} {v:.0f}" for o, v in ins[k].items() if o not in dict(WHOLE_ROWS))
                     )
             extra.append("instructions per call, " + "; ".join(parts))
         (key_worst, mj_worst, mj_diffs) = checks[name]
@@ -619,9 +669,94 @@ def report(env, models, ops, results, instr, checks, args, load_end):
         )
         for e in extra:
             w(f"- {e}")
+    whole_report(w, models, ops, results, instr)
     w("")
     w(WHAT)
     return "\n".join(L) + "\n"
+
+
+WHOLE_MUJOCO = """MuJoCo: n/a. Its program (`bench/peers/mujoco_timing.c`) times the dynamics terms only.
+MuJoCo computes some of these quantities on the way (the subtree centres of mass in
+`mj_comPos`, their velocities and angular momenta in `mj_subtreeVel`, `mj_jacSubtreeCom`, the
+energies with `mjENBL_ENERGY`), but it has no Coriolis matrix and no centroidal momentum
+matrix; those calls are not timed here yet."""
+
+
+def whole_report(w, models, ops, results, instr):
+    """The section of the quantities of the whole system."""
+    w("")
+    w("## Whole-system outputs")
+    w("")
+    w("The centre of mass, its velocity and Jacobian, the centroidal momentum and its matrix, the")
+    w("kinetic and potential energy and the Coriolis matrix, timed in the same runs as the tables")
+    w("above, on the same states, after the same values check (ours against Pinocchio's to 1e-10")
+    w("relative, with `h_G = [k_G; p]` and the rows of `A_G` angular first on both sides). Columns")
+    w("as above; ratios are Pinocchio v3 over ours. A ᶜ marks a `centroidal_momentum_matrix` figure")
+    w("where `computeCentroidalMap` (A_G alone) was faster than `ccrba` (which also computes h_G and")
+    w("the centroidal inertia); the faster is shown and used in the ratios.")
+    w("")
+    w(WHOLE_MUJOCO)
+    w("")
+    w("Every model is generated with all eight. The largest function is `chain50`'s `coriolis_matrix`")
+    w("(126,436 operations: 2,500 entries on a chain 50 bodies deep): about 10 s of CI's test-profile")
+    w("build of `bench/src/bin/peers.rs` and 85 s of each of `run.sh`'s two release builds of it")
+    w("(measured once while adding these outputs; the humanoid's, 15,393 operations, was within the")
+    w("noise of the test-profile build).")
+    w("")
+    w("In short (fastest batches; a ratio above 1 means ours is faster):")
+    w("")
+    for (name, *_rest) in models:
+        res = results[name]
+        def span(ours):
+            ratios = [(min(res["pin_v3"][p][0] for p in r[1]) / res[ours][r[0]][0], r[0]) for r in WHOLE_ROWS]
+            (lo, lo_out), (hi, hi_out) = min(ratios), max(ratios)
+            return f"{lo:.1f}× ({lo_out}) to {hi:.1f}× ({hi_out})"
+
+        w(f"- **{name}**: Pinocchio v3 / ours v3 {span('ours_v3')}; Pinocchio v3 / ours default {span('ours_default')}")
+    for (name, chain, urdf, floating) in models:
+        res, ins = results[name], instr.get(name, {})
+        w("")
+        w(f"### {name}: whole system ({'floating base, ' if floating else ''}nq {ops[name]['nq']}, nv {ops[name]['nv']})")
+        w("")
+        w("| output | ops | ours v3 (ns) | ours default (ns) | Pinocchio v3 (ns) | Pinocchio wheel (ns) | MuJoCo (ns) | Pinocchio / ours (v3) | Pinocchio / ours (default) | instructions ours v3 / Pinocchio v3 |")
+        w("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        for ours_out, pin_outs in WHOLE_ROWS:
+            pv = [(res["pin_v3"][p][0], p) for p in pin_outs]
+            p3, p3_which = min(pv, key=lambda x: x[0])  # the default call on a tie
+            pw = min(res["pin_wheel"][p][0] for p in pin_outs)
+            mark = "ᶜ" if p3_which != pin_outs[0] else ""
+            i_pin = ins.get("pin_v3", {}).get(p3_which)
+            o3 = res["ours_v3"][ours_out][0]
+            od = res["ours_default"][ours_out][0]
+            i_ours = ins.get("ours_v3", {}).get(ours_out)
+            instr_cell = (
+                f"{i_ours:.0f} / {i_pin:.0f} ({i_pin / i_ours:.1f}×)" if i_ours and i_pin else "–"
+            )
+            w(
+                f"| {ours_out} | {ops[name]['ops'][ours_out]} | {fmt_ns(o3)} | {fmt_ns(od)} | "
+                f"{fmt_ns(p3)}{mark} | {fmt_ns(pw)} | n/a | {fmt_ratio(p3 / o3)} | "
+                f"{fmt_ratio(p3 / od)} | {instr_cell} |"
+            )
+        w("")
+        med = lambda k, o: fmt_ns(res[k][o][1])
+        w(
+            "- medians (ns; ours v3 / ours default / Pinocchio v3 / Pinocchio wheel): "
+            + "; ".join(
+                f"{o} {med('ours_v3', o)} / {med('ours_default', o)} / "
+                f"{' or '.join(med('pin_v3', p) for p in ps)} / {' or '.join(med('pin_wheel', p) for p in ps)}"
+                for o, ps in WHOLE_ROWS
+            )
+        )
+        w(
+            f"- Pinocchio `ccrba` / `computeCentroidalMap`: v3 {fmt_ns(res['pin_v3']['centroidal_momentum_matrix'][0])}"
+            f" / {fmt_ns(res['pin_v3']['centroidal_map'][0])} ns, wheel {fmt_ns(res['pin_wheel']['centroidal_momentum_matrix'][0])}"
+            f" / {fmt_ns(res['pin_wheel']['centroidal_map'][0])} ns"
+        )
+        if "ours_default" in ins:
+            w(
+                "- instructions per call, ours default: "
+                + ", ".join(f"{o} {ins['ours_default'][o]:.0f}" for o, _ in WHOLE_ROWS)
+            )
 
 
 WHAT = """## What each figure includes
@@ -632,8 +767,8 @@ for a free base, v in [−2, 2], a in [−5, 5], τ = Pinocchio's `rnea(q, v, a)
 the program's own convention and joint order (Pinocchio's free-flyer quaternion is `[x, y, z, w]`,
 ours `[w, x, y, z]`; MuJoCo's free joint takes its linear velocity in the world frame). Before any
 timing, each program's outputs at the first state are mapped back and compared with Pinocchio's:
-ours (both builds) must agree to 1e-9 relative or the run stops; MuJoCo's difference is shown
-above. A timed call's inputs and result go through `std::hint::black_box` (Rust) or an empty
+ours (both builds) must agree to 1e-9 relative (the quantities of the whole system to 1e-10) or
+the run stops; MuJoCo's difference is shown above. A timed call's inputs and result go through `std::hint::black_box` (Rust) or an empty
 `asm volatile` with a memory clobber (C, C++) so that nothing is hoisted out of the loop.
 
 - **ours**: one call of the generated function, e.g. `Arm7::mass_matrix(&q)`, which returns the
@@ -665,6 +800,16 @@ above. A timed call's inputs and result go through `std::hint::black_box` (Rust)
   a binary `.mjb` (`target/peers/models/`, with a rounded `.xml` beside it for reading). MuJoCo
   computes in its own coordinates (a body's inertia about its centre of mass, its
   principal axes), so its values differ from Pinocchio's in the last digits.
+- **whole system, ours**: one call of the generated function, e.g. `Arm7::centroidal_momentum(&q, &v)`
+  (`SVector<f64, 6>`, `[k_G; p]`), `Arm7::kinetic_energy(&q, &v)` (`f64`),
+  `Arm7::coriolis_matrix(&q, &v)` (`SMatrix<f64, NV, NV>`). **Pinocchio**:
+  `centerOfMass(model, data, q, false)` (`false`: not the subtrees' centres of mass),
+  `centerOfMass(model, data, q, v, false)` (`data.vcom[0]`), `jacobianCenterOfMass(model, data, q,
+  false)`, `computeCentroidalMomentum(model, data, q, v)`, `ccrba(model, data, q, v)` (A_G, and
+  besides h_G = A_G v and the centroidal inertia `Ig`: more than our `centroidal_momentum_matrix`)
+  or `computeCentroidalMap(model, data, q)` (A_G alone), `computeKineticEnergy(model, data, q, v)`,
+  `computePotentialEnergy(model, data, q)` (−Σ m gᵀ x, as ours), `computeCoriolisMatrix(model,
+  data, q, v)` (the same matrix as ours on these models: fixed bases and a free flyer).
 - **instructions**: `valgrind --tool=callgrind` on `PROGRAM --calls K MODEL OUTPUT`,
   (Ir(K = 1024) − Ir(K = 0)) / K: one call plus the loop around it, independent of the load.
 
@@ -727,10 +872,11 @@ def main():
     results = time_all(MODELS, progs, args.rounds, args.batches)
     instr = {}
     if not args.quick:
+        ours = [r[0] for r in ROWS + WHOLE_ROWS]
         which = {
-            "ours_v3": [r[0] for r in ROWS],
-            "ours_default": [r[0] for r in ROWS],
-            "pin_v3": sorted({p for r in ROWS for p in r[1]}),
+            "ours_v3": ours,
+            "ours_default": ours,
+            "pin_v3": sorted({p for r in ROWS + WHOLE_ROWS for p in r[1]}),
             "mujoco": [r[2] for r in ROWS],
         }
         instr = instructions(MODELS, progs, which)

@@ -17,8 +17,17 @@
 //! reported as the fastest and the median batch, in ns per call.
 //!
 //! The models: the same `.chain` files the generator ships, each generated with the six
-//! outputs the comparison uses. Adding one is one line of `models!` below (and one in
+//! dynamics outputs of the comparison and the eight quantities of the whole system (centre of
+//! mass, its velocity and Jacobian, centroidal momentum and its matrix, kinetic and potential
+//! energy, the Coriolis matrix). Adding one is one line of `models!` below (and one in
 //! `run.py`'s model list).
+//!
+//! Build cost: CI's `cargo test --workspace` compiles this binary too (test profile). With the
+//! quantities of the whole system, `cargo test -p articulated-bench --no-run` after touching
+//! this file took 29–32 s instead of 13–22 s; `chain50`'s `coriolis_matrix` (126,436
+//! operations) is about 10 s of that, the humanoid's (15,393) within the noise. In release
+//! (`run.sh`, once per target) `chain50`'s `coriolis_matrix` is about 85 s of this binary's
+//! 147 s.
 
 use std::hint::black_box;
 use std::path::Path;
@@ -26,7 +35,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use articulated::model::JointKind;
-use articulated::nalgebra::SVector;
+use articulated::nalgebra::{SMatrix, SVector};
 use articulated::prelude::*;
 use articulated_bench::{batch, calibrate, Output};
 
@@ -35,17 +44,26 @@ const USAGE: &str = "usage: peers --layout MODEL
        peers --states FILE --time [--batches N] [--batch-ms T] MODEL
        peers --states FILE --calls K MODEL OUTPUT";
 
-/// The outputs every model is generated with, in the order they are timed.
-const OUTPUTS: [Output; 6] = [
+/// The outputs of the comparison, in the order they are timed: the six dynamics outputs, then
+/// the eight quantities of the whole system.
+const OUTPUTS: [Output; 14] = [
     Output::MassMatrix,
     Output::NonlinearEffects,
     Output::Gravity,
     Output::InverseDynamics,
     Output::ForwardDynamics,
     Output::MassMatrixAndNonlinearEffects,
+    Output::CenterOfMass,
+    Output::CenterOfMassVelocity,
+    Output::CenterOfMassJacobian,
+    Output::CentroidalMomentum,
+    Output::CentroidalMomentumMatrix,
+    Output::KineticEnergy,
+    Output::PotentialEnergy,
+    Output::CoriolisMatrix,
 ];
 
-/// A generated model with the six outputs of the comparison.
+/// A generated model with the outputs of the comparison.
 trait Peer<const NQ: usize, const NV: usize>:
     MassMatrix<f64, NQ, NV>
     + NonlinearEffects<f64, NQ, NV>
@@ -53,6 +71,14 @@ trait Peer<const NQ: usize, const NV: usize>:
     + InverseDynamics<f64, NQ, NV>
     + ForwardDynamics<f64, NQ, NV>
     + MassMatrixAndNonlinearEffects<f64, NQ, NV>
+    + CenterOfMass<f64, NQ, NV>
+    + CenterOfMassVelocity<f64, NQ, NV>
+    + CenterOfMassJacobian<f64, NQ, NV>
+    + CentroidalMomentum<f64, NQ, NV>
+    + CentroidalMomentumMatrix<f64, NQ, NV>
+    + KineticEnergy<f64, NQ, NV>
+    + PotentialEnergy<f64, NQ, NV>
+    + CoriolisMatrix<f64, NQ, NV>
 {
     /// The `.chain` file the type is generated from (absolute, for `--layout`).
     const CHAIN: &'static str;
@@ -74,7 +100,15 @@ macro_rules! models {
                     gravity,
                     inverse_dynamics,
                     forward_dynamics,
-                    mass_matrix_and_nonlinear_effects
+                    mass_matrix_and_nonlinear_effects,
+                    center_of_mass,
+                    center_of_mass_velocity,
+                    center_of_mass_jacobian,
+                    centroidal_momentum,
+                    centroidal_momentum_matrix,
+                    kinetic_energy,
+                    potential_energy,
+                    coriolis_matrix
                 ]
             )]
             struct $ty;
@@ -91,6 +125,14 @@ macro_rules! models {
                         Output::MassMatrixAndNonlinearEffects => {
                             $ty::MASS_MATRIX_AND_NONLINEAR_EFFECTS_OPS
                         }
+                        Output::CenterOfMass => $ty::CENTER_OF_MASS_OPS,
+                        Output::CenterOfMassVelocity => $ty::CENTER_OF_MASS_VELOCITY_OPS,
+                        Output::CenterOfMassJacobian => $ty::CENTER_OF_MASS_JACOBIAN_OPS,
+                        Output::CentroidalMomentum => $ty::CENTROIDAL_MOMENTUM_OPS,
+                        Output::CentroidalMomentumMatrix => $ty::CENTROIDAL_MOMENTUM_MATRIX_OPS,
+                        Output::KineticEnergy => $ty::KINETIC_ENERGY_OPS,
+                        Output::PotentialEnergy => $ty::POTENTIAL_ENERGY_OPS,
+                        Output::CoriolisMatrix => $ty::CORIOLIS_MATRIX_OPS,
                         _ => OpCounts::default(),
                     }
                 }
@@ -236,6 +278,34 @@ where
             black_box(&x.v),
         ));
     });
+    visitor.visit(Output::CenterOfMass, |i| {
+        black_box(M::center_of_mass(black_box(&s(i).q)));
+    });
+    visitor.visit(Output::CenterOfMassVelocity, |i| {
+        let x = s(i);
+        black_box(M::center_of_mass_velocity(black_box(&x.q), black_box(&x.v)));
+    });
+    visitor.visit(Output::CenterOfMassJacobian, |i| {
+        black_box(M::center_of_mass_jacobian(black_box(&s(i).q)));
+    });
+    visitor.visit(Output::CentroidalMomentum, |i| {
+        let x = s(i);
+        black_box(M::centroidal_momentum(black_box(&x.q), black_box(&x.v)));
+    });
+    visitor.visit(Output::CentroidalMomentumMatrix, |i| {
+        black_box(M::centroidal_momentum_matrix(black_box(&s(i).q)));
+    });
+    visitor.visit(Output::KineticEnergy, |i| {
+        let x = s(i);
+        black_box(M::kinetic_energy(black_box(&x.q), black_box(&x.v)));
+    });
+    visitor.visit(Output::PotentialEnergy, |i| {
+        black_box(M::potential_energy(black_box(&s(i).q)));
+    });
+    visitor.visit(Output::CoriolisMatrix, |i| {
+        let x = s(i);
+        black_box(M::coriolis_matrix(black_box(&x.q), black_box(&x.v)));
+    });
 }
 
 /// Times each output: `batches` batches of about `batch`, the fastest and the median.
@@ -326,16 +396,24 @@ fn layout<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>() -> Result<String,
     ))
 }
 
+/// `m` as JSON, row by row.
+fn json_rows<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> String {
+    let rows: Vec<String> = m
+        .row_iter()
+        .map(|r| json_array(r.iter().copied()))
+        .collect();
+    format!("[{}]", rows.join(", "))
+}
+
+/// `v` as a JSON array.
+fn json_vector<const N: usize>(v: &SVector<f64, N>) -> String {
+    json_array(v.iter().copied())
+}
+
 /// The outputs at the first state, as JSON (matrices row by row).
 fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(x: &State<NQ, NV>) -> String {
-    let rows = |m: &articulated::nalgebra::SMatrix<f64, NV, NV>| {
-        let rows: Vec<String> = m
-            .row_iter()
-            .map(|r| json_array(r.iter().copied()))
-            .collect();
-        format!("[{}]", rows.join(", "))
-    };
-    let vector = |v: &SVector<f64, NV>| json_array(v.iter().copied());
+    let rows = json_rows::<NV, NV>;
+    let vector = json_vector::<NV>;
     let fd = M::forward_dynamics(&x.q, &x.v, &x.tau)
         .map(|a| vector(&a))
         .unwrap_or_else(|_| "null".into());
@@ -343,13 +421,25 @@ fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(x: &State<NQ, NV>) 
     format!(
         "{{\"mass_matrix\": {}, \"nonlinear_effects\": {}, \"gravity\": {}, \
          \"inverse_dynamics\": {}, \"forward_dynamics\": {fd}, \
-         \"mass_matrix_and_nonlinear_effects\": {{\"mass_matrix\": {}, \"nonlinear_effects\": {}}}}}",
+         \"mass_matrix_and_nonlinear_effects\": {{\"mass_matrix\": {}, \"nonlinear_effects\": {}}}, \
+         \"center_of_mass\": {}, \"center_of_mass_velocity\": {}, \
+         \"center_of_mass_jacobian\": {}, \"centroidal_momentum\": {}, \
+         \"centroidal_momentum_matrix\": {}, \"kinetic_energy\": {:e}, \
+         \"potential_energy\": {:e}, \"coriolis_matrix\": {}}}",
         rows(&M::mass_matrix(&x.q)),
         vector(&M::nonlinear_effects(&x.q, &x.v)),
         vector(&M::gravity(&x.q)),
         vector(&M::inverse_dynamics(&x.q, &x.v, &x.a)),
         rows(&m2),
-        vector(&nle2)
+        vector(&nle2),
+        json_vector(&M::center_of_mass(&x.q)),
+        json_vector(&M::center_of_mass_velocity(&x.q, &x.v)),
+        json_rows(&M::center_of_mass_jacobian(&x.q)),
+        json_vector(&M::centroidal_momentum(&x.q, &x.v)),
+        json_rows(&M::centroidal_momentum_matrix(&x.q)),
+        M::kinetic_energy(&x.q, &x.v),
+        M::potential_energy(&x.q),
+        rows(&M::coriolis_matrix(&x.q, &x.v))
     )
 }
 
