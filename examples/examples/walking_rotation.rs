@@ -38,14 +38,15 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use articulated::files::write_atomically;
-use articulated::integrate::{Dopri5, State};
+use articulated::integrate::State;
 use articulated::model::Model;
 use articulated::nalgebra::{Const, SVector, UnitQuaternion, Vector3};
 use articulated::plot::{svg, Panel};
 use articulated::prelude::*;
 use articulated::reference::jacobian::body_jacobians;
 use articulated_examples::free_floating::{
-    base_orientation, conservation, swing_angle, twist_angle, Conservation, Hybrid, JointMotion,
+    self, base_orientation, conservation, swing_angle, twist_angle, Conservation, Hybrid,
+    JointMotion,
 };
 
 /// The walker, generated from `models/biped.chain`: `M` and `nle` move it, the centre of mass and
@@ -206,20 +207,12 @@ fn walk(gait: Gait, cycles: usize) -> Result<Walk, String> {
     let start = system
         .start(0.0, [0.0; 3], UnitQuaternion::identity())
         .map_err(|e| e.to_string())?;
-    let mut dopri = Dopri5::new(1e-10, 1e-12);
-    let mut states = Vec::new();
-    Simulation::new(0.0, cycles as f64 * gait.period, gait.period / 100.0)
-        .run(
-            &mut system,
-            &mut dopri,
-            start,
-            |s| {
-                states.push(*s);
-                Ok(())
-            },
-            |_, _| {},
-        )
-        .map_err(|f| f.to_string())?;
+    let (states, stats) = free_floating::record(
+        &mut system,
+        start,
+        (cycles as f64 * gait.period, gait.period / 100.0),
+        (1e-10, 1e-12),
+    )?;
     let first = base_orientation(states[0].q.as_slice());
     let last = states.last().ok_or("no states")?;
     let net = first.inverse() * base_orientation(last.q.as_slice());
@@ -234,7 +227,7 @@ fn walk(gait: Gait, cycles: usize) -> Result<Walk, String> {
         per_step: pitch(&first, last) / (2 * cycles) as f64,
         off_axis: swing_angle(&net, &Vector3::y()),
         yaw,
-        steps: dopri.stats().accepted,
+        steps: stats.accepted,
         states,
     })
 }

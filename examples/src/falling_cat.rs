@@ -43,7 +43,7 @@
 
 use std::f64::consts::PI;
 
-use articulated::integrate::{Dopri5, Dopri5Stats, State};
+use articulated::integrate::{Dopri5Stats, State};
 use articulated::model::Model;
 use articulated::nalgebra::{Const, Quaternion, SVector, UnitQuaternion, Vector3};
 use articulated::prelude::*;
@@ -267,25 +267,17 @@ pub fn fall(motion: ConeCycles, settings: Settings) -> Result<Fall, String> {
     let start = system
         .start(0.0, [0.0; 3], on_its_back())
         .map_err(|e| e.to_string())?;
-    let mut dopri = Dopri5::new(settings.rtol, settings.atol);
     let dt = motion.period / settings.samples.max(1) as f64;
-    let mut states = Vec::with_capacity(motion.cycles * settings.samples + 1);
-    Simulation::new(0.0, motion.duration(), dt)
-        .run(
-            &mut system,
-            &mut dopri,
-            start,
-            |s| {
-                states.push(*s);
-                Ok(())
-            },
-            |_, _| {},
-        )
-        .map_err(|f| f.to_string())?;
+    let (states, stats) = free_floating::record(
+        &mut system,
+        start,
+        (motion.duration(), dt),
+        (settings.rtol, settings.atol),
+    )?;
     Ok(Fall {
         motion,
         states,
-        stats: dopri.stats(),
+        stats,
     })
 }
 

@@ -37,7 +37,7 @@
 
 use core::marker::PhantomData;
 
-use articulated::integrate::{Cause, SecondOrder, State};
+use articulated::integrate::{Cause, Dopri5, Dopri5Stats, SecondOrder, State};
 use articulated::model::Model;
 use articulated::nalgebra::{Const, Quaternion, SVector, UnitQuaternion, Vector3};
 use articulated::prelude::*;
@@ -306,4 +306,37 @@ where
     c.momentum /= c.momentum_scale;
     c.momentum_check /= c.momentum_scale;
     Ok(c)
+}
+
+/// Runs `system` from `start` to `t_end` with Dormand–Prince at the tolerances `rtol`, `atol`,
+/// recording the state every `dt` (the start included); returns the states and the integrator's
+/// counters.
+///
+/// # Errors
+/// An integration fault, as text.
+#[allow(clippy::type_complexity)]
+pub fn record<S, const NQ: usize, const NV: usize>(
+    system: &mut S,
+    start: State<f64, Const<NQ>, Const<NV>>,
+    (t_end, dt): (f64, f64),
+    (rtol, atol): (f64, f64),
+) -> Result<(Vec<State<f64, Const<NQ>, Const<NV>>>, Dopri5Stats), String>
+where
+    S: SecondOrder<f64, Const<NQ>, Const<NV>>,
+{
+    let mut dopri = Dopri5::new(rtol, atol);
+    let mut states = Vec::new();
+    Simulation::new(start.t, t_end, dt)
+        .run(
+            system,
+            &mut dopri,
+            start,
+            |s| {
+                states.push(*s);
+                Ok(())
+            },
+            |_, _| {},
+        )
+        .map_err(|f| f.to_string())?;
+    Ok((states, dopri.stats()))
 }

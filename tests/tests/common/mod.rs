@@ -470,8 +470,9 @@ impl<C, const NQ: usize, const NV: usize> WholeBodyOutputs<NQ, NV> for C where
 {
 }
 
-/// The names of [`whole_body_errors`]' entries, in order.
-pub const WHOLE_BODY_OUTPUTS: [&str; 7] = [
+/// The whole-system outputs in the order of `Output::ALL`: the names of [`whole_body_errors`]'
+/// entries, then `coriolis_matrix` ([`coriolis_error`]).
+pub const WHOLE_BODY_OUTPUTS: [&str; 8] = [
     "center_of_mass",
     "center_of_mass_velocity",
     "center_of_mass_jacobian",
@@ -479,6 +480,7 @@ pub const WHOLE_BODY_OUTPUTS: [&str; 7] = [
     "centroidal_momentum_matrix",
     "kinetic_energy",
     "potential_energy",
+    "coriolis_matrix",
 ];
 
 /// The entries of a `rows × n` matrix given column-major (nalgebra's `as_slice`), row by row.
