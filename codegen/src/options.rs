@@ -92,11 +92,19 @@ pub enum Output {
     /// `coriolis_matrix(q, v)`: `N(q, q̇)` of Wieber's eq. 7, with `N·v = bias` and `Ṁ − 2N`
     /// skew-symmetric.
     CoriolisMatrix,
+    /// `inverse_dynamics_derivatives(q, v, a)`: `(∂τ/∂q, ∂τ/∂v)`, `NV × NV` each, `∂/∂q` along
+    /// the configuration's tangent (the body-frame increment for quaternions).
+    InverseDynamicsDerivatives,
+    /// `forward_dynamics_derivatives(q, v, tau)`: `(∂q̈/∂q, ∂q̈/∂v, M⁻¹)`, or an error where `M`
+    /// is singular.
+    ForwardDynamicsDerivatives,
+    /// `mass_matrix_inverse(q)`: `M(q)⁻¹`, or an error where `M` is singular.
+    MassMatrixInverse,
 }
 
 impl Output {
     /// Every output, with its name in the grammar, in the order the generator emits them.
-    pub const ALL: [(Output, &'static str); 17] = [
+    pub const ALL: [(Output, &'static str); 20] = [
         (Output::MassMatrix, "mass_matrix"),
         (Output::Bias, "bias"),
         (Output::Gravity, "gravity"),
@@ -120,6 +128,15 @@ impl Output {
         (Output::KineticEnergy, "kinetic_energy"),
         (Output::PotentialEnergy, "potential_energy"),
         (Output::CoriolisMatrix, "coriolis_matrix"),
+        (
+            Output::InverseDynamicsDerivatives,
+            "inverse_dynamics_derivatives",
+        ),
+        (
+            Output::ForwardDynamicsDerivatives,
+            "forward_dynamics_derivatives",
+        ),
+        (Output::MassMatrixInverse, "mass_matrix_inverse"),
     ];
 
     /// The outputs generated when a description names none.
@@ -151,6 +168,9 @@ impl Output {
             Output::KineticEnergy => "kinetic_energy",
             Output::PotentialEnergy => "potential_energy",
             Output::CoriolisMatrix => "coriolis_matrix",
+            Output::InverseDynamicsDerivatives => "inverse_dynamics_derivatives",
+            Output::ForwardDynamicsDerivatives => "forward_dynamics_derivatives",
+            Output::MassMatrixInverse => "mass_matrix_inverse",
         }
     }
 

@@ -95,7 +95,8 @@ fn unknown_output() {
          `mass_matrix_and_nonlinear_effects`, `joint_wrenches`, `joint_wrenches_bottom_up`, \
          `center_of_mass`, `center_of_mass_velocity`, `center_of_mass_jacobian`, \
          `centroidal_momentum`, `centroidal_momentum_matrix`, `kinetic_energy`, \
-         `potential_energy` or `coriolis_matrix`",
+         `potential_energy`, `coriolis_matrix`, `inverse_dynamics_derivatives`, \
+         `forward_dynamics_derivatives` or `mass_matrix_inverse`",
     );
 }
 

@@ -23,6 +23,15 @@
 //! | [`KineticEnergy`] | `C::kinetic_energy(&q, &v)` | `½·vᵀ·M·v` |
 //! | [`PotentialEnergy`] | `C::potential_energy(&q)` | `−Σ m_k·gᵀ·x_k` |
 //! | [`CoriolisMatrix`] | `C::coriolis_matrix(&q, &v)` | `N(q, q̇)` with `N·v = bias`, `Ṁ − 2N` skew |
+//! | [`InverseDynamicsDerivatives`] | `C::inverse_dynamics_derivatives(&q, &v, &a)` | `(∂τ/∂q, ∂τ/∂v)`, `NV × NV` each |
+//! | [`ForwardDynamicsDerivatives`] | `C::forward_dynamics_derivatives(&q, &v, &tau)` | `(∂q̈/∂q, ∂q̈/∂v, M⁻¹)`, or [`SingularMassMatrix`] |
+//! | [`MassMatrixInverse`] | `C::mass_matrix_inverse(&q)` | `M(q)⁻¹`, or [`SingularMassMatrix`] |
+//!
+//! Derivatives with respect to `q` are taken along the configuration's tangent, `NV` columns
+//! wide: `∂/∂δ_k` of `q ⊕ δ` ([`crate::control::tangent::retract`]), which is `∂/∂q_k` for
+//! revolute, prismatic and Euler-angle coordinates, the body-frame increment `q ⊗ exp(δ/2)` for
+//! a quaternion, and for a free quaternion base also the position moved by `R(q)·δ_lin`: the
+//! convention of Pinocchio's `computeRNEADerivatives` and `computeABADerivatives`.
 //!
 //! Each takes and returns nalgebra fixed-size types and allocates nothing. A chain with runtime
 //! parameters takes them through the `_with` twin of each function (`C::mass_matrix_with(&q,
@@ -360,6 +369,75 @@ pub trait CoriolisMatrix<T, const NQ: usize, const NV: usize>: Chain<T> {
     /// `N` with the default parameters.
     fn coriolis_matrix(q: &SVector<T, NQ>, v: &SVector<T, NV>) -> SMatrix<T, NV, NV> {
         Self::coriolis_matrix_with(q, v, &Self::default_params())
+    }
+}
+
+/// `(∂τ/∂q, ∂τ/∂v)` of [`InverseDynamics`], `NV × NV` each (`∂τ/∂a = M`); `∂/∂q` along the
+/// configuration's tangent (the [module docs](self)).
+pub trait InverseDynamicsDerivatives<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// The derivatives for the parameters `p`.
+    fn inverse_dynamics_derivatives_with(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        a: &SVector<T, NV>,
+        p: &Self::Params,
+    ) -> (SMatrix<T, NV, NV>, SMatrix<T, NV, NV>);
+    /// The derivatives with the default parameters.
+    fn inverse_dynamics_derivatives(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        a: &SVector<T, NV>,
+    ) -> (SMatrix<T, NV, NV>, SMatrix<T, NV, NV>) {
+        Self::inverse_dynamics_derivatives_with(q, v, a, &Self::default_params())
+    }
+}
+
+/// The three matrices of [`ForwardDynamicsDerivatives`]: `∂q̈/∂q`, `∂q̈/∂v` and `M⁻¹ = ∂q̈/∂τ`.
+pub type FdDerivatives<T, const NV: usize> =
+    (SMatrix<T, NV, NV>, SMatrix<T, NV, NV>, SMatrix<T, NV, NV>);
+
+/// `(∂q̈/∂q, ∂q̈/∂v, M⁻¹)` of [`ForwardDynamics`], `NV × NV` each (`∂q̈/∂τ = M⁻¹`); `∂/∂q`
+/// along the configuration's tangent (the [module docs](self)).
+pub trait ForwardDynamicsDerivatives<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// The derivatives for the parameters `p`.
+    ///
+    /// # Errors
+    /// [`SingularMassMatrix`] where `M(q)` is singular or `q̈` is not finite.
+    fn forward_dynamics_derivatives_with(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        tau: &SVector<T, NV>,
+        p: &Self::Params,
+    ) -> Result<FdDerivatives<T, NV>, SingularMassMatrix>;
+    /// The derivatives with the default parameters.
+    ///
+    /// # Errors
+    /// [`SingularMassMatrix`] where `M(q)` is singular or `q̈` is not finite.
+    fn forward_dynamics_derivatives(
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        tau: &SVector<T, NV>,
+    ) -> Result<FdDerivatives<T, NV>, SingularMassMatrix> {
+        Self::forward_dynamics_derivatives_with(q, v, tau, &Self::default_params())
+    }
+}
+
+/// `M(q)⁻¹`, or an error where `M(q)` is singular.
+pub trait MassMatrixInverse<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `M⁻¹` for the parameters `p`.
+    ///
+    /// # Errors
+    /// [`SingularMassMatrix`] where `M(q)` is singular.
+    fn mass_matrix_inverse_with(
+        q: &SVector<T, NQ>,
+        p: &Self::Params,
+    ) -> Result<SMatrix<T, NV, NV>, SingularMassMatrix>;
+    /// `M⁻¹` with the default parameters.
+    ///
+    /// # Errors
+    /// [`SingularMassMatrix`] where `M(q)` is singular.
+    fn mass_matrix_inverse(q: &SVector<T, NQ>) -> Result<SMatrix<T, NV, NV>, SingularMassMatrix> {
+        Self::mass_matrix_inverse_with(q, &Self::default_params())
     }
 }
 

@@ -162,10 +162,11 @@ pub mod prelude {
     pub use crate::simulate::Simulation;
     pub use crate::{
         Bias, CenterOfMass, CenterOfMassJacobian, CenterOfMassVelocity, CentroidalMomentum,
-        CentroidalMomentumMatrix, Chain, Coordinates, CoriolisMatrix, ForwardDynamics, Gravity,
-        InverseDynamics, JointWrenches, JointWrenchesBottomUp, KineticEnergy, MassMatrix,
-        MassMatrixAndNonlinearEffects, NonlinearEffects, OpCounts, PotentialEnergy,
-        SingularMassMatrix,
+        CentroidalMomentumMatrix, Chain, Coordinates, CoriolisMatrix, ForwardDynamics,
+        ForwardDynamicsDerivatives, Gravity, InverseDynamics, InverseDynamicsDerivatives,
+        JointWrenches, JointWrenchesBottomUp, KineticEnergy, MassMatrix,
+        MassMatrixAndNonlinearEffects, MassMatrixInverse, NonlinearEffects, OpCounts,
+        PotentialEnergy, SingularMassMatrix,
     };
 }
 

@@ -472,7 +472,12 @@ fn bind(stmts: Vec<Statement>) -> TokenStream {
             }
             _ => {
                 let (patterns, values): (Vec<_>, Vec<_>) = single.into_iter().unzip();
-                out.extend(quote!(let [#(#patterns),*] = [#(#values),*];));
+                // Clippy reads `[…, a - b, …]` from a macro, whose tokens all share the call
+                // site's span, as a comma that may be missing.
+                out.extend(quote! {
+                    #[allow(clippy::possible_missing_comma)]
+                    let [#(#patterns),*] = [#(#values),*];
+                });
             }
         }
     }

@@ -14,6 +14,8 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
     let v = quote!(::articulated::nalgebra::SVector<T, N>);
     let m = quote!(::articulated::nalgebra::SMatrix<T, N, N>);
     let fd = quote!(::core::result::Result<#v, ::articulated::SingularMassMatrix>);
+    let fdd = quote!(::core::result::Result<(#m, #m, #m), ::articulated::SingularMassMatrix>);
+    let minv = quote!(::core::result::Result<#m, ::articulated::SingularMassMatrix>);
     let w = quote!(::articulated::nalgebra::SMatrix<T, 6, N>);
     let v6 = quote!(::articulated::nalgebra::SVector<T, 6>);
     let v3 = quote!(::articulated::nalgebra::SVector<T, 3>);
@@ -85,6 +87,15 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
         }
         impl #sizes ::articulated::CoriolisMatrix<T, N, N> for #name {
             fn coriolis_matrix_with(_: &#v, _: &#v, _: &()) -> #m #never
+        }
+        impl #sizes ::articulated::InverseDynamicsDerivatives<T, N, N> for #name {
+            fn inverse_dynamics_derivatives_with(_: &#v, _: &#v, _: &#v, _: &()) -> (#m, #m) #never
+        }
+        impl #sizes ::articulated::ForwardDynamicsDerivatives<T, N, N> for #name {
+            fn forward_dynamics_derivatives_with(_: &#v, _: &#v, _: &#v, _: &()) -> #fdd #never
+        }
+        impl #sizes ::articulated::MassMatrixInverse<T, N, N> for #name {
+            fn mass_matrix_inverse_with(_: &#v, _: &()) -> #minv #never
         }
     }
 }

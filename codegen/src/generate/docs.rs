@@ -140,6 +140,20 @@ fn equation(output: Output) -> &'static str {
             "`N(q, q̇)` of Wieber 2005, eq. 7, `NV × NV`: `N·v` is the bias and `Ṁ − 2N` is \
              skew-symmetric; where `v = q̇` it is the matrix of the Christoffel symbols of `M`."
         }
+        Output::InverseDynamicsDerivatives => {
+            "`(∂τ/∂q, ∂τ/∂v)` of inverse dynamics at `(q, v, a)`, `NV × NV` each (`∂τ/∂a` is \
+             `M`). Column `k` of `∂τ/∂q` is the derivative along tangent coordinate `k` of the \
+             configuration, `q ⊕ δ`: `q_k + δ_k` for revolute, prismatic and Euler-angle \
+             coordinates; for a quaternion the body-frame increment `q ⊗ exp(δ/2)`, and for a \
+             free quaternion base the position moved by `R(q)·δ_lin` too (as Pinocchio takes \
+             them; `articulated::control::tangent::retract`)."
+        }
+        Output::ForwardDynamicsDerivatives => {
+            "`(∂q̈/∂q, ∂q̈/∂v, M⁻¹)` of forward dynamics at `(q, v, τ)`, `NV × NV` each \
+             (`∂q̈/∂τ = M⁻¹`), `∂/∂q` along the configuration's tangent as in \
+             `inverse_dynamics_derivatives`; an error where `M(q)` is singular."
+        }
+        Output::MassMatrixInverse => "`M(q)⁻¹`; an error where `M(q)` is singular.",
     }
 }
 
@@ -173,6 +187,23 @@ fn formulation(traced: &Traced) -> String {
              with their rates, CRBA-like (`reference::centroidal::coriolis_matrix_with`; \
              Echeandia & Wensing 2021's factorization), the composite inertias carried as in {}",
             crba_name(specialized, false)
+        ),
+        (Output::InverseDynamicsDerivatives, _) => format!(
+            "By forward-mode differentiation of {}, one direction per coordinate, traced \
+             (`articulated_dynamics::reference::derivatives`): the values computed once, the \
+             derivatives that the tree makes zero dropped",
+            rnea_name(specialized)
+        ),
+        (Output::ForwardDynamicsDerivatives, _) => format!(
+            "As `−M⁻¹·∂τ/∂(q, v)` at `a = q̈` (Carpentier & Mansard 2018): `M` by {}, `N·q̇ + g` \
+             by {}, `q̈` and every product with `M⁻¹` by one sparse `LᵀDL` of `M` (RBDA §6.5), \
+             `∂τ` by forward-mode differentiation of the same Newton–Euler recursion",
+            crba_name(specialized, root_frame),
+            rnea_name(specialized)
+        ),
+        (Output::MassMatrixInverse, _) => format!(
+            "By `M` from {} and one solve of its sparse `LᵀDL` (RBDA §6.5) per column",
+            crba_name(specialized, root_frame)
         ),
         (output, _) if output.whole_body() => "By each subtree's mass, first moment and momentum \
              carried from the leaves in (`reference::centroidal`)"

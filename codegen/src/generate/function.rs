@@ -192,16 +192,49 @@ fn signature(cx: &Context, traced: &Traced, emitted: &Emitted) -> Signature {
             matrix(&nv, &nv),
             columns(cx, &transposed(values, cx.nv), cx.nv),
         ),
+        Output::InverseDynamicsDerivatives => {
+            let (dq, dv) = values.split_at(cx.nv * cx.nv);
+            let m_ty = matrix(&nv, &nv);
+            (
+                quote!(InverseDynamicsDerivatives<#scalar, #nq, #nv>),
+                &["q", "v", "a"],
+                quote!((#m_ty, #m_ty)),
+                square_matrices(cx, &[dq, dv]),
+            )
+        }
+        Output::ForwardDynamicsDerivatives => {
+            let checks = pivot_checks(cx, traced, emitted);
+            // q̈ comes first and is not returned: a non-finite q̈ (a NaN in `v` or `tau`) is
+            // refused like forward dynamics refuses it.
+            let (qdd, rest) = values.split_at(cx.nv);
+            let finite = finite_checks(qdd);
+            let (dq, rest) = rest.split_at(cx.nv * cx.nv);
+            let (dv, minv) = rest.split_at(cx.nv * cx.nv);
+            let m_ty = matrix(&nv, &nv);
+            let out = square_matrices(cx, &[dq, dv, minv]);
+            (
+                quote!(ForwardDynamicsDerivatives<#scalar, #nq, #nv>),
+                &["q", "v", "tau"],
+                quote!(::core::result::Result<(#m_ty, #m_ty, #m_ty), ::articulated::SingularMassMatrix>),
+                quote!(#(#checks)* #(#finite)* Ok(#out)),
+            )
+        }
+        Output::MassMatrixInverse => {
+            let checks = pivot_checks(cx, traced, emitted);
+            let m_ty = matrix(&nv, &nv);
+            (
+                quote!(MassMatrixInverse<#scalar, #nq, #nv>),
+                &["q"],
+                quote!(::core::result::Result<#m_ty, ::articulated::SingularMassMatrix>),
+                {
+                    let m = columns(cx, &transposed(values, cx.nv), cx.nv);
+                    quote!(#(#checks)* Ok(#m))
+                },
+            )
+        }
         Output::ForwardDynamics => {
             let checks = pivot_checks(cx, traced, emitted);
-            let finite = values.iter().enumerate().map(|(k, x)| {
-                let k = Literal::usize_unsuffixed(k);
-                quote! {
-                    if !#x.is_finite() {
-                        return Err(::articulated::SingularMassMatrix { velocity: #k });
-                    }
-                }
-            });
+            let finite = finite_checks(values);
             let out = vector(cx, values);
             (
                 quote!(ForwardDynamics<#scalar, #nq, #nv>),
@@ -217,6 +250,29 @@ fn signature(cx: &Context, traced: &Traced, emitted: &Emitted) -> Signature {
         ret,
         result,
     }
+}
+
+/// One `if` per acceleration: an error where it is not finite.
+fn finite_checks(qdd: &[TokenStream]) -> Vec<TokenStream> {
+    qdd.iter()
+        .enumerate()
+        .map(|(k, x)| {
+            let k = Literal::usize_unsuffixed(k);
+            quote! {
+                if !#x.is_finite() {
+                    return Err(::articulated::SingularMassMatrix { velocity: #k });
+                }
+            }
+        })
+        .collect()
+}
+
+/// A tuple of square matrices from their row-major entries.
+fn square_matrices(cx: &Context, parts: &[&[TokenStream]]) -> TokenStream {
+    let ms = parts
+        .iter()
+        .map(|x| columns(cx, &transposed(x, cx.nv), cx.nv));
+    quote!((#(#ms),*))
 }
 
 /// A row-major matrix of `rows` rows as its entries column by column.

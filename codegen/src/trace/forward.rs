@@ -13,8 +13,9 @@ use articulated_dynamics::model::Model;
 use articulated_dynamics::reference::{aba, ltdl_solve};
 use articulated_dynamics::Scalar;
 
+use super::derivatives::pivots_with_scale;
 use super::{inputs, label_outputs, mass_matrix, rnea, symbolic_tree};
-use super::{Formulation, Pivots, Traced, Variant};
+use super::{Formulation, Traced, Variant};
 use crate::options::Output;
 use crate::sym::{self, Sym, Var};
 
@@ -62,7 +63,7 @@ pub(crate) fn variants() -> impl Iterator<Item = Variant> {
 
 /// Forward dynamics traced one way.
 pub(crate) fn trace_variant(model: &Model, variant: Variant) -> Traced {
-    let (graph, (values, pairs, scale)) = sym::trace(|| {
+    let (graph, (values, pivots)) = sym::trace(|| {
         let tree = symbolic_tree(model, variant.regrouped);
         let (q, v, tau) = (
             inputs(tree.nq, Var::Q),
@@ -83,20 +84,15 @@ pub(crate) fn trace_variant(model: &Model, variant: Variant) -> Traced {
             }
         };
         // Inside the trace: the sum is recorded in this graph.
-        let scale = pairs
-            .iter()
-            .map(|p: &(Sym, Sym)| p.1)
-            .reduce(|a, b| a + b)
-            .unwrap_or_else(Sym::zero)
-            .label(format_args!("pivot_scale"));
+        let pivots = pivots_with_scale(pairs);
         let values = label_outputs(Output::ForwardDynamics, values, tree.nv);
-        (values, pairs, scale)
+        (values, pivots)
     });
     Traced {
         output: Output::ForwardDynamics,
         graph,
         values,
-        pivots: Some(Pivots { pairs, scale }),
+        pivots: Some(pivots),
         variant,
         candidates: Vec::new(),
     }

@@ -25,6 +25,7 @@
 //! round differently.
 
 pub mod crba;
+pub mod derivatives;
 pub mod forward;
 pub mod newton_euler;
 pub mod regroup;
@@ -215,6 +216,12 @@ pub fn trace(model: &Model, output: Output) -> Traced {
         Output::ForwardDynamics => forward::variants()
             .map(|variant| forward::trace_variant(model, variant))
             .collect(),
+        Output::InverseDynamicsDerivatives
+        | Output::ForwardDynamicsDerivatives
+        | Output::MassMatrixInverse => derivatives::variants(output)
+            .into_iter()
+            .map(|variant| derivatives::trace_variant(model, output, variant))
+            .collect(),
         _ => regroupings
             .iter()
             .copied()
@@ -315,6 +322,9 @@ fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
                 _ => crba::coriolis_matrix(&tree, &q, &v, regroup::coordinate_axis),
             },
             Output::ForwardDynamics => unreachable!("traced by `forward`"),
+            Output::InverseDynamicsDerivatives
+            | Output::ForwardDynamicsDerivatives
+            | Output::MassMatrixInverse => unreachable!("traced by `derivatives`"),
         };
         label_outputs(output, values, tree.nv)
     });
@@ -350,6 +360,10 @@ fn label_outputs(output: Output, values: Vec<Sym>, nv: usize) -> Vec<Sym> {
         Output::KineticEnergy => "kinetic_energy",
         Output::PotentialEnergy => "potential_energy",
         Output::CoriolisMatrix => "n",
+        // Labelled where they are traced.
+        Output::InverseDynamicsDerivatives
+        | Output::ForwardDynamicsDerivatives
+        | Output::MassMatrixInverse => return values,
     };
     const AXES: [&str; 3] = ["x", "y", "z"];
     values

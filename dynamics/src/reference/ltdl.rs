@@ -16,22 +16,8 @@ use crate::scalar::Scalar;
 /// Labels ([`Scalar::label`]): `L`'s entries `l_{k}_{i}`, the pivots `d_{k}`, the entries of
 /// `M` reduced by coordinate `k` as `m_{i}_{j}_less_{k}`, the solutions `y_{k}` of `D·y = z` and
 /// the results `qdd_{k}`.
-pub fn ltdl_solve<T: Scalar>(mut m: Vec<T>, b: Vec<T>, n: usize) -> (Vec<T>, Vec<(T, T)>) {
-    let unreduced: Vec<T> = (0..n).map(|k| m[k * n + k]).collect();
-    for k in (0..n).rev() {
-        let d = m[k * n + k];
-        // `i` descends, as in RBDA Table 6.3: row k's entries left of `i` are still unscaled
-        // when the update of row `i` reads them.
-        for i in (0..k).rev() {
-            let a = m[k * n + i] / d;
-            for j in 0..=i {
-                m[i * n + j] =
-                    (m[i * n + j] - m[k * n + j] * a).label(format_args!("m_{i}_{j}_less_{k}"));
-            }
-            m[k * n + i] = a.label(format_args!("l_{k}_{i}"));
-        }
-        m[k * n + k] = d.label(format_args!("d_{k}"));
-    }
+pub fn ltdl_solve<T: Scalar>(m: Vec<T>, b: Vec<T>, n: usize) -> (Vec<T>, Vec<(T, T)>) {
+    let (m, pivots) = ltdl_factor(m, n);
     // Lᵀ·z = b (upper triangular), from the last coordinate up.
     let mut x = b;
     for k in (0..n).rev() {
@@ -56,8 +42,73 @@ pub fn ltdl_solve<T: Scalar>(mut m: Vec<T>, b: Vec<T>, n: usize) -> (Vec<T>, Vec
         *xk = xk.label(format_args!("qdd_{k}"));
         yk.label(format_args!("y_{k}"));
     }
-    let pivots = (0..n).map(|k| (m[k * n + k], unreduced[k])).collect();
     (x, pivots)
+}
+
+/// Factors `M = LᵀDL` in place (`m` row-major `n × n`, symmetric, read in its lower triangle):
+/// returns `L` below the diagonal and `D` on it, and each pivot `D_k` with the unreduced `M_kk`
+/// it came from (RBDA Table 6.3).
+pub fn ltdl_factor<T: Scalar>(mut m: Vec<T>, n: usize) -> (Vec<T>, Vec<(T, T)>) {
+    let unreduced: Vec<T> = (0..n).map(|k| m[k * n + k]).collect();
+    for k in (0..n).rev() {
+        let d = m[k * n + k];
+        // `i` descends, as in RBDA Table 6.3: row k's entries left of `i` are still unscaled
+        // when the update of row `i` reads them.
+        for i in (0..k).rev() {
+            let a = m[k * n + i] / d;
+            for j in 0..=i {
+                m[i * n + j] =
+                    (m[i * n + j] - m[k * n + j] * a).label(format_args!("m_{i}_{j}_less_{k}"));
+            }
+            m[k * n + i] = a.label(format_args!("l_{k}_{i}"));
+        }
+        m[k * n + k] = d.label(format_args!("d_{k}"));
+    }
+    let pivots = (0..n).map(|k| (m[k * n + k], unreduced[k])).collect();
+    (m, pivots)
+}
+
+/// A factorization from [`ltdl_factor`] with the reciprocals of its pivots, to solve many
+/// right-hand sides with one division per pivot in all.
+#[derive(Clone, Debug)]
+pub struct Ltdl<T> {
+    /// `L` below the diagonal (the diagonal is not read).
+    pub l: Vec<T>,
+    /// `1/D_k`.
+    pub inv_d: Vec<T>,
+    /// The size.
+    pub n: usize,
+}
+
+impl<T: Scalar> Ltdl<T> {
+    /// Factors `m` (as [`ltdl_factor`]); returns the factorization and the pivots with their
+    /// unreduced values.
+    pub fn new(m: Vec<T>, n: usize) -> (Self, Vec<(T, T)>) {
+        let (l, pivots) = ltdl_factor(m, n);
+        let inv_d = (0..n)
+            .map(|k| (T::one() / l[k * n + k]).label(format_args!("inv_d_{k}")))
+            .collect();
+        (Ltdl { l, inv_d, n }, pivots)
+    }
+
+    /// `M⁻¹·b`.
+    pub fn solve(&self, mut x: Vec<T>) -> Vec<T> {
+        let (m, n) = (&self.l, self.n);
+        for k in (0..n).rev() {
+            for i in 0..k {
+                x[i] = x[i] - m[k * n + i] * x[k];
+            }
+        }
+        for (xk, &r) in x.iter_mut().zip(&self.inv_d) {
+            *xk = *xk * r;
+        }
+        for k in 0..n {
+            for i in 0..k {
+                x[k] = x[k] - m[k * n + i] * x[i];
+            }
+        }
+        x
+    }
 }
 
 #[cfg(test)]

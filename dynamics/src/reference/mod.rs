@@ -24,6 +24,7 @@
 pub mod aba;
 pub mod centroidal;
 pub mod crba;
+pub mod derivatives;
 pub mod jacobian;
 pub mod ltdl;
 pub mod rnea;
@@ -37,7 +38,7 @@ use nalgebra::{DMatrix, DVector, Vector3, Vector6};
 
 pub use aba::{aba, AbaOutput};
 pub use crba::{composite_inertias_with, crba, crba_with};
-pub use ltdl::ltdl_solve;
+pub use ltdl::{ltdl_factor, ltdl_solve, Ltdl};
 pub use rnea::{bottom_up, inertial_forces, joint_forces, node_forces, project, rnea, transmit};
 pub use tree::{Node, NodeJoint, Tree};
 
@@ -549,6 +550,60 @@ impl Reference {
             centroidal::coriolis_matrix(&self.tree, q, v),
         )?;
         Ok(DMatrix::from_row_slice(self.nv(), self.nv(), &n))
+    }
+
+    /// `(∂τ/∂q, ∂τ/∂v)` of [`Reference::inverse_dynamics`], each `nv × nv`, by forward-mode
+    /// differentiation of RNEA; `∂/∂q` along the tangent displacement of the configuration
+    /// ([`derivatives`]: the body-frame increment for quaternions).
+    ///
+    /// # Errors
+    /// As [`Reference::inverse_dynamics`].
+    pub fn inverse_dynamics_derivatives(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+    ) -> Result<(DMatrix<f64>, DMatrix<f64>), Error> {
+        self.inverse_dynamics(q, v, a)?;
+        let (dq, dv) = derivatives::inverse_dynamics_derivatives(&self.tree, q, v, a);
+        let name = "inverse_dynamics_derivatives";
+        let (dq, dv) = (finite(name, dq)?, finite(name, dv)?);
+        let nv = self.nv();
+        Ok((
+            DMatrix::from_row_slice(nv, nv, &dq),
+            DMatrix::from_row_slice(nv, nv, &dv),
+        ))
+    }
+
+    /// `[∂q̈/∂q, ∂q̈/∂v, M⁻¹]` of [`Reference::forward_dynamics`], each `nv × nv`:
+    /// `−M⁻¹·∂τ/∂(q, v)` at `a = q̈`, and `∂q̈/∂τ = M⁻¹` ([`derivatives`]).
+    ///
+    /// # Errors
+    /// As [`Reference::forward_dynamics`] (a singular `M` is refused by the same checks).
+    pub fn forward_dynamics_derivatives(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        tau: &[f64],
+    ) -> Result<[DMatrix<f64>; 3], Error> {
+        self.forward_dynamics(q, v, tau)?;
+        let d = derivatives::forward_dynamics_derivatives(&self.tree, q, v, tau);
+        let name = "forward_dynamics_derivatives";
+        let nv = self.nv();
+        let matrix = |x: Vec<f64>| finite(name, x).map(|x| DMatrix::from_row_slice(nv, nv, &x));
+        Ok([matrix(d.dqdd_dq)?, matrix(d.dqdd_dv)?, matrix(d.minv)?])
+    }
+
+    /// `M(q)⁻¹`, by the sparse `LᵀDL` of `M`.
+    ///
+    /// # Errors
+    /// As [`Reference::forward_dynamics`] for a singular `M`, and for a bad `q`.
+    pub fn mass_matrix_inverse(&self, q: &[f64]) -> Result<DMatrix<f64>, Error> {
+        let zero = alloc::vec![0.0; self.nv()];
+        self.forward_dynamics(q, &zero, &zero)?;
+        let (inv, _) = derivatives::mass_matrix_inverse_from(crba(&self.tree, q), self.nv());
+        let inv = finite("mass_matrix_inverse", inv)?;
+        Ok(DMatrix::from_row_slice(self.nv(), self.nv(), &inv))
     }
 
     /// The potential energy of gravity, `−Σ m_k·gᵀ·x_k` over the bodies' centres of mass `x_k`

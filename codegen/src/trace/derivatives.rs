@@ -1,0 +1,138 @@
+//! The derivative outputs: `∂τ/∂q` and `∂τ/∂v` of inverse dynamics, `∂q̈/∂q`, `∂q̈/∂v` and
+//! `M⁻¹` of forward dynamics, and `M⁻¹` alone.
+//!
+//! Each is the reference's forward-mode differentiation
+//! (`articulated_dynamics::reference::derivatives`) traced on `Dual<Sym>`: one run of inverse
+//! dynamics per tangent direction, whose value parts hash-cons to the same nodes (computed
+//! once) and whose derivative parts fold to zero wherever the tree's structure says so (a
+//! body's motion does not depend on the joints below it). Forward dynamics' derivatives are
+//! `−M⁻¹·∂τ/∂(q, v)` at `a = q̈`, every product with `M⁻¹` a solve with the sparse `LᵀDL` of
+//! `M` that also gives `q̈` and `M⁻¹`.
+//!
+//! Variants, the fewest operations kept as for the values: inverse dynamics by the reference's
+//! spatial RNEA or by [`super::newton_euler`], on the tree as described or regrouped; `M` (for
+//! forward dynamics and `M⁻¹`) by each CRBA formulation.
+
+use articulated_dynamics::model::Model;
+use articulated_dynamics::reference::derivatives::{
+    forward_dynamics_derivatives_with, inverse_dynamics_derivatives_with, mass_matrix_inverse_from,
+    Dual, DualRnea,
+};
+use articulated_dynamics::reference::{self, Tree};
+use articulated_dynamics::Scalar;
+
+use super::forward::FdMethod;
+use super::{inputs, mass_matrix, newton_euler, rnea, symbolic_tree};
+use super::{Formulation, Pivots, Traced, Variant};
+use crate::options::Output;
+use crate::sym::{self, Sym, Var};
+
+/// The variants of a derivative output.
+pub(crate) fn variants(output: Output) -> Vec<Variant> {
+    let formulations: &[Formulation] = match output {
+        Output::InverseDynamicsDerivatives => &[Formulation::Reference, Formulation::Specialized],
+        _ => &[
+            Formulation::Reference,
+            Formulation::Specialized,
+            Formulation::SpecializedRootFrame,
+        ],
+    };
+    let method = (output != Output::InverseDynamicsDerivatives).then_some(FdMethod::CrbaLtdl);
+    [false, true]
+        .into_iter()
+        .flat_map(|regrouped| {
+            formulations.iter().map(move |&formulation| Variant {
+                regrouped,
+                formulation,
+                method,
+            })
+        })
+        .collect()
+}
+
+/// Inverse dynamics with gravity on duals, by a formulation.
+struct Rnea(Formulation);
+
+impl DualRnea<Sym> for Rnea {
+    fn rnea(
+        &self,
+        tree: &Tree<Dual<Sym>>,
+        q: &[Dual<Sym>],
+        v: &[Dual<Sym>],
+        a: &[Dual<Sym>],
+    ) -> Vec<Dual<Sym>> {
+        match self.0 {
+            Formulation::Reference => reference::rnea(tree, q, v, a, true),
+            _ => newton_euler::classical_rnea(tree, q, v, a, true),
+        }
+    }
+}
+
+/// Labels a row-major `n × n` matrix `{stem}_{i}_{j}`.
+fn labelled(stem: &str, x: Vec<Sym>, n: usize) -> Vec<Sym> {
+    x.into_iter()
+        .enumerate()
+        .map(|(k, s)| s.label(format_args!("{stem}_{}_{}", k / n, k % n)))
+        .collect()
+}
+
+/// A derivative output traced one way. Its values: `∂τ/∂q` then `∂τ/∂v` (row-major); `q̈`,
+/// `∂q̈/∂q`, `∂q̈/∂v`, `M⁻¹` (`q̈` is not returned: the generated code checks it is finite); or
+/// `M⁻¹`.
+pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
+    let (graph, (values, pivots)) = sym::trace(|| {
+        let tree = symbolic_tree(model, variant.regrouped);
+        let nv = tree.nv;
+        let (q, v) = (inputs(tree.nq, Var::Q), inputs(nv, Var::V));
+        let form = variant.formulation;
+        match output {
+            Output::InverseDynamicsDerivatives => {
+                let a = inputs(nv, Var::A);
+                let (dq, dv) = inverse_dynamics_derivatives_with(&tree, &q, &v, &a, &Rnea(form));
+                let mut values = labelled("dtau_dq", dq, nv);
+                values.extend(labelled("dtau_dv", dv, nv));
+                (values, None)
+            }
+            Output::ForwardDynamicsDerivatives => {
+                let tau = inputs(nv, Var::Tau);
+                let zero = vec![Sym::zero(); nv];
+                let m = mass_matrix(form, &tree, &q);
+                let h = rnea(form, &tree, &q, &v, &zero, true);
+                let d = forward_dynamics_derivatives_with(&tree, &q, &v, &tau, m, &h, &Rnea(form));
+                let mut values: Vec<Sym> = d
+                    .qdd
+                    .into_iter()
+                    .enumerate()
+                    .map(|(k, x)| x.label(format_args!("qdd_{k}")))
+                    .collect();
+                values.extend(labelled("ddq_dq", d.dqdd_dq, nv));
+                values.extend(labelled("ddq_dv", d.dqdd_dv, nv));
+                values.extend(labelled("minv", d.minv, nv));
+                (values, Some(pivots_with_scale(d.pivots)))
+            }
+            _ => {
+                let (minv, pairs) = mass_matrix_inverse_from(mass_matrix(form, &tree, &q), nv);
+                (labelled("minv", minv, nv), Some(pivots_with_scale(pairs)))
+            }
+        }
+    });
+    Traced {
+        output,
+        graph,
+        values,
+        pivots,
+        variant,
+        candidates: Vec::new(),
+    }
+}
+
+/// The pivots with the sum of their unreduced values (inside the trace).
+pub(crate) fn pivots_with_scale(pairs: Vec<(Sym, Sym)>) -> Pivots {
+    let scale = pairs
+        .iter()
+        .map(|p| p.1)
+        .reduce(|a, b| a + b)
+        .unwrap_or_else(Sym::zero)
+        .label(format_args!("pivot_scale"));
+    Pivots { pairs, scale }
+}
