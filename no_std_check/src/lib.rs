@@ -160,3 +160,40 @@ pub extern "C" fn floater_whole_body(q: &[f64; 10], v: &[f64; 9], out: &mut [f64
         *o = *x;
     }
 }
+
+articulated::chain! {
+    /// A quaternion ball joint on a slider, with the derivatives of the dynamics.
+    pub chain Linearized {
+        gravity: [0.0, 0.0, -9.81];
+        outputs: [inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse];
+        body carriage { mass: 3.0, com: [0.1, 0.0, 0.05], inertia: diag(0.02, 0.03, 0.04) }
+        body pole { mass: 1.0, com: [0.0, 0.0, 0.5], inertia: diag(0.08, 0.08, 0.002) }
+        joint slide: prismatic(x) { parent: world, child: carriage }
+        joint ball: spherical(quaternion) { parent: carriage, child: pole }
+    }
+}
+
+/// `∂τ/∂q`, `∂τ/∂v`, `∂q̈/∂q`, `∂q̈/∂v` and `M⁻¹` of `Linearized` (4 × 4 each, column-major,
+/// one after the other) at `(q, v, a)`, with `τ = a` for forward dynamics; returns 0 on
+/// success, 1 + the failing velocity index where `M(q)` is singular.
+#[no_mangle]
+pub extern "C" fn linearized_derivatives(
+    q: &[f64; 5],
+    v: &[f64; 4],
+    a: &[f64; 4],
+    out: &mut [f64; 80],
+) -> i32 {
+    let (q, v, a) = (SVector::from(*q), SVector::from(*v), SVector::from(*a));
+    let (dq, dv) = Linearized::inverse_dynamics_derivatives(&q, &v, &a);
+    let (fq, fv, minv) = match Linearized::forward_dynamics_derivatives(&q, &v, &a) {
+        Ok(d) => d,
+        Err(e) => return 1 + e.velocity as i32,
+    };
+    if let Err(e) = Linearized::mass_matrix_inverse(&q) {
+        return 1 + e.velocity as i32;
+    }
+    for (chunk, m) in out.chunks_mut(16).zip([dq, dv, fq, fv, minv]) {
+        chunk.copy_from_slice(m.as_slice());
+    }
+    0
+}

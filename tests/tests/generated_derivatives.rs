@@ -419,3 +419,87 @@ fn reference_humanoid_matches_pinocchio() {
     println!("humanoid (free flyer), reference against Pinocchio: {worst:.1e}");
     assert!(worst < PINOCCHIO_TOL, "humanoid: {worst:e}");
 }
+
+/// The two-link's derivatives in `f32`.
+#[derive(articulated::Chain)]
+#[chain(
+    file = "../models/two_link.chain",
+    scalar = f32,
+    outputs = [inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse]
+)]
+struct TwoLinkF32;
+
+/// The two-link's derivatives for any scalar.
+#[derive(articulated::Chain)]
+#[chain(
+    file = "../models/two_link.chain",
+    scalar = generic,
+    outputs = [inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse]
+)]
+struct TwoLinkGeneric;
+
+/// `f32` (to 1e-5 for `∂τ`, 1e-4 for forward dynamics' derivatives, relative to the largest
+/// entry) and generic over `f64` (1e-12) against the `f64` reference, on inputs exactly
+/// representable in `f32`.
+#[test]
+fn derivatives_in_every_scalar() {
+    let model = load_model(Path::new(articulated_models::TWO_LINK.chain), false).unwrap();
+    let r = Reference::new(&model).unwrap();
+    let to32 = |x: &[f64]| SVector::<f32, 6>::from_iterator(x.iter().map(|&v| v as f32));
+    let to64 = |x: &[f32]| x.iter().map(|&v| f64::from(v)).collect::<Vec<f64>>();
+    let (mut worst_tau32, mut worst_fd32, mut worst64) = (0.0f64, 0.0f64, 0.0f64);
+    for seed in 0..32 {
+        let (q, v, a) = random_state(&model, seed);
+        let (q32, v32, a32) = (to32(&q), to32(&v), to32(&a));
+        let tau32 = to32(r.inverse_dynamics(&q, &v, &a).unwrap().as_slice()).add_scalar(0.5);
+        let (q, v, a, tau) = (
+            to64(q32.as_slice()),
+            to64(v32.as_slice()),
+            to64(a32.as_slice()),
+            to64(tau32.as_slice()),
+        );
+        let (rq, rv) = r.inverse_dynamics_derivatives(&q, &v, &a).unwrap();
+        let [fq, fv, minv] = r.forward_dynamics_derivatives(&q, &v, &tau).unwrap();
+        let want = [rq, rv, fq, fv, minv].map(|m| m.as_slice().to_vec());
+
+        let (dq, dv) = TwoLinkF32::inverse_dynamics_derivatives(&q32, &v32, &a32);
+        let (gq, gv, gminv) = TwoLinkF32::forward_dynamics_derivatives(&q32, &v32, &tau32).unwrap();
+        let ours32 = [dq, dv, gq, gv, gminv].map(|m| to64(m.as_slice()));
+        for (k, (o, w)) in ours32.iter().zip(&want).enumerate() {
+            let e = rel_err(o, w);
+            if k < 2 {
+                worst_tau32 = worst_tau32.max(e);
+            } else {
+                worst_fd32 = worst_fd32.max(e);
+            }
+        }
+        let minv32 = TwoLinkF32::mass_matrix_inverse(&q32).unwrap();
+        worst_fd32 = worst_fd32.max(rel_err(&to64(minv32.as_slice()), &want[4]));
+
+        let (q64, v64) = (
+            SVector::<f64, 6>::from_column_slice(&q),
+            SVector::<f64, 6>::from_column_slice(&v),
+        );
+        let (a64, tau64) = (
+            SVector::<f64, 6>::from_column_slice(&a),
+            SVector::<f64, 6>::from_column_slice(&tau),
+        );
+        let (dq, dv) =
+            <TwoLinkGeneric as InverseDynamicsDerivatives<f64, 6, 6>>::inverse_dynamics_derivatives(
+                &q64, &v64, &a64,
+            );
+        let (gq, gv, gminv) = <TwoLinkGeneric as ForwardDynamicsDerivatives<f64, 6, 6>>::forward_dynamics_derivatives(&q64, &v64, &tau64).unwrap();
+        let minv64 =
+            <TwoLinkGeneric as MassMatrixInverse<f64, 6, 6>>::mass_matrix_inverse(&q64).unwrap();
+        for (o, w) in [dq, dv, gq, gv, gminv, minv64]
+            .iter()
+            .zip(want.iter().chain([&want[4]]))
+        {
+            worst64 = worst64.max(rel_err(o.as_slice(), w));
+        }
+    }
+    println!("two-link derivatives: f32 ∂τ {worst_tau32:.1e}, f32 forward {worst_fd32:.1e}, generic f64 {worst64:.1e}");
+    assert!(worst_tau32 < 1e-5, "f32 ∂τ: {worst_tau32:e}");
+    assert!(worst_fd32 < 1e-4, "f32 forward derivatives: {worst_fd32:e}");
+    assert!(worst64 < 1e-12, "generic f64: {worst64:e}");
+}
