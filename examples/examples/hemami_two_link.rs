@@ -19,7 +19,7 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
 use articulated::control::computed_torque::{computed_torque, hold};
-use articulated::control::linearize::linearize;
+use articulated::control::linearize::exact;
 use articulated::control::riccati::{lqr, spectral_abscissa};
 use articulated::control::state_feedback::{split_gain, state_feedback};
 use articulated::control::Controller;
@@ -39,7 +39,7 @@ use articulated_dynamics::random::Rng;
 #[chain(
     file = "../models/two_link.chain",
     outputs = [mass_matrix, gravity, inverse_dynamics, forward_dynamics, joint_wrenches,
-               joint_wrenches_bottom_up]
+               joint_wrenches_bottom_up, forward_dynamics_derivatives]
 )]
 struct TwoLink;
 
@@ -79,14 +79,12 @@ fn simulate<S: SecondOrder<f64, C6, C6>>(
     Ok(path)
 }
 
-/// The LQR gains about upright: `A`, `B` by central differences of the generated forward
-/// dynamics (exact derivatives are not generated yet), `Q = diag(100·I, 10·I)`, `R = 0.01·I`.
+/// The LQR gains about upright: `A`, `B` from the generated exact derivatives of forward
+/// dynamics (`forward_dynamics_derivatives`), `Q = diag(100·I, 10·I)`, `R = 0.01·I`.
 fn lqr_gains() -> Result<(M6, M6, f64, f64), String> {
     let upright = V6::zeros();
-    let lin = linearize(&V6::zeros(), &TwoLink::gravity(&upright), |d, v, tau| {
-        TwoLink::forward_dynamics(&(upright + d), v, tau)
-    })
-    .map_err(|e| format!("linearization: {e}"))?;
+    let lin = exact::<TwoLink, 6, 6>(&upright, &V6::zeros(), &TwoLink::gravity(&upright))
+        .map_err(|e| format!("linearization: {e}"))?;
     let mut q = DMatrix::<f64>::zeros(12, 12);
     for i in 0..6 {
         q[(i, i)] = 100.0;

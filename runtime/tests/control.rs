@@ -3,7 +3,7 @@
 //! LQR and by computed torque.
 
 use articulated::control::computed_torque::{computed_torque, hold};
-use articulated::control::linearize::{linearize, linearize_dyn, LinearizeError};
+use articulated::control::linearize::{exact, linearize, linearize_dyn, LinearizeError};
 use articulated::control::riccati::{care, lqr, spectral_abscissa, RiccatiError};
 use articulated::control::state_feedback::{split_gain, state_feedback};
 use articulated::control::tangent::{difference, retract};
@@ -425,4 +425,45 @@ fn controllers_check_the_coordinates() {
     assert!(state_feedback(TwoLink::COORDINATES, zero, zero, zero, m, m).is_err());
     assert!(computed_torque(TwoLink::COORDINATES, m, m, hold(zero), |_, _, _| zero).is_err());
     assert!(split_gain::<6>(&DMatrix::zeros(6, 11)).is_none());
+}
+
+articulated::chain! {
+    /// A pole on a quaternion ball joint on a slider, with its exact derivatives.
+    chain BallPole {
+        gravity: [0.0, 0.0, -9.81];
+        outputs: [forward_dynamics, forward_dynamics_derivatives];
+        body carriage { mass: 3.0, com: [0.1, 0.0, 0.05], inertia: diag(0.02, 0.03, 0.04) }
+        body pole { mass: 1.0, com: [0.02, 0.0, 0.5], inertia: diag(0.08, 0.075, 0.006) }
+        joint slide: prismatic(x) { parent: world, child: carriage }
+        joint ball: spherical(quaternion) { parent: carriage, child: pole }
+    }
+}
+
+/// `exact` against central differences through the runtime's retraction, away from rest (a
+/// tilted, spinning pole, so every block of `∂q̈/∂(δ, v)` is non-zero): the same `A`, `B` to
+/// the differences' accuracy.
+#[test]
+fn exact_linearization_matches_central_differences_on_a_quaternion_joint() {
+    let tilt = [0.9f64, 0.2, -0.3, 0.25];
+    let n = tilt.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let q0 = SVector::<f64, 5>::from([0.4, tilt[0] / n, tilt[1] / n, tilt[2] / n, tilt[3] / n]);
+    let v0 = SVector::<f64, 4>::from([0.3, 1.5, -0.7, 2.0]);
+    let tau0 = SVector::<f64, 4>::from([1.0, 0.5, -0.2, 0.1]);
+    let lin = exact::<BallPole, 5, 4>(&q0, &v0, &tau0).unwrap();
+    let fd = linearize(&v0, &tau0, |d: &SVector<f64, 4>, v, tau| {
+        let mut q = q0;
+        retract(
+            BallPole::COORDINATES,
+            q0.as_slice(),
+            d.as_slice(),
+            q.as_mut_slice(),
+        );
+        BallPole::forward_dynamics(&q, v, tau)
+    })
+    .unwrap();
+    let scale = lin.a.amax().max(lin.b.amax());
+    let off = (&lin.a - &fd.a).amax().max((&lin.b - &fd.b).amax());
+    assert!(off < 1e-7 * scale, "{off:e} of {scale:e}");
+    // Not trivially equal: the position block is there.
+    assert!(lin.a.view((4, 0), (4, 4)).amax() > 1e-2 * scale);
 }

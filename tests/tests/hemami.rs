@@ -6,7 +6,7 @@
 use std::f64::consts::PI;
 
 use articulated::control::computed_torque::{computed_torque, hold};
-use articulated::control::linearize::linearize;
+use articulated::control::linearize::{exact, linearize};
 use articulated::control::riccati::lqr;
 use articulated::control::state_feedback::{split_gain, state_feedback};
 use articulated::control::Controller;
@@ -21,22 +21,31 @@ use articulated::trajectory::Trajectory;
 #[derive(Chain)]
 #[chain(
     file = "../models/two_link.chain",
-    outputs = [gravity, inverse_dynamics, forward_dynamics, joint_wrenches, joint_wrenches_bottom_up]
+    outputs = [
+        gravity, inverse_dynamics, forward_dynamics, joint_wrenches, joint_wrenches_bottom_up,
+        forward_dynamics_derivatives
+    ]
 )]
 struct TwoLink;
 
 type V6 = SVector<f64, 6>;
 type M6 = SMatrix<f64, 6, 6>;
 
-/// The LQR gains about upright (`Q = diag(100·I, 10·I)`, `R = 0.01·I`), on a linearization by
-/// central differences.
+/// The LQR gains about upright (`Q = diag(100·I, 10·I)`, `R = 0.01·I`), on the linearization
+/// from the generated exact derivatives, which central differences of the generated forward
+/// dynamics confirm (to their own accuracy, 1e-7).
 fn lqr_gains() -> (M6, M6) {
-    let lin = linearize(
-        &V6::zeros(),
-        &TwoLink::gravity(&V6::zeros()),
-        TwoLink::forward_dynamics,
-    )
-    .unwrap();
+    let (zero, g) = (V6::zeros(), TwoLink::gravity(&V6::zeros()));
+    let lin = exact::<TwoLink, 6, 6>(&zero, &zero, &g).unwrap();
+    let by_differences = linearize(&zero, &g, TwoLink::forward_dynamics).unwrap();
+    let scale = lin.a.amax().max(lin.b.amax());
+    let off = (&lin.a - &by_differences.a)
+        .amax()
+        .max((&lin.b - &by_differences.b).amax());
+    assert!(
+        off < 1e-7 * scale,
+        "exact against central differences: {off:e} of {scale:e}"
+    );
     let q = DMatrix::from_diagonal(&articulated::nalgebra::DVector::from_fn(12, |i, _| {
         if i < 6 {
             100.0

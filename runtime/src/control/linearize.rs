@@ -18,12 +18,16 @@
 //! correct digits on smooth dynamics, exact up to rounding on a linear system. Each `h_j` is
 //! rounded so that `x_j ± h_j` are exactly representable (so the divisor is the true step).
 //!
-//! These are finite differences: **they will be replaced by exact derivatives** when the
-//! generator emits `forward_dynamics_derivatives` (planned in the open issue on generated derivatives).
+//! [`exact`] builds the same `A` and `B` from a generated chain's exact derivatives
+//! (`forward_dynamics_derivatives`: `∂q̈/∂q` along the same tangent, `∂q̈/∂v`, `M⁻¹`), with no
+//! step to choose and no truncation error; prefer it wherever the chain generates them, and keep
+//! [`linearize`] for dynamics given as a closure (a controlled system, a model read at run time).
 
 use core::fmt;
 
 use nalgebra::{DMatrix, SVector};
+
+use crate::{ForwardDynamicsDerivatives, SingularMassMatrix};
 
 /// Why a linearization failed.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -185,4 +189,51 @@ where
         out.copy_from_slice(y.as_slice());
         Ok(())
     })
+}
+
+/// `A` and `B` about `(q, v, τ)` from the exact derivatives a generated chain `C` emits with
+/// `forward_dynamics_derivatives` in its `outputs`: `A = [[0, I], [∂q̈/∂q, ∂q̈/∂v]]`,
+/// `B = [[0], [M⁻¹]]`, in the state `x = (δ, v)` of the [module docs](self) (`∂q̈/∂q` is taken
+/// along the same tangent `δ`, so the result is what [`linearize`] approximates).
+///
+/// ```
+/// use articulated::control::linearize::exact;
+/// use articulated::nalgebra::SVector;
+///
+/// articulated::chain! {
+///     chain Pendulum {
+///         outputs: [forward_dynamics_derivatives];
+///         body bob { mass: 1.0, com: [0.0, 0.0, 1.0], inertia: diag(0.01, 0.01, 0.01) }
+///         joint pivot: revolute(y) { parent: world, child: bob }
+///     }
+/// }
+/// // Upright: v̇ = (m g l·δ + τ)/(I_yy + m l²), exactly.
+/// let zero = SVector::<f64, 1>::zeros();
+/// let lin = exact::<Pendulum, 1, 1>(&zero, &zero, &zero)?;
+/// assert!((lin.a[(1, 0)] - 9.81 / 1.01).abs() < 1e-14 && (lin.b[(1, 0)] - 1.0 / 1.01).abs() < 1e-15);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// [`SingularMassMatrix`] where `M(q)` is singular or `q̈` is not finite.
+pub fn exact<C, const NQ: usize, const NV: usize>(
+    q: &SVector<f64, NQ>,
+    v: &SVector<f64, NV>,
+    tau: &SVector<f64, NV>,
+) -> Result<Linearization, SingularMassMatrix>
+where
+    C: ForwardDynamicsDerivatives<f64, NQ, NV>,
+{
+    let (dq, dv, minv) = C::forward_dynamics_derivatives(q, v, tau)?;
+    let mut a = DMatrix::zeros(2 * NV, 2 * NV);
+    let mut b = DMatrix::zeros(2 * NV, NV);
+    for i in 0..NV {
+        a[(i, NV + i)] = 1.0;
+        for j in 0..NV {
+            a[(NV + i, j)] = dq[(i, j)];
+            a[(NV + i, NV + j)] = dv[(i, j)];
+            b[(NV + i, j)] = minv[(i, j)];
+        }
+    }
+    Ok(Linearization { a, b })
 }

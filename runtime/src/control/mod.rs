@@ -6,17 +6,16 @@
 //! - [`computed_torque`]: `τ = ID(q, v, a_ref + Kp·(q_ref ⊖ q) + Kd·(v_ref − v))` as a
 //!   controller closure `(t, q, v) ↦ τ`, no allocation.
 //! - [`state_feedback`]: `τ = τ_eq − K·(x ⊖ x_eq)`, the LQR law, no allocation.
-//! - [`linearize`] (`alloc`): `A`, `B` by central differences of forward dynamics.
+//! - [`linearize`] (`alloc`): `A`, `B` from a generated chain's exact derivatives
+//!   (`linearize::exact`), or by central differences of any forward dynamics.
 //! - [`riccati`] (`alloc`): the continuous-time algebraic Riccati equation and the LQR gain.
 //!
-//! Designing a balance controller for a generated chain `C` upright at `q_eq` (`v_eq = 0`):
+//! Designing a balance controller for a generated chain `C` upright at `q_eq` (`v_eq = 0`),
+//! generated with `forward_dynamics_derivatives` among its outputs:
 //!
 //! ```text
 //! let tau_eq = C::gravity(&q_eq);
-//! let lin = linearize(&v_eq, &tau_eq, |d, v, tau| {
-//!     let mut q = q_eq; retract(C::COORDINATES, q_eq.as_slice(), d.as_slice(), q.as_mut_slice());
-//!     C::forward_dynamics(&q, v, tau)
-//! })?;
+//! let lin = linearize::exact::<C, NQ, NV>(&q_eq, &v_eq, &tau_eq)?;
 //! let design = lqr(&lin.a, &lin.b, &q_weight, &r_weight)?;
 //! let (kq, kv) = split_gain::<NV>(&design.k).unwrap();
 //! let controller = state_feedback(C::COORDINATES, q_eq, v_eq, tau_eq, kq, kv)?;
