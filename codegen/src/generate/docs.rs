@@ -188,18 +188,14 @@ fn formulation(traced: &Traced) -> String {
              Echeandia & Wensing 2021's factorization), the composite inertias carried as in {}",
             crba_name(specialized, false)
         ),
-        (Output::InverseDynamicsDerivatives, _) => format!(
-            "By forward-mode differentiation of {}, one direction per coordinate, traced \
-             (`articulated_dynamics::reference::derivatives`): the values computed once, the \
-             derivatives that the tree makes zero dropped",
-            rnea_name(specialized)
-        ),
+        (Output::InverseDynamicsDerivatives, _) => format!("By {}", rnea_derivatives_name(traced)),
         (Output::ForwardDynamicsDerivatives, _) => format!(
             "As `−M⁻¹·∂τ/∂(q, v)` at `a = q̈` (Carpentier & Mansard 2018): `M` by {}, `N·q̇ + g` \
              by {}, `q̈` and every product with `M⁻¹` by one sparse `LᵀDL` of `M` (RBDA §6.5), \
-             `∂τ` by forward-mode differentiation of the same Newton–Euler recursion",
+             `∂τ` by {}",
             crba_name(specialized, root_frame),
-            rnea_name(specialized)
+            rnea_name(specialized),
+            rnea_derivatives_name(traced)
         ),
         (Output::MassMatrixInverse, _) => format!(
             "By `M` from {} and one solve of its sparse `LᵀDL` (RBDA §6.5) per column",
@@ -238,6 +234,23 @@ fn formulation(traced: &Traced) -> String {
         )
     };
     format!("{how}{regrouped}; sums regrouped so that late terms are added last. {traced}")
+}
+
+/// How `∂τ/∂(q, v)` is computed in a derivative output.
+fn rnea_derivatives_name(traced: &Traced) -> String {
+    if traced.variant.analytic {
+        "the analytical recursion of Carpentier & Mansard (RSS 2018), every quantity in the world \
+         frame, three composites per body and one or two dot products per entry \
+         (`articulated_dynamics::reference::derivatives::inverse_dynamics_derivatives_analytic`)"
+            .to_string()
+    } else {
+        format!(
+            "forward-mode differentiation of {}, one direction per coordinate, traced \
+             (`articulated_dynamics::reference::derivatives`): the values computed once, the \
+             derivatives that the tree makes zero dropped",
+            rnea_name(traced.variant.formulation.specialized())
+        )
+    }
 }
 
 fn crba_name(specialized: bool, root_frame: bool) -> &'static str {

@@ -15,8 +15,8 @@
 
 use articulated_dynamics::model::Model;
 use articulated_dynamics::reference::derivatives::{
-    forward_dynamics_derivatives_with, inverse_dynamics_derivatives_with, mass_matrix_inverse_from,
-    Dual, DualRnea,
+    forward_dynamics_derivatives_with, inverse_dynamics_derivatives_analytic,
+    inverse_dynamics_derivatives_with, mass_matrix_inverse_from, Dual, DualRnea,
 };
 use articulated_dynamics::reference::{self, Tree};
 use articulated_dynamics::Scalar;
@@ -27,24 +27,41 @@ use super::{Formulation, Pivots, Traced, Variant};
 use crate::options::Output;
 use crate::sym::{self, Sym, Var};
 
-/// The variants of a derivative output.
+/// The variants of a derivative output: for `∂τ`, forward-mode duals through each Newton–Euler
+/// formulation and the analytical recursion; for forward dynamics, each of those with each CRBA
+/// formulation for `M`; for `M⁻¹`, each CRBA formulation. Each on the tree as described and
+/// regrouped.
 pub(crate) fn variants(output: Output) -> Vec<Variant> {
-    let formulations: &[Formulation] = match output {
-        Output::InverseDynamicsDerivatives => &[Formulation::Reference, Formulation::Specialized],
-        _ => &[
-            Formulation::Reference,
-            Formulation::Specialized,
-            Formulation::SpecializedRootFrame,
+    let crbas = [
+        Formulation::Reference,
+        Formulation::Specialized,
+        Formulation::SpecializedRootFrame,
+    ];
+    let methods: &[(Formulation, bool)] = match output {
+        Output::InverseDynamicsDerivatives => &[
+            (Formulation::Reference, false),
+            (Formulation::Specialized, false),
+            (Formulation::Reference, true),
         ],
+        Output::ForwardDynamicsDerivatives => &[
+            (Formulation::Reference, false),
+            (Formulation::Specialized, false),
+            (Formulation::SpecializedRootFrame, false),
+            (Formulation::Reference, true),
+            (Formulation::Specialized, true),
+            (Formulation::SpecializedRootFrame, true),
+        ],
+        _ => &[(crbas[0], false), (crbas[1], false), (crbas[2], false)],
     };
     let method = (output != Output::InverseDynamicsDerivatives).then_some(FdMethod::CrbaLtdl);
     [false, true]
         .into_iter()
         .flat_map(|regrouped| {
-            formulations.iter().map(move |&formulation| Variant {
+            methods.iter().map(move |&(formulation, analytic)| Variant {
                 regrouped,
                 formulation,
                 method,
+                analytic,
             })
         })
         .collect()
@@ -52,6 +69,21 @@ pub(crate) fn variants(output: Output) -> Vec<Variant> {
 
 /// Inverse dynamics with gravity on duals, by a formulation.
 struct Rnea(Formulation);
+
+/// `(∂τ/∂q, ∂τ/∂v)` by the variant's method.
+fn rnea_derivatives(
+    variant: Variant,
+    tree: &Tree<Sym>,
+    q: &[Sym],
+    v: &[Sym],
+    a: &[Sym],
+) -> (Vec<Sym>, Vec<Sym>) {
+    if variant.analytic {
+        inverse_dynamics_derivatives_analytic(tree, q, v, a)
+    } else {
+        inverse_dynamics_derivatives_with(tree, q, v, a, &Rnea(variant.formulation))
+    }
+}
 
 impl DualRnea<Sym> for Rnea {
     fn rnea(
@@ -88,7 +120,7 @@ pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> 
         match output {
             Output::InverseDynamicsDerivatives => {
                 let a = inputs(nv, Var::A);
-                let (dq, dv) = inverse_dynamics_derivatives_with(&tree, &q, &v, &a, &Rnea(form));
+                let (dq, dv) = rnea_derivatives(variant, &tree, &q, &v, &a);
                 let mut values = labelled("dtau_dq", dq, nv);
                 values.extend(labelled("dtau_dv", dv, nv));
                 (values, None)
@@ -98,7 +130,9 @@ pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> 
                 let zero = vec![Sym::zero(); nv];
                 let m = mass_matrix(form, &tree, &q);
                 let h = rnea(form, &tree, &q, &v, &zero, true);
-                let d = forward_dynamics_derivatives_with(&tree, &q, &v, &tau, m, &h, &Rnea(form));
+                let d = forward_dynamics_derivatives_with(&tau, m, &h, |qdd| {
+                    rnea_derivatives(variant, &tree, &q, &v, qdd)
+                });
                 let mut values: Vec<Sym> = d
                     .qdd
                     .into_iter()

@@ -45,6 +45,7 @@ pub(crate) fn variants() -> impl Iterator<Item = Variant> {
         regrouped,
         formulation: Formulation::Reference,
         method: Some(FdMethod::Aba),
+        analytic: false,
     });
     let ltdl = [false, true].into_iter().flat_map(|regrouped| {
         [
@@ -56,6 +57,7 @@ pub(crate) fn variants() -> impl Iterator<Item = Variant> {
             regrouped,
             formulation,
             method: Some(FdMethod::CrbaLtdl),
+            analytic: false,
         })
     });
     aba.into_iter().chain(ltdl)

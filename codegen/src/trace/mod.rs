@@ -74,6 +74,9 @@ pub struct Variant {
     pub formulation: Formulation,
     /// Forward dynamics only: ABA or CRBA + `LᵀDL`.
     pub method: Option<FdMethod>,
+    /// Derivatives only: `∂τ` by the analytical recursion of Carpentier & Mansard (world frame)
+    /// instead of forward-mode duals through the Newton–Euler `formulation`.
+    pub analytic: bool,
 }
 
 impl fmt::Display for Variant {
@@ -91,6 +94,9 @@ impl fmt::Display for Variant {
                     "specialized recursions, M's off-diagonal entries in the root frame"
                 }
             });
+        }
+        if self.analytic {
+            parts.push("analytical derivatives");
         }
         if self.regrouped {
             parts.push("regrouped inertias");
@@ -251,6 +257,7 @@ pub fn trace(model: &Model, output: Output) -> Traced {
                     regrouped,
                     formulation,
                     method: None,
+                    analytic: false,
                 })
             })
             .map(|variant| trace_variant(model, output, variant))

@@ -35,7 +35,7 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 use super::ltdl::Ltdl;
 use super::tree::{Node, NodeJoint, Tree};
 use crate::scalar::Scalar;
-use crate::spatial::{Inertia, Mat3, Transform, Vec3};
+use crate::spatial::{Force, Inertia, Mat3, Motion, Transform, Vec3};
 
 /// What a [`Dual`]'s derivative is taken with respect to, for the labels of generated code
 /// (`trunk_w_x_dq3`): nothing yet, tangent coordinate `k` of the configuration, or velocity `k`.
@@ -387,23 +387,21 @@ pub struct FdDerivatives<S> {
 }
 
 /// Forward dynamics and its derivatives at `(q, v, τ)` (see the [module docs](self)): `m` is
-/// `M(q)` and `h` is `N·q̇ + g` (computed by the caller's formulation), `rnea` inverse dynamics
-/// on duals. `q̈` is solved with `M`'s factorization, the derivatives are `−M⁻¹·∂τ/∂(q, v)` at
-/// `a = q̈`, each column solved with the same factorization.
+/// `M(q)` and `h` is `N·q̇ + g` (computed by the caller's formulation), and `dtau(a)` gives
+/// `(∂τ/∂q, ∂τ/∂v)` of inverse dynamics at `(q, v, a)`. `q̈` is solved with `M`'s
+/// factorization, the derivatives are `−M⁻¹·∂τ/∂(q, v)` at `a = q̈`, each column solved with the
+/// same factorization.
 pub fn forward_dynamics_derivatives_with<S: Scalar>(
-    tree: &Tree<S>,
-    q: &[S],
-    v: &[S],
     tau: &[S],
     m: Vec<S>,
     h: &[S],
-    rnea: &impl DualRnea<S>,
+    dtau: impl FnOnce(&[S]) -> (Vec<S>, Vec<S>),
 ) -> FdDerivatives<S> {
-    let nv = tree.nv;
+    let nv = tau.len();
     let (ltdl, pivots) = Ltdl::new(m, nv);
     let b: Vec<S> = tau.iter().zip(h).map(|(&t, &h)| t - h).collect();
     let qdd = ltdl.solve(b);
-    let (dtau_dq, dtau_dv) = inverse_dynamics_derivatives_with(tree, q, v, &qdd, rnea);
+    let (dtau_dq, dtau_dv) = dtau(&qdd);
     FdDerivatives {
         dqdd_dq: solve_columns(&ltdl, &dtau_dq, true),
         dqdd_dv: solve_columns(&ltdl, &dtau_dv, true),
@@ -423,5 +421,150 @@ pub fn forward_dynamics_derivatives<S: Scalar>(
     let zero = vec![S::zero(); tree.nv];
     let m = super::crba(tree, q);
     let h = super::rnea(tree, q, v, &zero, true);
-    forward_dynamics_derivatives_with(tree, q, v, tau, m, &h, &reference_rnea::<S>)
+    forward_dynamics_derivatives_with(tau, m, &h, |qdd| {
+        inverse_dynamics_derivatives(tree, q, v, qdd)
+    })
+}
+
+/// `(∂τ/∂q, ∂τ/∂v)` as [`inverse_dynamics_derivatives`], by the analytical recursion of
+/// Carpentier & Mansard (RSS 2018, Algorithm 1) instead of duals: every quantity in the world
+/// frame, where moving joint `j` changes a quantity of a body below it by a cross product with
+/// the joint's world axis `s_j`. A forward pass gives, per column, `s` and the partial
+/// derivatives of the joint's own motion (`∂v/∂q = v_λ × s`, `∂a/∂q = a_λ × s + v_λ × ∂v/∂q`,
+/// `∂a/∂v = v × s + ∂v/∂q`, gravity entering as the base acceleration); a backward pass carries
+/// three composites per node (inertia `I_c`, its rate `İ_c = Σ v ×* I − I·v×`, momentum `h_c`,
+/// and the net force `f_c`) and fills each entry with one or two dot products:
+/// - below the diagonal (row `k` of a joint below column `j`'s):
+///   `s_kᵀ·(I_c,k·∂a_j + B_k·∂v_j)`, `B·x = İ_c·x + x ×* h_c`;
+/// - on and above it (row `j`, column `k` at or below): `s_jᵀ·∂f_k`, with
+///   `∂f_k/∂q = B_k·∂v_k/∂q + I_c,k·∂a_k/∂q (+ s_k ×* f_c,k` for the rows of the joints above `k`),
+///   `∂f_k/∂v = B_k·s_k + I_c,k·∂a_k/∂v`.
+///
+/// A second formulation, from other equations than the forward-mode one: each checks the other
+/// (`dynamics/tests/derivatives.rs`), and the generator traces both and keeps the cheaper.
+pub fn inverse_dynamics_derivatives_analytic<T: Scalar>(
+    tree: &Tree<T>,
+    q: &[T],
+    v: &[T],
+    a: &[T],
+) -> (Vec<T>, Vec<T>) {
+    let nv = tree.nv;
+    let nodes = &tree.nodes;
+    let x_up = tree.x_up(q);
+    let x0 = super::centroidal::world_transforms(tree, &x_up);
+    let base = tree.base_acceleration(true);
+    // World-frame velocity and acceleration (gravity as the base's) of every node.
+    let (mut ov, mut oa): (Vec<Motion<T>>, Vec<Motion<T>>) = (Vec::new(), Vec::new());
+    let (mut vel, mut acc): (Vec<Motion<T>>, Vec<Motion<T>>) = (Vec::new(), Vec::new());
+    for (i, node) in nodes.iter().enumerate() {
+        let v_j = node.s_mul(v);
+        let (v_i, a_i) = match node.parent {
+            None => (v_j, x_up[i].apply_motion(base) + node.s_mul(a)),
+            Some(p) => {
+                let v_i = x_up[i].apply_motion(vel[p]) + v_j;
+                let a_i = x_up[i].apply_motion(acc[p]) + node.s_mul(a) + v_i.cross_motion(v_j);
+                (v_i, a_i)
+            }
+        };
+        let n = &node.name;
+        vel.push(v_i.label(format_args!("{n}_w"), format_args!("{n}_v")));
+        acc.push(a_i.label(format_args!("{n}_dw"), format_args!("{n}_dv")));
+        ov.push(
+            x0[i]
+                .inv_apply_motion(v_i)
+                .label(format_args!("{n}_w0"), format_args!("{n}_v0")),
+        );
+        oa.push(
+            x0[i]
+                .inv_apply_motion(a_i)
+                .label(format_args!("{n}_dw0"), format_args!("{n}_dv0")),
+        );
+    }
+    // Per column: s, ∂v/∂q, ∂a/∂q, ∂a/∂v (world frame).
+    let mut s = alloc::vec![Motion::zero(); nv];
+    let mut dv_dq = alloc::vec![Motion::zero(); nv];
+    let mut da_dq = alloc::vec![Motion::zero(); nv];
+    let mut da_dv = alloc::vec![Motion::zero(); nv];
+    for (i, node) in nodes.iter().enumerate() {
+        let (v_p, a_p) = match node.parent {
+            None => (Motion::zero(), base),
+            Some(p) => (ov[p], oa[p]),
+        };
+        for c in 0..node.nv() {
+            let k = node.v_at + c;
+            let n = alloc::format!("{}_s{c}", node.name);
+            s[k] = x0[i].inv_apply_motion(node.s_col(c));
+            dv_dq[k] = v_p.cross_motion(s[k]);
+            da_dq[k] = (a_p.cross_motion(s[k]) + v_p.cross_motion(dv_dq[k]))
+                .label(format_args!("{n}_da_dq_w"), format_args!("{n}_da_dq_v"));
+            da_dv[k] = (ov[i].cross_motion(s[k]) + dv_dq[k])
+                .label(format_args!("{n}_da_dv_w"), format_args!("{n}_da_dv_v"));
+        }
+    }
+    // Composites, from the leaves in.
+    let mut ic: Vec<Inertia<T>> = Vec::new();
+    let mut idc: Vec<Inertia<T>> = Vec::new();
+    let mut hc: Vec<Force<T>> = Vec::new();
+    let mut fc: Vec<Force<T>> = Vec::new();
+    for (i, node) in nodes.iter().enumerate() {
+        let oi = node.inertia.to_parent(&x0[i]);
+        let h = oi.mul_motion(ov[i]);
+        ic.push(oi);
+        idc.push(super::centroidal::inertia_rate(&oi, ov[i]));
+        hc.push(h);
+        fc.push(oi.mul_motion(oa[i]) + ov[i].cross_force(h));
+    }
+    // The last node of each subtree (depth-first order: a subtree is contiguous).
+    let mut last: Vec<usize> = (0..nodes.len()).collect();
+    for i in (0..nodes.len()).rev() {
+        if let Some(p) = nodes[i].parent {
+            last[p] = last[p].max(last[i]);
+        }
+    }
+    let mut df_da = alloc::vec![Force::zero(); nv];
+    let mut y = alloc::vec![Force::zero(); nv];
+    let mut df_dq = alloc::vec![Force::zero(); nv];
+    let mut df_dv = alloc::vec![Force::zero(); nv];
+    let mut dq = alloc::vec![T::zero(); nv * nv];
+    let mut dvm = alloc::vec![T::zero(); nv * nv];
+    for (i, node) in nodes.iter().enumerate().rev() {
+        let n = &node.name;
+        ic[i] = ic[i].label(format_args!("{n}_ic0"));
+        idc[i] = idc[i].label(format_args!("{n}_idc0"));
+        hc[i] = hc[i].label(format_args!("{n}_hc0_n"), format_args!("{n}_hc0_f"));
+        fc[i] = fc[i].label(format_args!("{n}_fc0_n"), format_args!("{n}_fc0_f"));
+        let (own, end) = (
+            node.v_at..node.v_at + node.nv(),
+            nodes[last[i]].v_at + nodes[last[i]].nv(),
+        );
+        let b = |x: Motion<T>| idc[i].mul_motion(x) + x.cross_force(hc[i]);
+        for k in own.clone() {
+            df_da[k] = ic[i].mul_motion(s[k]);
+            y[k] = idc[i].mul_motion(s[k]) - s[k].cross_force(hc[i]);
+            df_dq[k] = b(dv_dq[k]) + ic[i].mul_motion(da_dq[k]);
+            df_dv[k] = b(s[k]) + ic[i].mul_motion(da_dv[k]);
+        }
+        for j in own.clone() {
+            // Rows below: the joints in this subtree under this node.
+            for k in own.end..end {
+                dq[k * nv + j] = da_dq[j].dot(df_da[k]) + dv_dq[j].dot(y[k]);
+                dvm[k * nv + j] = da_dv[j].dot(df_da[k]) + s[j].dot(y[k]);
+            }
+            // This joint's rows, from its own columns down.
+            for k in own.start..end {
+                dq[j * nv + k] = s[j].dot(df_dq[k]);
+                dvm[j * nv + k] = s[j].dot(df_dv[k]);
+            }
+        }
+        for k in own {
+            df_dq[k] = df_dq[k] + s[k].cross_force(fc[i]);
+        }
+        if let Some(p) = node.parent {
+            ic[p] = ic[p].add(&ic[i]);
+            idc[p] = idc[p].add(&idc[i]);
+            hc[p] = hc[p] + hc[i];
+            fc[p] = fc[p] + fc[i];
+        }
+    }
+    (dq, dvm)
 }
