@@ -1,6 +1,6 @@
 //! The generated derivative outputs (`inverse_dynamics_derivatives`,
 //! `forward_dynamics_derivatives`, `mass_matrix_inverse`) of every small shipped model, of a
-//! free-floating quaternion chain and of a chain with a quaternion ball joint, each checked
+//! free-floating quaternion chain and of a chain with a quaternion ball joint (`data/ball.chain`), each checked
 //! three ways on random states:
 //! - against central finite differences of the generated values (`inverse_dynamics`,
 //!   `forward_dynamics`), the configuration moved along the runtime's own retraction
@@ -74,28 +74,7 @@ with_derivatives!(Arm7, "../models/arm7.chain");
 with_derivatives!(TreeModel, "../models/tree.chain");
 with_derivatives!(FallingCat, "../models/falling_cat.chain");
 
-articulated::chain! {
-    /// A quaternion ball joint between a slider and a revolute joint: every joint kind whose
-    /// tangent differs from its coordinates, and a prismatic one.
-    chain Ball {
-        outputs: [
-            inverse_dynamics, forward_dynamics, mass_matrix, inverse_dynamics_derivatives,
-            forward_dynamics_derivatives, mass_matrix_inverse
-        ];
-        body carriage { mass: 3.0, com: [0.1, 0.0, 0.05], inertia: diag(0.02, 0.03, 0.04) }
-        body upper {
-            mass: 2.0,
-            com: [0.02, -0.01, 0.3],
-            inertia: [[0.05, 0.001, 0.002], [0.001, 0.045, 0.003], [0.002, 0.003, 0.012]],
-        }
-        body lower { mass: 1.0, com: [0.0, 0.05, 0.2], inertia: diag(0.02, 0.02, 0.004) }
-        joint slide: prismatic(x) { parent: world, child: carriage }
-        joint shoulder: spherical(quaternion) {
-            parent: carriage, child: upper, xyz: [0.0, 0.1, 0.2], rpy: [0.3, 0.0, 0.1]
-        }
-        joint elbow: revolute(y) { parent: upper, child: lower, xyz: [0.0, 0.0, 0.6] }
-    }
-}
+with_derivatives!(Ball, "data/ball.chain");
 
 /// The step of a central difference at `x`: `ε^(1/3)·max(1, |x|)`, rounded so that `x ± h`
 /// are exact.
@@ -306,28 +285,8 @@ fn shipped_models() {
 #[test]
 fn quaternion_joints() {
     check::<FallingCat, { FallingCat::NQ }, { FallingCat::NV }>("../models/falling_cat.chain", 16);
-    let model_file = std::env::temp_dir().join("articulated-ball.chain");
-    // The chain above, as a file the loader reads for the reference.
-    std::fs::write(&model_file, BALL).unwrap();
-    check::<Ball, { Ball::NQ }, { Ball::NV }>(model_file.to_str().unwrap(), 16);
+    check::<Ball, { Ball::NQ }, { Ball::NV }>("data/ball.chain", 16);
 }
-
-/// `Ball` as a `.chain` file, for the reference.
-const BALL: &str = r#"chain Ball {
-    body carriage { mass: 3.0, com: [0.1, 0.0, 0.05], inertia: diag(0.02, 0.03, 0.04) }
-    body upper {
-        mass: 2.0,
-        com: [0.02, -0.01, 0.3],
-        inertia: [[0.05, 0.001, 0.002], [0.001, 0.045, 0.003], [0.002, 0.003, 0.012]],
-    }
-    body lower { mass: 1.0, com: [0.0, 0.05, 0.2], inertia: diag(0.02, 0.02, 0.004) }
-    joint slide: prismatic(x) { parent: world, child: carriage }
-    joint shoulder: spherical(quaternion) {
-        parent: carriage, child: upper, xyz: [0.0, 0.1, 0.2], rpy: [0.3, 0.0, 0.1]
-    }
-    joint elbow: revolute(y) { parent: upper, child: lower, xyz: [0.0, 0.0, 0.6] }
-}
-"#;
 
 /// Pinocchio's derivatives: the generated arm on its fixed and floating (Euler) bases.
 #[derive(articulated::Chain)]
