@@ -164,3 +164,29 @@ proptest! {
         prop_assert!(eq < 1e-11 && ev < 1e-11, "seed {seed}, n {n}: dq {eq:e}, dv {ev:e}");
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// Where `v = q̇` (no quaternion joint), τ's velocity terms are `Σ Γ_ijk·v_j·v_k` with the
+    /// Christoffel symbols symmetric in `j, k`, so `∂τ/∂v = 2·N` (the generator's variant
+    /// `coriolis` rests on it). Trees with a quaternion joint are skipped: there `v ≠ q̇`.
+    #[test]
+    fn velocity_derivatives_are_twice_the_coriolis_matrix_where_v_is_q_dot(
+        seed in any::<u64>(),
+        n in 1usize..=8,
+    ) {
+        use articulated_dynamics::model::JointKind;
+        let model = random_model(seed, n);
+        let quaternion = model.joints.iter().any(|j| {
+            matches!(j.kind, JointKind::SphericalQuaternion | JointKind::FreeQuaternion)
+        });
+        prop_assume!(!quaternion);
+        let r = Reference::new(&model).unwrap();
+        let (q, v, a) = random_state(&model, seed);
+        let (_, dv) = r.inverse_dynamics_derivatives(&q, &v, &a).unwrap();
+        let twice_n = r.coriolis_matrix(&q, &v).unwrap() * 2.0;
+        let e = rel(&twice_n, &dv);
+        prop_assert!(e < 1e-11, "seed {seed}, n {n}: {e:e}");
+    }
+}

@@ -238,6 +238,20 @@ fn formulation(traced: &Traced) -> String {
 
 /// How `∂τ/∂(q, v)` is computed in a derivative output.
 fn rnea_derivatives_name(traced: &Traced) -> String {
+    let how = rnea_derivatives_method(traced);
+    if traced.variant.coriolis {
+        format!(
+            "{how}, and `∂τ/∂v` as `2·N(q, v)`, twice the Coriolis matrix by three composites \
+             per body (`τ`'s velocity terms are `Σ Γ_ijk·v_j·v_k` with the Christoffel symbols \
+             symmetric in `j, k`, where `v = q̇`)"
+        )
+    } else {
+        how
+    }
+}
+
+/// How `∂τ/∂q` (and `∂τ/∂v` unless it is `2·N`) is computed.
+fn rnea_derivatives_method(traced: &Traced) -> String {
     if traced.variant.analytic {
         "the analytical recursion of Carpentier & Mansard (RSS 2018), every quantity in the world \
          frame, three composites per body and one or two dot products per entry \

@@ -13,12 +13,13 @@
 //! spatial RNEA or by [`super::newton_euler`], on the tree as described or regrouped; `M` (for
 //! forward dynamics and `M⁻¹`) by each CRBA formulation.
 
-use articulated_dynamics::model::Model;
+use articulated_dynamics::model::{JointKind, Model};
 use articulated_dynamics::reference::derivatives::{
     forward_dynamics_derivatives_with, inverse_dynamics_derivatives_analytic,
     inverse_dynamics_derivatives_with, mass_matrix_inverse_from, Dual, DualRnea,
 };
-use articulated_dynamics::reference::{self, Tree};
+use articulated_dynamics::reference::{self, centroidal, Tree};
+use articulated_dynamics::spatial::Mat3;
 use articulated_dynamics::Scalar;
 
 use super::forward::FdMethod;
@@ -28,41 +29,54 @@ use crate::options::Output;
 use crate::sym::{self, Sym, Var};
 
 /// The variants of a derivative output: for `∂τ`, forward-mode duals through each Newton–Euler
-/// formulation and the analytical recursion; for forward dynamics, each of those with each CRBA
-/// formulation for `M`; for `M⁻¹`, each CRBA formulation. Each on the tree as described and
-/// regrouped.
-pub(crate) fn variants(output: Output) -> Vec<Variant> {
-    let crbas = [
-        Formulation::Reference,
-        Formulation::Specialized,
-        Formulation::SpecializedRootFrame,
-    ];
-    let methods: &[(Formulation, bool)] = match output {
-        Output::InverseDynamicsDerivatives => &[
-            (Formulation::Reference, false),
-            (Formulation::Specialized, false),
-            (Formulation::Reference, true),
-        ],
-        Output::ForwardDynamicsDerivatives => &[
-            (Formulation::Reference, false),
-            (Formulation::Specialized, false),
-            (Formulation::SpecializedRootFrame, false),
-            (Formulation::Reference, true),
-            (Formulation::Specialized, true),
-            (Formulation::SpecializedRootFrame, true),
-        ],
-        _ => &[(crbas[0], false), (crbas[1], false), (crbas[2], false)],
+/// formulation and the analytical recursion, and (for chains without quaternion joints) each of
+/// those with `∂τ/∂v = 2·N`; for forward dynamics, each of those with each CRBA formulation for
+/// `M`; for `M⁻¹`, each CRBA formulation. Each on the tree as described and regrouped.
+pub(crate) fn variants(model: &Model, output: Output) -> Vec<Variant> {
+    let quaternions = model.joints.iter().any(|j| {
+        matches!(
+            j.kind,
+            JointKind::SphericalQuaternion | JointKind::FreeQuaternion
+        )
+    });
+    let coriolis: &[bool] = if quaternions {
+        &[false]
+    } else {
+        &[false, true]
     };
+    let rneas: &[Formulation] = match output {
+        Output::InverseDynamicsDerivatives => &[Formulation::Reference, Formulation::Specialized],
+        _ => &[
+            Formulation::Reference,
+            Formulation::Specialized,
+            Formulation::SpecializedRootFrame,
+        ],
+    };
+    let mut methods: Vec<(Formulation, bool, bool)> = Vec::new();
+    if output == Output::MassMatrixInverse {
+        methods.extend(rneas.iter().map(|&f| (f, false, false)));
+    } else {
+        for &f in rneas {
+            for analytic in [false, true] {
+                for &c in coriolis {
+                    methods.push((f, analytic, c));
+                }
+            }
+        }
+    }
     let method = (output != Output::InverseDynamicsDerivatives).then_some(FdMethod::CrbaLtdl);
     [false, true]
         .into_iter()
         .flat_map(|regrouped| {
-            methods.iter().map(move |&(formulation, analytic)| Variant {
-                regrouped,
-                formulation,
-                method,
-                analytic,
-            })
+            methods
+                .iter()
+                .map(move |&(formulation, analytic, coriolis)| Variant {
+                    regrouped,
+                    formulation,
+                    method,
+                    analytic,
+                    coriolis,
+                })
         })
         .collect()
 }
@@ -78,11 +92,31 @@ fn rnea_derivatives(
     v: &[Sym],
     a: &[Sym],
 ) -> (Vec<Sym>, Vec<Sym>) {
-    if variant.analytic {
+    let (dq, dv) = if variant.analytic {
         inverse_dynamics_derivatives_analytic(tree, q, v, a)
     } else {
         inverse_dynamics_derivatives_with(tree, q, v, a, &Rnea(variant.formulation))
+    };
+    if !variant.coriolis {
+        return (dq, dv);
     }
+    // τ's velocity terms are the quadratic form Σ Γ_ijk·v_j·v_k with Γ symmetric in j, k (v = q̇),
+    // so ∂τ/∂v = 2·Σ_k Γ_ijk·v_k = 2·N: N of the tree with every inertia doubled (`N` is linear
+    // in the inertias), whose 2 folds into the constants. The dual runs for `v` go unused, and
+    // with them their operations.
+    let mut doubled = tree.clone();
+    let two = Sym::from_f64(2.0);
+    for node in &mut doubled.nodes {
+        let i = &mut node.inertia;
+        i.m = two * i.m;
+        i.h = i.h.scale(two);
+        i.i = Mat3(i.i.0.map(|r| r.map(|x| two * x)));
+    }
+    let dv = match variant.formulation {
+        Formulation::Reference => centroidal::coriolis_matrix(&doubled, q, v),
+        _ => super::crba::coriolis_matrix(&doubled, q, v, super::regroup::coordinate_axis),
+    };
+    (dq, dv)
 }
 
 impl DualRnea<Sym> for Rnea {

@@ -46,6 +46,7 @@ pub(crate) fn variants() -> impl Iterator<Item = Variant> {
         formulation: Formulation::Reference,
         method: Some(FdMethod::Aba),
         analytic: false,
+        coriolis: false,
     });
     let ltdl = [false, true].into_iter().flat_map(|regrouped| {
         [
@@ -58,6 +59,7 @@ pub(crate) fn variants() -> impl Iterator<Item = Variant> {
             formulation,
             method: Some(FdMethod::CrbaLtdl),
             analytic: false,
+            coriolis: false,
         })
     });
     aba.into_iter().chain(ltdl)

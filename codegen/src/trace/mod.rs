@@ -77,6 +77,9 @@ pub struct Variant {
     /// Derivatives only: `∂τ` by the analytical recursion of Carpentier & Mansard (world frame)
     /// instead of forward-mode duals through the Newton–Euler `formulation`.
     pub analytic: bool,
+    /// Derivatives only: `∂τ/∂v` as `2·N(q, v)`, twice the Coriolis matrix (the Christoffel
+    /// one, exact wherever `v = q̇`: traced only for chains without quaternion joints).
+    pub coriolis: bool,
 }
 
 impl fmt::Display for Variant {
@@ -97,6 +100,9 @@ impl fmt::Display for Variant {
         }
         if self.analytic {
             parts.push("analytical derivatives");
+        }
+        if self.coriolis {
+            parts.push("∂τ/∂v = 2·N");
         }
         if self.regrouped {
             parts.push("regrouped inertias");
@@ -224,7 +230,7 @@ pub fn trace(model: &Model, output: Output) -> Traced {
             .collect(),
         Output::InverseDynamicsDerivatives
         | Output::ForwardDynamicsDerivatives
-        | Output::MassMatrixInverse => derivatives::variants(output)
+        | Output::MassMatrixInverse => derivatives::variants(model, output)
             .into_iter()
             .map(|variant| derivatives::trace_variant(model, output, variant))
             .collect(),
@@ -258,6 +264,7 @@ pub fn trace(model: &Model, output: Output) -> Traced {
                     formulation,
                     method: None,
                     analytic: false,
+                    coriolis: false,
                 })
             })
             .map(|variant| trace_variant(model, output, variant))
