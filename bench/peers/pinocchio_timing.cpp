@@ -32,6 +32,15 @@
 //   potential_energy                   computePotentialEnergy(model, data, q)
 //   coriolis_matrix                    computeCoriolisMatrix(model, data, q, v)  (data.C)
 //
+// and the analytical derivatives:
+//
+//   inverse_dynamics_derivatives       computeRNEADerivatives(model, data, q, v, a)  (data.dtau_dq,
+//                                      data.dtau_dv; also fills the upper triangle of data.M)
+//   forward_dynamics_derivatives       computeABADerivatives(model, data, q, v, tau)  (data.ddq_dq,
+//                                      data.ddq_dv, the upper triangle of data.Minv)
+//   mass_matrix_inverse                computeMinverse(model, data, q)  (the upper triangle of
+//                                      data.Minv)
+//
 // In --values mode these are given in articulated's conventions: h_G and the rows of A_G
 // angular first (Pinocchio's are linear first).
 //
@@ -55,11 +64,13 @@
 
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/aba.hpp>
+#include <pinocchio/algorithm/aba-derivatives.hpp>
 #include <pinocchio/algorithm/center-of-mass.hpp>
 #include <pinocchio/algorithm/centroidal.hpp>
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/energy.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
+#include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/parsers/urdf.hpp>
 
 namespace {
@@ -199,6 +210,13 @@ void each_output(const pinocchio::Model &model, pinocchio::Data &data,
   run("coriolis_matrix", [&](long i) {
     pinocchio::computeCoriolisMatrix(model, data, q[i & mask], v[i & mask]);
   });
+  run("inverse_dynamics_derivatives", [&](long i) {
+    pinocchio::computeRNEADerivatives(model, data, q[i & mask], v[i & mask], a[i & mask]);
+  });
+  run("forward_dynamics_derivatives", [&](long i) {
+    pinocchio::computeABADerivatives(model, data, q[i & mask], v[i & mask], tau[i & mask]);
+  });
+  run("mass_matrix_inverse", [&](long i) { pinocchio::computeMinverse(model, data, q[i & mask]); });
 }
 
 std::string json_vector(const Vec &x) {
@@ -231,8 +249,8 @@ std::string json_number(double x) {
   return buf;
 }
 
-// The outputs at state s, as JSON; the mass matrices as Pinocchio leaves them (upper triangle),
-// the centroidal momentum and its matrix angular first.
+// The outputs at state s, as JSON; the mass matrices and their inverses as Pinocchio leaves them
+// (upper triangle), the centroidal momentum and its matrix angular first.
 std::string values(const pinocchio::Model &model, pinocchio::Data &data, const State &s) {
   using pinocchio::Convention;
   std::string out = "{";
@@ -272,6 +290,16 @@ std::string values(const pinocchio::Model &model, pinocchio::Data &data, const S
          json_number(pinocchio::computePotentialEnergy(model, data, s.q));
   out += ", \"coriolis_matrix\": " +
          json_matrix(pinocchio::computeCoriolisMatrix(model, data, s.q, s.v));
+  pinocchio::computeRNEADerivatives(model, data, s.q, s.v, s.a);
+  out += ", \"inverse_dynamics_derivatives\": {\"dtau_dq\": " + json_matrix(data.dtau_dq) +
+         ", \"dtau_dv\": " + json_matrix(data.dtau_dv) + "}";
+  data.Minv.setZero();
+  pinocchio::computeABADerivatives(model, data, s.q, s.v, s.tau);
+  out += ", \"forward_dynamics_derivatives\": {\"ddq_dq\": " + json_matrix(data.ddq_dq) +
+         ", \"ddq_dv\": " + json_matrix(data.ddq_dv) + ", \"minv\": " + json_matrix(data.Minv) +
+         "}";
+  data.Minv.setZero();
+  out += ", \"mass_matrix_inverse\": " + json_matrix(pinocchio::computeMinverse(model, data, s.q));
   return out + "}";
 }
 

@@ -8,8 +8,8 @@ For every model of MODELS it
      program in that program's own convention and joint order;
   3. checks the values: every program's outputs at the first state, mapped back to Pinocchio's
      convention, against Pinocchio's; ours to a relative 1e-9 (else it stops; the quantities
-     of the whole system to 1e-10), MuJoCo to a looser bound (its worst difference is reported
-     either way);
+     of the whole system to 1e-10; the derivatives, where ours has them, to 1e-9), MuJoCo to a
+     looser bound (its worst difference is reported either way);
   4. times: ROUNDS rounds, each running every program once per model in a rotating order;
      each run reports per output the fastest and the median of its ~1 ms batches; the driver
      keeps the fastest over rounds (and the median of the medians);
@@ -75,6 +75,18 @@ WHOLE_ROWS = [
     ("coriolis_matrix", ["coriolis_matrix"]),
 ]
 WHOLE_TOL = 1e-10
+
+# The analytical derivatives (their own table), for the models generated with them (`peers
+# --layout` says which): our output name, Pinocchio's program output, our central differences
+# of the value they differentiate (the kernel `peers` times), the value itself. MuJoCo has none.
+DERIV_ROWS = [
+    ("inverse_dynamics_derivatives", "inverse_dynamics_derivatives", "inverse_dynamics_differences", "inverse_dynamics"),
+    ("forward_dynamics_derivatives", "forward_dynamics_derivatives", "forward_dynamics_differences", "forward_dynamics"),
+    ("mass_matrix_inverse", "mass_matrix_inverse", None, None),
+]
+DERIV_TOL = 1e-9
+# Central differences (step 1e-6) against the analytical values: a sanity check of the kernel.
+DIFFERENCES_TOL = 1e-4
 
 SEED = 0x5EED_2024
 STATES = 16
@@ -330,8 +342,64 @@ def rel(x, ref):
     return float(np.max(np.abs(x - ref)) / max(np.max(np.abs(ref)), 1e-300))
 
 
-def check_values(model_entry, progs, maps, state0):
-    """Every program's outputs against Pinocchio's (pin_v3); returns the worst MuJoCo difference."""
+def sym(upper):
+    """The symmetric matrix whose upper triangle is that of `upper` (Pinocchio's M and M^-1)."""
+    m = np.asarray(upper, float)
+    return np.triu(m) + np.triu(m, 1).T
+
+
+def pin_derivatives(vals):
+    """Pinocchio's derivative outputs (program JSON) as named matrices, M^-1 symmetrized."""
+    idd, fdd = vals["inverse_dynamics_derivatives"], vals["forward_dynamics_derivatives"]
+    return {
+        "dtau_dq": np.asarray(idd["dtau_dq"], float),
+        "dtau_dv": np.asarray(idd["dtau_dv"], float),
+        "ddq_dq": np.asarray(fdd["ddq_dq"], float),
+        "ddq_dv": np.asarray(fdd["ddq_dv"], float),
+        "minv (aba derivatives)": sym(fdd["minv"]),
+        "mass_matrix_inverse": sym(vals["mass_matrix_inverse"]),
+    }
+
+
+def check_derivatives(name, key, vals, ref, P):
+    """Our derivative outputs (program JSON, our joint order) against Pinocchio's: with P the
+    permutation v_ours = P v_pin, each NV x NV derivative maps back as P' X P. Stops above
+    DERIV_TOL; returns the worst difference and those of the central differences."""
+    idd, fdd = vals["inverse_dynamics_derivatives"], vals["forward_dynamics_derivatives"]
+    if fdd is None or vals["mass_matrix_inverse"] is None:
+        sys.exit(f"[run.py] {name} {key}: the derivatives found M singular at the first state")
+    back = lambda x: P.T @ np.asarray(x, float) @ P
+    ours = {
+        "dtau_dq": back(idd["dtau_dq"]),
+        "dtau_dv": back(idd["dtau_dv"]),
+        "ddq_dq": back(fdd["ddq_dq"]),
+        "ddq_dv": back(fdd["ddq_dv"]),
+        "minv (aba derivatives)": back(fdd["minv"]),
+        "mass_matrix_inverse": back(vals["mass_matrix_inverse"]),
+    }
+    worst = 0.0
+    for what, x in ours.items():
+        e = rel(x, ref[what])
+        worst = max(worst, e)
+        if e > DERIV_TOL:
+            sys.exit(
+                f"[run.py] VALUES DISAGREE: {name}: ours ({key}) {what} differs from Pinocchio's "
+                f"by {e:.3g} (relative) > {DERIV_TOL}\n  ours:      {x.ravel()[:8]}\n"
+                f"  Pinocchio: {ref[what].ravel()[:8]}"
+            )
+    differences = {
+        "dtau_dq": rel(back(vals["inverse_dynamics_differences"]), ref["dtau_dq"]),
+        "ddq_dq": rel(back(vals["forward_dynamics_differences"]), ref["ddq_dq"]),
+    }
+    for what, e in differences.items():
+        if not e <= DIFFERENCES_TOL:
+            sys.exit(f"[run.py] {name} {key}: central differences of {what} off by {e:.3g} > {DIFFERENCES_TOL}")
+    return worst, differences
+
+
+def check_values(model_entry, progs, maps, state0, derivatives):
+    """Every program's outputs against Pinocchio's (pin_v3); returns the worst MuJoCo difference.
+    `derivatives`: whether our program has the derivative outputs of this model."""
     name = model_entry[0]
     ref = run_json(progs["pin_v3"] + ["--values", name])
     up = lambda m: np.triu(np.asarray(m, float))
@@ -366,6 +434,14 @@ def check_values(model_entry, progs, maps, state0):
             e = rel(x, r)
             if e > WHOLE_TOL:
                 sys.exit(f"[run.py] VALUES DISAGREE: {name} {key} {what}: relative difference {e:.3g} > {WHOLE_TOL}")
+        theirs, ref_d = pin_derivatives(vals), pin_derivatives(ref)
+        for what, x in theirs.items():
+            e = rel(x, ref_d[what])
+            if e > DERIV_TOL:
+                sys.exit(f"[run.py] VALUES DISAGREE: {name} {key} {what}: relative difference {e:.3g} > {DERIV_TOL}")
+        e = rel(ref_d["minv (aba derivatives)"], ref_d["mass_matrix_inverse"])
+        if e > DERIV_TOL:
+            sys.exit(f"[run.py] VALUES DISAGREE: {name} {key}: Minv of computeABADerivatives and computeMinverse differ by {e:.3g}")
     # Ours, both builds.
     for key in ("ours_v3", "ours_default"):
         vals = run_json(progs[key] + ["--values", name])
@@ -424,6 +500,15 @@ def check_values(model_entry, progs, maps, state0):
                 )
         report.append((f"{key} (whole system)", worst_whole))
         log(f"{name}: {key} agrees with Pinocchio on the whole-system outputs to {worst_whole:.1e} (relative)")
+        if derivatives:
+            worst_d, differences = check_derivatives(name, key, vals, pin_derivatives(ref), P)
+            report.append((f"{key} (derivatives)", worst_d))
+            report.append((f"{key} (central differences, ∂τ/∂q)", differences["dtau_dq"]))
+            report.append((f"{key} (central differences, ∂q̈/∂q)", differences["ddq_dq"]))
+            log(
+                f"{name}: {key} agrees with Pinocchio on the derivatives to {worst_d:.1e} (relative); "
+                f"central differences {differences['dtau_dq']:.1e} (∂τ/∂q), {differences['ddq_dq']:.1e} (∂q̈/∂q)"
+            )
     # MuJoCo: reported, with a looser bound.
     vals = run_json(progs["mujoco"] + ["--values", name])
     m = maps["mujoco"].back(
@@ -489,12 +574,13 @@ def callgrind(cmd):
 
 
 def instructions(models, progs, which):
-    """instr[model][program][output] = instructions per call."""
+    """instr[model][program][output] = instructions per call; which(model) gives the outputs of
+    each program."""
     instr = {}
     for m in models:
         name = m[0]
         instr[name] = {}
-        for k, outputs in which.items():
+        for k, outputs in which(name).items():
             instr[name][k] = {}
             for o in outputs:
                 log(f"callgrind: {name} {k} {o}")
@@ -657,19 +743,20 @@ def report(env, models, ops, results, instr, checks, args, load_end):
                 if k in ins:
                     parts.append(
                         f"{label}: "
-                        + ", ".join(f"{o} {v:.0f}" for o, v in ins[k].items() if o not in dict(WHOLE_ROWS))
+                        + ", ".join(f"{o} {v:.0f}" for o, v in ins[k].items() if o in {r[0] for r in ROWS})
                     )
             extra.append("instructions per call, " + "; ".join(parts))
         (key_worst, mj_worst, mj_diffs) = checks[name]
         extra.append(
             "values at the first state against Pinocchio's (relative to the largest entry): "
-            + ", ".join(f"{k} {e:.1e}" for k, e in key_worst)
+            + ", ".join(f"{k} {e:.1e}" for k, e in key_worst if "derivatives" not in k and "differences" not in k)
             + f"; MuJoCo {mj_worst:.1e} (worst: {max(mj_diffs, key=mj_diffs.get)})"
             + (f" — **above {MUJOCO_TOL:g}: MuJoCo's model differs**" if mj_worst > MUJOCO_TOL else "")
         )
         for e in extra:
             w(f"- {e}")
     whole_report(w, models, ops, results, instr)
+    derivatives_report(w, models, ops, results, instr, checks)
     w("")
     w(WHAT)
     return "\n".join(L) + "\n"
@@ -757,6 +844,128 @@ def whole_report(w, models, ops, results, instr):
                 "- instructions per call, ours default: "
                 + ", ".join(f"{o} {ins['ours_default'][o]:.0f}" for o, _ in WHOLE_ROWS)
             )
+
+
+def derivatives_report(w, models, ops, results, instr, checks):
+    """The section of the analytical derivatives."""
+    with_d = [m for m in models if ops[m[0]]["derivatives"]]
+    without = [m[0] for m in models if not ops[m[0]]["derivatives"]]
+    w("")
+    w("## Derivatives")
+    w("")
+    w("The analytical derivatives of inverse and forward dynamics and `M⁻¹`, timed in the same runs")
+    w("as the tables above, on the same states, after a values check: ours against Pinocchio's to")
+    w("1e-9 relative to the largest entry, every matrix mapped to Pinocchio's joint order;")
+    w("derivatives in q along the configuration's tangent on both sides (for the free flyer the")
+    w("body-frame increment). **ours**: `C::inverse_dynamics_derivatives(&q, &v, &a)` → `(∂τ/∂q,")
+    w("∂τ/∂v)`, `C::forward_dynamics_derivatives(&q, &v, &τ)` → `Ok((∂q̈/∂q, ∂q̈/∂v, M⁻¹))`,")
+    w("`C::mass_matrix_inverse(&q)` → `Ok(M⁻¹)`, full matrices. **Pinocchio**:")
+    w("`computeRNEADerivatives(model, data, q, v, a)` (`data.dtau_dq`, `data.dtau_dv`, and `∂τ/∂a = M`")
+    w("in the upper triangle of `data.M`), `computeABADerivatives(model, data, q, v, τ)` (`data.ddq_dq`,")
+    w("`data.ddq_dv`, the upper triangle of `data.Minv`), `computeMinverse(model, data, q)` (the upper")
+    w("triangle of `data.Minv`); the wheel column calls the same templates in the wheel's library.")
+    w("**MuJoCo**: n/a, it has no analytical derivatives (`mjd_transitionFD` differentiates the")
+    w("whole step by finite differences; not timed here).")
+    w("")
+    w("**Central differences of our own code**: the kernels `inverse_dynamics_differences` and")
+    w("`forward_dynamics_differences` of `bench/src/bin/peers.rs` compute `∂τ/∂q` (resp. `∂q̈/∂q`) by")
+    w("central differences of the generated `inverse_dynamics` (resp. `forward_dynamics`) along the")
+    w("tangent (`control::tangent::retract`, step 1e-6): 2·NV calls and 2·NV retractions. That is")
+    w("the q-half only: `∂/∂v` by differences would cost as much again, which the analytical")
+    w("functions return besides (and `M⁻¹` for forward dynamics). The column \"2·NV × value\" is")
+    w("2·NV times the value function's own figure in the table above, for comparison.")
+    w("")
+    if without:
+        w(f"Models generated without the derivative outputs: {', '.join(without)}.")
+    if "humanoid" in ops and ops["humanoid"]["derivatives"]:
+        h = ops["humanoid"]["ops"]
+        w("The humanoid's are behind the feature `humanoid-derivatives` of `articulated-bench`, which")
+        w(f"`run.sh` turns on: `inverse_dynamics_derivatives` ({h['inverse_dynamics_derivatives']:,} operations),")
+        w(f"`forward_dynamics_derivatives` ({h['forward_dynamics_derivatives']:,}) and `mass_matrix_inverse`")
+        w(f"({h['mass_matrix_inverse']:,}) took the release build of the `peers` binary from 53 to 120 s for")
+        w("x86-64-v3 and from 96 to 204 s for the default target (`cargo build --timings`, the binary's")
+        w("own unit, measured once while adding them, with another build running beside it); on a crate")
+        w("of their own, `forward_dynamics_derivatives` alone was 54 s of release build for x86-64-v3.")
+        w("In the test profile (opt-level 1, debug info) that CI's `cargo test --workspace` builds the")
+        w("binary with they would cost 2.5–3 min more, hence the feature, off by default.")
+    w("")
+    w("In short (fastest batches; a ratio above 1 means ours is faster):")
+    w("")
+    for (name, *_rest) in with_d:
+        res = results[name]
+        parts = []
+        for ours_out, pin_out, diff, _value in DERIV_ROWS:
+            p3 = res["pin_v3"][pin_out][0]
+            parts.append(
+                f"{ours_out} {fmt_ratio(p3 / res['ours_v3'][ours_out][0])} (v3), "
+                f"{fmt_ratio(p3 / res['ours_default'][ours_out][0])} (default)"
+            )
+        w(f"- **{name}**, Pinocchio v3 / ours: " + "; ".join(parts))
+        parts = []
+        for ours_out, _pin, diff, _value in DERIV_ROWS:
+            if diff:
+                parts.append(
+                    f"{diff} / {ours_out} {fmt_ratio(res['ours_v3'][diff][0] / res['ours_v3'][ours_out][0])} (v3), "
+                    f"{fmt_ratio(res['ours_default'][diff][0] / res['ours_default'][ours_out][0])} (default)"
+                )
+        w(f"- **{name}**, central differences of ours / ours analytical: " + "; ".join(parts))
+    for (name, chain, urdf, floating) in with_d:
+        res, ins = results[name], instr.get(name, {})
+        nv = ops[name]["nv"]
+        w("")
+        w(f"### {name}: derivatives ({'floating base, ' if floating else ''}nq {ops[name]['nq']}, nv {nv})")
+        w("")
+        w("| output | ops | ours v3 (ns) | ours default (ns) | Pinocchio v3 (ns) | Pinocchio wheel (ns) | MuJoCo | Pinocchio / ours (v3) | Pinocchio / ours (default) | instructions ours v3 / Pinocchio v3 |")
+        w("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        for ours_out, pin_out, _diff, _value in DERIV_ROWS:
+            o3, od = res["ours_v3"][ours_out][0], res["ours_default"][ours_out][0]
+            p3, pw = res["pin_v3"][pin_out][0], res["pin_wheel"][pin_out][0]
+            i_ours = ins.get("ours_v3", {}).get(ours_out)
+            i_pin = ins.get("pin_v3", {}).get(pin_out)
+            instr_cell = (
+                f"{i_ours:.0f} / {i_pin:.0f} ({i_pin / i_ours:.1f}×)" if i_ours and i_pin else "–"
+            )
+            w(
+                f"| {ours_out} | {ops[name]['ops'][ours_out]} | {fmt_ns(o3)} | {fmt_ns(od)} | "
+                f"{fmt_ns(p3)} | {fmt_ns(pw)} | n/a | {fmt_ratio(p3 / o3)} | {fmt_ratio(p3 / od)} | {instr_cell} |"
+            )
+        w("")
+        w(f"Against central differences of our own code (2·NV = {2 * nv} calls of the value function):")
+        w("")
+        w("| derivative | build | analytical (ns) | central differences in q (ns) | differences / analytical | 2·NV × value (ns) | instructions analytical / differences |")
+        w("|---|---|---:|---:|---:|---:|---:|")
+        for ours_out, _pin, diff, value in DERIV_ROWS:
+            if not diff:
+                continue
+            for k, label in (("ours_v3", "v3"), ("ours_default", "default")):
+                a, d = res[k][ours_out][0], res[k][diff][0]
+                ia, idf = ins.get(k, {}).get(ours_out), ins.get(k, {}).get(diff)
+                instr_cell = f"{ia:.0f} / {idf:.0f} ({idf / ia:.1f}×)" if ia and idf else "–"
+                w(
+                    f"| {ours_out} | {label} | {fmt_ns(a)} | {fmt_ns(d)} | {fmt_ratio(d / a)} | "
+                    f"{fmt_ns(2 * nv * res[k][value][0])} | {instr_cell} |"
+                )
+        w("")
+        med = lambda k, o: fmt_ns(res[k][o][1])
+        w(
+            "- medians (ns; ours v3 / ours default / Pinocchio v3 / Pinocchio wheel): "
+            + "; ".join(
+                f"{o} {med('ours_v3', o)} / {med('ours_default', o)} / {med('pin_v3', p)} / {med('pin_wheel', p)}"
+                for o, p, _d, _v in DERIV_ROWS
+            )
+            + "; central differences (ours v3 / ours default): "
+            + "; ".join(f"{d} {med('ours_v3', d)} / {med('ours_default', d)}" for _o, _p, d, _v in DERIV_ROWS if d)
+        )
+        if "ours_default" in ins:
+            w(
+                "- instructions per call, ours default: "
+                + ", ".join(f"{o} {ins['ours_default'][o]:.0f}" for o, *_ in DERIV_ROWS)
+            )
+        key_worst = checks[name][0]
+        w(
+            "- values at the first state against Pinocchio's (relative to the largest entry): "
+            + ", ".join(f"{k} {e:.1e}" for k, e in key_worst if "derivatives" in k or "differences" in k)
+        )
 
 
 WHAT = """## What each figure includes
@@ -868,19 +1077,23 @@ def main():
                 [mp.state(s) for s in states], mp.nq, mp.nv,
             )
         log(f"model {name}: checking values")
-        checks[name] = check_values(entry, progs[name], maps, states[0])
+        checks[name] = check_values(entry, progs[name], maps, states[0], layout["derivatives"])
     results = time_all(MODELS, progs, args.rounds, args.batches)
     instr = {}
     if not args.quick:
-        ours = [r[0] for r in ROWS + WHOLE_ROWS]
-        which = {
-            "ours_v3": ours,
-            "ours_default": ours,
-            "pin_v3": sorted({p for r in ROWS + WHOLE_ROWS for p in r[1]}),
-            "mujoco": [r[2] for r in ROWS],
-        }
+        def which(name):
+            ours = [r[0] for r in ROWS + WHOLE_ROWS]
+            pin = sorted({p for r in ROWS + WHOLE_ROWS for p in r[1]})
+            if ops[name]["derivatives"]:
+                ours += [r[0] for r in DERIV_ROWS] + [r[2] for r in DERIV_ROWS if r[2]]
+                pin += [r[1] for r in DERIV_ROWS]
+            return {"ours_v3": ours, "ours_default": ours, "pin_v3": pin, "mujoco": [r[2] for r in ROWS]}
+
         instr = instructions(MODELS, progs, which)
     load_end = open("/proc/loadavg").read().split()[:3]
+    # The raw figures, should the report need redoing (target/, not committed).
+    with open(os.path.join(OUT, "last_run.json"), "w") as f:
+        json.dump(dict(env=env, ops=ops, results=results, instr=instr, checks=checks, load_end=load_end), f)
     text = report(env, MODELS, ops, results, instr, checks, args, load_end)
     target = os.path.join(ROOT, "BENCHMARKS.md")
     fd, tmp = tempfile.mkstemp(dir=ROOT, prefix=".BENCHMARKS.", suffix=".tmp")

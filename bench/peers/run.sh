@@ -8,8 +8,9 @@
 #    with `mujoco`);
 # 2. the timing programs: bench/peers/pinocchio_timing.cpp twice (algorithms compiled here
 #    for x86-64-v3; calls into the wheel's prebuilt library), bench/peers/mujoco_timing.c, and
-#    our bench/src/bin/peers.rs twice (x86-64-v3, default target), each rebuilt only when its
-#    source or flags changed;
+#    our bench/src/bin/peers.rs twice (x86-64-v3, default target; with the feature
+#    humanoid-derivatives, the humanoid's derivative outputs), each rebuilt only when its source
+#    or flags changed;
 # 3. bench/peers/run.py: values check, timing, callgrind, BENCHMARKS.md.
 # Everything it builds or installs stays under target/peers/ (ignored by git).
 set -euo pipefail
@@ -100,10 +101,10 @@ build "$BIN/mujoco_timing" bench/peers/mujoco_timing.c "gcc -std=c11 -O3 -DNDEBU
 
 step "building ours for x86-64-v3 (cargo, target/peers/rust-v3)"
 RUSTFLAGS="-C target-cpu=x86-64-v3" CARGO_TARGET_DIR=$OUT/rust-v3 \
-  cargo build --release --quiet -p articulated-bench --bin peers
+  cargo build --release --quiet -p articulated-bench --bin peers --features humanoid-derivatives
 step "building ours for the default target (cargo, target/peers/rust-default)"
 env -u RUSTFLAGS CARGO_TARGET_DIR="$OUT/rust-default" \
-  cargo build --release --quiet -p articulated-bench --bin peers
+  cargo build --release --quiet -p articulated-bench --bin peers --features humanoid-derivatives
 
 # --- 3. values check, timing, instructions, BENCHMARKS.md -----------------------------------
 step "running bench/peers/run.py $*"

@@ -3,7 +3,7 @@
 //! program of the comparison measures the same inputs.
 //!
 //! ```text
-//! peers --layout MODEL                               # joints, coordinates and op counts (JSON)
+//! peers --layout MODEL                               # joints, coordinates, op counts (JSON)
 //! peers --states FILE --values MODEL                 # outputs at the first state (JSON)
 //! peers --states FILE --time [--batches N] [--batch-ms T] MODEL   # ns per call (JSON)
 //! peers --states FILE --calls K MODEL OUTPUT         # exactly K calls, then exit (callgrind)
@@ -22,18 +22,33 @@
 //! energy, the Coriolis matrix). Adding one is one line of `models!` below (and one in
 //! `run.py`'s model list).
 //!
+//! The models marked `derivatives` (`arm7`; the humanoid with the feature
+//! `humanoid-derivatives`, which `run.sh` turns on) also have the three derivative outputs
+//! ([`DERIVATIVE_OUTPUTS`]) and two kernels that are not generated: central differences of the
+//! generated `inverse_dynamics` and `forward_dynamics` in `q` ([`DIFFERENCES`]), `2·NV` calls
+//! each, what the analytical derivatives replace.
+//!
 //! Build cost: CI's `cargo test --workspace` compiles this binary too (test profile). With the
 //! quantities of the whole system, `cargo test -p articulated-bench --no-run` after touching
 //! this file took 29–32 s instead of 13–22 s; `chain50`'s `coriolis_matrix` (126,436
 //! operations) is about 10 s of that, the humanoid's (15,393) within the noise. In release
 //! (`run.sh`, once per target) `chain50`'s `coriolis_matrix` is about 85 s of this binary's
 //! 147 s.
+//!
+//! The derivative outputs: `arm7`'s are small (about 4,100 and 6,400 operations). The humanoid's
+//! (`inverse_dynamics_derivatives` about 41,000 operations, `forward_dynamics_derivatives`
+//! 144,000, `mass_matrix_inverse` 34,000) take this binary's release build from 53 to 120 s
+//! (x86-64-v3) and from 96 to 204 s (default target), and cost 2.5–3 min in the test profile
+//! (opt-level 1 with debug info; measured on a crate of their own) that CI's `cargo test
+//! --workspace` builds this binary with: hence the feature `humanoid-derivatives`, off by
+//! default, which `run.sh` turns on.
 
 use std::hint::black_box;
 use std::path::Path;
 use std::process::ExitCode;
 use std::time::Duration;
 
+use articulated::control::tangent::retract;
 use articulated::model::JointKind;
 use articulated::nalgebra::{SMatrix, SVector};
 use articulated::prelude::*;
@@ -63,6 +78,24 @@ const OUTPUTS: [Output; 14] = [
     Output::CoriolisMatrix,
 ];
 
+/// The derivative outputs, timed after [`OUTPUTS`] for the models generated with them.
+const DERIVATIVE_OUTPUTS: [Output; 3] = [
+    Output::InverseDynamicsDerivatives,
+    Output::ForwardDynamicsDerivatives,
+    Output::MassMatrixInverse,
+];
+
+/// The kernels that are not generated functions: `∂τ/∂q` and `∂q̈/∂q` by central differences of
+/// the generated `inverse_dynamics` and `forward_dynamics` ([`central_differences`]), timed after
+/// [`DERIVATIVE_OUTPUTS`].
+const DIFFERENCES: [&str; 2] = [
+    "inverse_dynamics_differences",
+    "forward_dynamics_differences",
+];
+
+/// The step of [`central_differences`].
+const STEP: f64 = 1e-6;
+
 /// A generated model with the outputs of the comparison.
 trait Peer<const NQ: usize, const NV: usize>:
     MassMatrix<f64, NQ, NV>
@@ -82,37 +115,116 @@ trait Peer<const NQ: usize, const NV: usize>:
 {
     /// The `.chain` file the type is generated from (absolute, for `--layout`).
     const CHAIN: &'static str;
+    /// Whether the model is generated with the [`DERIVATIVE_OUTPUTS`].
+    const DERIVATIVES: bool = false;
     /// The generator's operation counts of `output` (`C::<OUTPUT>_OPS`).
     fn ops(output: Output) -> OpCounts;
+    /// Hands `visitor` the closures of the [`DERIVATIVE_OUTPUTS`] and the [`DIFFERENCES`], for a
+    /// model generated with them ([`each_derivative`]); nothing otherwise.
+    fn each_derivative<V: Visit>(_states: &[State<NQ, NV>], _visitor: &mut V) {}
+    /// The derivative outputs at `x` as JSON members, each after a comma ([`derivative_values`]);
+    /// empty for a model without them.
+    fn derivative_values(_x: &State<NQ, NV>) -> String {
+        String::new()
+    }
+}
+
+/// What a model marked `derivatives` in `models!` implements besides [`Peer`].
+trait DerivativePeer<const NQ: usize, const NV: usize>:
+    Peer<NQ, NV>
+    + InverseDynamicsDerivatives<f64, NQ, NV>
+    + ForwardDynamicsDerivatives<f64, NQ, NV>
+    + MassMatrixInverse<f64, NQ, NV>
+{
+}
+
+impl<C, const NQ: usize, const NV: usize> DerivativePeer<NQ, NV> for C where
+    C: Peer<NQ, NV>
+        + InverseDynamicsDerivatives<f64, NQ, NV>
+        + ForwardDynamicsDerivatives<f64, NQ, NV>
+        + MassMatrixInverse<f64, NQ, NV>
+{
+}
+
+/// The generated type of one model (for `models!`): the outputs of the comparison, and the
+/// [`DERIVATIVE_OUTPUTS`] after `derivatives`.
+macro_rules! peer_type {
+    (derivatives $($rest:tt)*) => {
+        peer_type!(
+            @outputs [inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse]
+            $($rest)*
+        );
+    };
+    (plain $($rest:tt)*) => {
+        peer_type!(@outputs [] $($rest)*);
+    };
+    (@outputs [$($extra:ident),*] $(#[$attr:meta])* $ty:ident, $file:literal) => {
+        $(#[$attr])*
+        #[doc = concat!("The generated `", $file, "`.")]
+        #[derive(articulated::Chain)]
+        #[chain(
+            file = $file,
+            outputs = [
+                mass_matrix,
+                nonlinear_effects,
+                gravity,
+                inverse_dynamics,
+                forward_dynamics,
+                mass_matrix_and_nonlinear_effects,
+                center_of_mass,
+                center_of_mass_velocity,
+                center_of_mass_jacobian,
+                centroidal_momentum,
+                centroidal_momentum_matrix,
+                kinetic_energy,
+                potential_energy,
+                coriolis_matrix
+                $(, $extra)*
+            ]
+        )]
+        struct $ty;
+    };
+}
+
+/// The members of a `Peer` impl that a model marked `derivatives` overrides (for `models!`).
+macro_rules! derivative_members {
+    (derivatives $ty:ident) => {
+        const DERIVATIVES: bool = true;
+        fn each_derivative<V: Visit>(states: &[State<{ $ty::NQ }, { $ty::NV }>], visitor: &mut V) {
+            each_derivative::<$ty, V, { $ty::NQ }, { $ty::NV }>(states, visitor);
+        }
+        fn derivative_values(x: &State<{ $ty::NQ }, { $ty::NV }>) -> String {
+            derivative_values::<$ty, { $ty::NQ }, { $ty::NV }>(x)
+        }
+    };
+    (plain $ty:ident) => {};
+}
+
+/// The operation counts of the derivative outputs of a model marked `derivatives` (for
+/// `models!`).
+macro_rules! derivative_ops {
+    (derivatives $ty:ident, $output:expr) => {
+        match $output {
+            Output::InverseDynamicsDerivatives => $ty::INVERSE_DYNAMICS_DERIVATIVES_OPS,
+            Output::ForwardDynamicsDerivatives => $ty::FORWARD_DYNAMICS_DERIVATIVES_OPS,
+            Output::MassMatrixInverse => $ty::MASS_MATRIX_INVERSE_OPS,
+            _ => OpCounts::default(),
+        }
+    };
+    (plain $ty:ident, $output:expr) => {
+        OpCounts::default()
+    };
 }
 
 /// Declares each model: a generated type, its `Peer` impl, and its entry in [`with_model`].
+/// `derivatives` generates the [`DERIVATIVE_OUTPUTS`] too, `plain` does not; attributes (a `cfg`)
+/// apply to all three.
 macro_rules! models {
-    ($($name:literal => $ty:ident, $file:literal;)*) => {
+    ($($(#[$attr:meta])* $name:literal => $ty:ident, $file:literal, $kind:ident;)*) => {
         $(
-            #[doc = concat!("The generated `", $file, "`.")]
-            #[derive(articulated::Chain)]
-            #[chain(
-                file = $file,
-                outputs = [
-                    mass_matrix,
-                    nonlinear_effects,
-                    gravity,
-                    inverse_dynamics,
-                    forward_dynamics,
-                    mass_matrix_and_nonlinear_effects,
-                    center_of_mass,
-                    center_of_mass_velocity,
-                    center_of_mass_jacobian,
-                    centroidal_momentum,
-                    centroidal_momentum_matrix,
-                    kinetic_energy,
-                    potential_energy,
-                    coriolis_matrix
-                ]
-            )]
-            struct $ty;
+            peer_type!($kind $(#[$attr])* $ty, $file);
 
+            $(#[$attr])*
             impl Peer<{ $ty::NQ }, { $ty::NV }> for $ty {
                 const CHAIN: &'static str = concat!(env!("CARGO_MANIFEST_DIR"), "/", $file);
                 fn ops(output: Output) -> OpCounts {
@@ -133,30 +245,35 @@ macro_rules! models {
                         Output::KineticEnergy => $ty::KINETIC_ENERGY_OPS,
                         Output::PotentialEnergy => $ty::POTENTIAL_ENERGY_OPS,
                         Output::CoriolisMatrix => $ty::CORIOLIS_MATRIX_OPS,
-                        _ => OpCounts::default(),
+                        _ => derivative_ops!($kind $ty, output),
                     }
                 }
+                derivative_members!($kind $ty);
             }
         )*
 
         /// Runs `cmd` on the model called `name`; `Err` if there is none.
         fn with_model(name: &str, cmd: &Command) -> Result<(), String> {
             match name {
-                $($name => run::<$ty, { $ty::NQ }, { $ty::NV }>(cmd),)*
-                _ => Err(format!(
-                    "unknown model `{name}` (known: {})",
-                    [$($name),*].join(", ")
-                )),
+                $($(#[$attr])* $name => run::<$ty, { $ty::NQ }, { $ty::NV }>(cmd),)*
+                _ => {
+                    let mut known: Vec<&str> = Vec::new();
+                    $($(#[$attr])* known.push($name);)*
+                    Err(format!("unknown model `{name}` (known: {})", known.join(", ")))
+                }
             }
         }
     };
 }
 
 models! {
-    "arm7" => Arm7, "../models/arm7.chain";
-    "arm7_floating" => Arm7Floating, "peers/arm7_floating.chain";
-    "humanoid" => Humanoid, "../models/humanoid.chain";
-    "chain50" => Chain50, "../models/chain50.chain";
+    "arm7" => Arm7, "../models/arm7.chain", derivatives;
+    "arm7_floating" => Arm7Floating, "peers/arm7_floating.chain", plain;
+    #[cfg(feature = "humanoid-derivatives")]
+    "humanoid" => Humanoid, "../models/humanoid.chain", derivatives;
+    #[cfg(not(feature = "humanoid-derivatives"))]
+    "humanoid" => Humanoid, "../models/humanoid.chain", plain;
+    "chain50" => Chain50, "../models/chain50.chain", plain;
 }
 
 /// What the command line asks for.
@@ -180,8 +297,8 @@ enum Command {
         states: String,
         /// How many calls.
         calls: usize,
-        /// Which output.
-        output: Output,
+        /// Which output or kernel ([`OUTPUTS`], [`DERIVATIVE_OUTPUTS`], [`DIFFERENCES`]).
+        output: String,
     },
 }
 
@@ -233,8 +350,9 @@ fn read_states<const NQ: usize, const NV: usize>(path: &str) -> Result<Vec<State
 
 /// Receives one closure per output; each makes one call on state `i` (masked to the states).
 trait Visit {
-    /// Called once per output, in the order of [`OUTPUTS`].
-    fn visit<F: FnMut(usize)>(&mut self, output: Output, f: F);
+    /// Called once per output, by name, in the order of [`OUTPUTS`], then
+    /// [`DERIVATIVE_OUTPUTS`] and [`DIFFERENCES`] where the model has them.
+    fn visit<F: FnMut(usize)>(&mut self, name: &'static str, f: F);
 }
 
 /// Hands `visitor` the closure of every output of model `M` on `states`.
@@ -245,17 +363,17 @@ where
 {
     let mask = states.len() - 1;
     let s = |i: usize| &states[i & mask];
-    visitor.visit(Output::MassMatrix, |i| {
+    visitor.visit(Output::MassMatrix.name(), |i| {
         black_box(M::mass_matrix(black_box(&s(i).q)));
     });
-    visitor.visit(Output::NonlinearEffects, |i| {
+    visitor.visit(Output::NonlinearEffects.name(), |i| {
         let x = s(i);
         black_box(M::nonlinear_effects(black_box(&x.q), black_box(&x.v)));
     });
-    visitor.visit(Output::Gravity, |i| {
+    visitor.visit(Output::Gravity.name(), |i| {
         black_box(M::gravity(black_box(&s(i).q)));
     });
-    visitor.visit(Output::InverseDynamics, |i| {
+    visitor.visit(Output::InverseDynamics.name(), |i| {
         let x = s(i);
         black_box(M::inverse_dynamics(
             black_box(&x.q),
@@ -263,7 +381,7 @@ where
             black_box(&x.a),
         ));
     });
-    visitor.visit(Output::ForwardDynamics, |i| {
+    visitor.visit(Output::ForwardDynamics.name(), |i| {
         let x = s(i);
         let _ = black_box(M::forward_dynamics(
             black_box(&x.q),
@@ -271,40 +389,131 @@ where
             black_box(&x.tau),
         ));
     });
-    visitor.visit(Output::MassMatrixAndNonlinearEffects, |i| {
+    visitor.visit(Output::MassMatrixAndNonlinearEffects.name(), |i| {
         let x = s(i);
         black_box(M::mass_matrix_and_nonlinear_effects(
             black_box(&x.q),
             black_box(&x.v),
         ));
     });
-    visitor.visit(Output::CenterOfMass, |i| {
+    visitor.visit(Output::CenterOfMass.name(), |i| {
         black_box(M::center_of_mass(black_box(&s(i).q)));
     });
-    visitor.visit(Output::CenterOfMassVelocity, |i| {
+    visitor.visit(Output::CenterOfMassVelocity.name(), |i| {
         let x = s(i);
         black_box(M::center_of_mass_velocity(black_box(&x.q), black_box(&x.v)));
     });
-    visitor.visit(Output::CenterOfMassJacobian, |i| {
+    visitor.visit(Output::CenterOfMassJacobian.name(), |i| {
         black_box(M::center_of_mass_jacobian(black_box(&s(i).q)));
     });
-    visitor.visit(Output::CentroidalMomentum, |i| {
+    visitor.visit(Output::CentroidalMomentum.name(), |i| {
         let x = s(i);
         black_box(M::centroidal_momentum(black_box(&x.q), black_box(&x.v)));
     });
-    visitor.visit(Output::CentroidalMomentumMatrix, |i| {
+    visitor.visit(Output::CentroidalMomentumMatrix.name(), |i| {
         black_box(M::centroidal_momentum_matrix(black_box(&s(i).q)));
     });
-    visitor.visit(Output::KineticEnergy, |i| {
+    visitor.visit(Output::KineticEnergy.name(), |i| {
         let x = s(i);
         black_box(M::kinetic_energy(black_box(&x.q), black_box(&x.v)));
     });
-    visitor.visit(Output::PotentialEnergy, |i| {
+    visitor.visit(Output::PotentialEnergy.name(), |i| {
         black_box(M::potential_energy(black_box(&s(i).q)));
     });
-    visitor.visit(Output::CoriolisMatrix, |i| {
+    visitor.visit(Output::CoriolisMatrix.name(), |i| {
         let x = s(i);
         black_box(M::coriolis_matrix(black_box(&x.q), black_box(&x.v)));
+    });
+    M::each_derivative(states, visitor);
+}
+
+/// `∂f/∂q` at `q` by central differences along the configuration's tangent
+/// (`control::tangent::retract`, the convention of the derivative outputs), step [`STEP`]: `2·NV`
+/// calls of `f`.
+fn central_differences<const NQ: usize, const NV: usize>(
+    coordinates: &[Coordinates],
+    q: &SVector<f64, NQ>,
+    mut f: impl FnMut(&SVector<f64, NQ>) -> SVector<f64, NV>,
+) -> SMatrix<f64, NV, NV> {
+    let mut out = SMatrix::<f64, NV, NV>::zeros();
+    let mut delta = SVector::<f64, NV>::zeros();
+    let (mut plus, mut minus) = (*q, *q);
+    for k in 0..NV {
+        delta[k] = STEP;
+        retract(
+            coordinates,
+            q.as_slice(),
+            delta.as_slice(),
+            plus.as_mut_slice(),
+        );
+        delta[k] = -STEP;
+        retract(
+            coordinates,
+            q.as_slice(),
+            delta.as_slice(),
+            minus.as_mut_slice(),
+        );
+        delta[k] = 0.0;
+        out.set_column(k, &((f(&plus) - f(&minus)) / (2.0 * STEP)));
+    }
+    out
+}
+
+/// `∂τ/∂q` by [`central_differences`] of the generated `inverse_dynamics`.
+fn inverse_dynamics_differences<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(
+    x: &State<NQ, NV>,
+) -> SMatrix<f64, NV, NV> {
+    central_differences(<M as Chain<f64>>::COORDINATES, &x.q, |q| {
+        M::inverse_dynamics(black_box(q), black_box(&x.v), black_box(&x.a))
+    })
+}
+
+/// `∂q̈/∂q` by [`central_differences`] of the generated `forward_dynamics` (NaN where `M` is
+/// singular).
+fn forward_dynamics_differences<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(
+    x: &State<NQ, NV>,
+) -> SMatrix<f64, NV, NV> {
+    central_differences(<M as Chain<f64>>::COORDINATES, &x.q, |q| {
+        M::forward_dynamics(black_box(q), black_box(&x.v), black_box(&x.tau))
+            .unwrap_or_else(|_| SVector::repeat(f64::NAN))
+    })
+}
+
+/// Hands `visitor` the closures of the [`DERIVATIVE_OUTPUTS`] and the [`DIFFERENCES`] of model
+/// `M` on `states`.
+fn each_derivative<M, V, const NQ: usize, const NV: usize>(
+    states: &[State<NQ, NV>],
+    visitor: &mut V,
+) where
+    M: DerivativePeer<NQ, NV>,
+    V: Visit,
+{
+    let mask = states.len() - 1;
+    let s = |i: usize| &states[i & mask];
+    visitor.visit(Output::InverseDynamicsDerivatives.name(), |i| {
+        let x = s(i);
+        black_box(M::inverse_dynamics_derivatives(
+            black_box(&x.q),
+            black_box(&x.v),
+            black_box(&x.a),
+        ));
+    });
+    visitor.visit(Output::ForwardDynamicsDerivatives.name(), |i| {
+        let x = s(i);
+        let _ = black_box(M::forward_dynamics_derivatives(
+            black_box(&x.q),
+            black_box(&x.v),
+            black_box(&x.tau),
+        ));
+    });
+    visitor.visit(Output::MassMatrixInverse.name(), |i| {
+        let _ = black_box(M::mass_matrix_inverse(black_box(&s(i).q)));
+    });
+    visitor.visit(DIFFERENCES[0], |i| {
+        black_box(inverse_dynamics_differences::<M, NQ, NV>(black_box(s(i))));
+    });
+    visitor.visit(DIFFERENCES[1], |i| {
+        black_box(forward_dynamics_differences::<M, NQ, NV>(black_box(s(i))));
     });
 }
 
@@ -319,15 +528,14 @@ struct Timer {
 }
 
 impl Visit for Timer {
-    fn visit<F: FnMut(usize)>(&mut self, output: Output, mut f: F) {
+    fn visit<F: FnMut(usize)>(&mut self, name: &'static str, mut f: F) {
         let n = calibrate(&mut f, self.batch);
         let mut ns: Vec<f64> = (0..self.batches)
             .map(|_| batch(&mut f, n).as_secs_f64() * 1e9 / n as f64)
             .collect();
         ns.sort_by(f64::total_cmp);
         self.json.push(format!(
-            "\"{}\": {{\"min\": {:.3}, \"median\": {:.3}, \"calls_per_batch\": {n}}}",
-            output.name(),
+            "\"{name}\": {{\"min\": {:.3}, \"median\": {:.3}, \"calls_per_batch\": {n}}}",
             ns[0],
             ns[ns.len() / 2]
         ));
@@ -335,17 +543,20 @@ impl Visit for Timer {
 }
 
 /// Makes exactly `calls` calls of one output (for callgrind).
-struct Only {
+struct Only<'a> {
     /// Which output.
-    output: Output,
+    output: &'a str,
     /// How many calls.
     calls: usize,
+    /// Whether the model has that output.
+    found: bool,
 }
 
-impl Visit for Only {
-    fn visit<F: FnMut(usize)>(&mut self, output: Output, mut f: F) {
-        if output == self.output {
+impl Visit for Only<'_> {
+    fn visit<F: FnMut(usize)>(&mut self, name: &'static str, mut f: F) {
+        if name == self.output {
             black_box(batch(&mut f, self.calls));
+            self.found = true;
         }
     }
 }
@@ -385,14 +596,21 @@ fn layout<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>() -> Result<String,
             M::CHAIN
         ));
     }
+    let derivatives: &[Output] = if M::DERIVATIVES {
+        &DERIVATIVE_OUTPUTS
+    } else {
+        &[]
+    };
     let ops: Vec<String> = OUTPUTS
         .iter()
+        .chain(derivatives)
         .map(|&o| format!("\"{}\": {}", o.name(), M::ops(o).total()))
         .collect();
     Ok(format!(
-        "{{\"nq\": {NQ}, \"nv\": {NV}, \"joints\": [{}], \"ops\": {{{}}}}}",
+        "{{\"nq\": {NQ}, \"nv\": {NV}, \"joints\": [{}], \"ops\": {{{}}}, \"derivatives\": {}}}",
         joints.join(", "),
-        ops.join(", ")
+        ops.join(", "),
+        M::DERIVATIVES
     ))
 }
 
@@ -410,6 +628,35 @@ fn json_vector<const N: usize>(v: &SVector<f64, N>) -> String {
     json_array(v.iter().copied())
 }
 
+/// The [`DERIVATIVE_OUTPUTS`] and [`DIFFERENCES`] of model `M` at `x`, as JSON members, each
+/// after a comma (matrices row by row; `null` where `M` is singular).
+fn derivative_values<M: DerivativePeer<NQ, NV>, const NQ: usize, const NV: usize>(
+    x: &State<NQ, NV>,
+) -> String {
+    let rows = json_rows::<NV, NV>;
+    let (dtau_dq, dtau_dv) = M::inverse_dynamics_derivatives(&x.q, &x.v, &x.a);
+    let fd = M::forward_dynamics_derivatives(&x.q, &x.v, &x.tau)
+        .map(|(dq, dv, minv)| {
+            format!(
+                "{{\"ddq_dq\": {}, \"ddq_dv\": {}, \"minv\": {}}}",
+                rows(&dq),
+                rows(&dv),
+                rows(&minv)
+            )
+        })
+        .unwrap_or_else(|_| "null".into());
+    let minv = M::mass_matrix_inverse(&x.q).map_or_else(|_| "null".into(), |m| rows(&m));
+    format!(
+        ", \"inverse_dynamics_derivatives\": {{\"dtau_dq\": {}, \"dtau_dv\": {}}}, \
+         \"forward_dynamics_derivatives\": {fd}, \"mass_matrix_inverse\": {minv}, \
+         \"inverse_dynamics_differences\": {}, \"forward_dynamics_differences\": {}",
+        rows(&dtau_dq),
+        rows(&dtau_dv),
+        rows(&inverse_dynamics_differences::<M, NQ, NV>(x)),
+        rows(&forward_dynamics_differences::<M, NQ, NV>(x))
+    )
+}
+
 /// The outputs at the first state, as JSON (matrices row by row).
 fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(x: &State<NQ, NV>) -> String {
     let rows = json_rows::<NV, NV>;
@@ -425,7 +672,7 @@ fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(x: &State<NQ, NV>) 
          \"center_of_mass\": {}, \"center_of_mass_velocity\": {}, \
          \"center_of_mass_jacobian\": {}, \"centroidal_momentum\": {}, \
          \"centroidal_momentum_matrix\": {}, \"kinetic_energy\": {:e}, \
-         \"potential_energy\": {:e}, \"coriolis_matrix\": {}}}",
+         \"potential_energy\": {:e}, \"coriolis_matrix\": {}{}}}",
         rows(&M::mass_matrix(&x.q)),
         vector(&M::nonlinear_effects(&x.q, &x.v)),
         vector(&M::gravity(&x.q)),
@@ -439,7 +686,8 @@ fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(x: &State<NQ, NV>) 
         json_rows(&M::centroidal_momentum_matrix(&x.q)),
         M::kinetic_energy(&x.q, &x.v),
         M::potential_energy(&x.q),
-        rows(&M::coriolis_matrix(&x.q, &x.v))
+        rows(&M::coriolis_matrix(&x.q, &x.v)),
+        M::derivative_values(x)
     )
 }
 
@@ -469,10 +717,14 @@ fn run<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(cmd: &Command) -> Resu
         } => {
             let states = read_states::<NQ, NV>(states)?;
             let mut only = Only {
-                output: *output,
+                output,
                 calls: *calls,
+                found: false,
             };
             each_output::<M, _, NQ, NV>(&states, &mut only);
+            if !only.found {
+                return Err(format!("unknown output `{output}` for this model"));
+            }
         }
     }
     Ok(())
@@ -528,9 +780,7 @@ fn main_args(args: &[String]) -> Result<(), String> {
             Command::Calls {
                 states: need_states()?,
                 calls,
-                output: Output::from_name(output)
-                    .filter(|o| OUTPUTS.contains(o))
-                    .ok_or_else(|| format!("unknown output `{output}`"))?,
+                output: output.clone(),
             },
         ),
         _ => return Err(USAGE.to_string()),
