@@ -24,7 +24,8 @@ use nalgebra::SVector;
 #[chain(file = "../models/two_link.chain", outputs = [
     mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
     center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
-    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix,
+    inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse
 ])]
 pub struct TwoLink;
 
@@ -33,7 +34,8 @@ pub struct TwoLink;
 #[chain(file = "../models/inverted_pendulum.chain", outputs = [
     mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
     center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
-    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix,
+    inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse
 ])]
 pub struct InvertedPendulum;
 
@@ -42,7 +44,8 @@ pub struct InvertedPendulum;
 #[chain(file = "../models/double_pendulum.chain", outputs = [
     mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
     center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
-    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix,
+    inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse
 ])]
 pub struct DoublePendulum;
 
@@ -51,7 +54,8 @@ pub struct DoublePendulum;
 #[chain(file = "../models/arm7.chain", outputs = [
     mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
     center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
-    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix,
+    inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse
 ])]
 pub struct Arm7;
 
@@ -60,7 +64,8 @@ pub struct Arm7;
 #[chain(file = "../models/tree.chain", outputs = [
     mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
     center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
-    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix
+    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix,
+    inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse
 ])]
 pub struct Tree;
 
@@ -96,8 +101,8 @@ impl Engine {
     }
 }
 
-/// A shipped model whose generated type implements the five basic outputs and the quantities
-/// of the whole system.
+/// A shipped model whose generated type implements the five basic outputs, the quantities of
+/// the whole system and the derivatives.
 pub trait Model<const NQ: usize, const NV: usize>:
     MassMatrix<f64, NQ, NV>
     + Bias<f64, NQ, NV>
@@ -112,6 +117,9 @@ pub trait Model<const NQ: usize, const NV: usize>:
     + KineticEnergy<f64, NQ, NV>
     + PotentialEnergy<f64, NQ, NV>
     + CoriolisMatrix<f64, NQ, NV>
+    + InverseDynamicsDerivatives<f64, NQ, NV>
+    + ForwardDynamicsDerivatives<f64, NQ, NV>
+    + MassMatrixInverse<f64, NQ, NV>
 {
     /// Its files in `articulated-models` (the generated type comes from `FILES.chain`).
     const FILES: ModelFiles;
@@ -139,6 +147,9 @@ macro_rules! model {
                     Output::KineticEnergy => $ty::KINETIC_ENERGY_OPS,
                     Output::PotentialEnergy => $ty::POTENTIAL_ENERGY_OPS,
                     Output::CoriolisMatrix => $ty::CORIOLIS_MATRIX_OPS,
+                    Output::InverseDynamicsDerivatives => $ty::INVERSE_DYNAMICS_DERIVATIVES_OPS,
+                    Output::ForwardDynamicsDerivatives => $ty::FORWARD_DYNAMICS_DERIVATIVES_OPS,
+                    Output::MassMatrixInverse => $ty::MASS_MATRIX_INVERSE_OPS,
                     _ => OpCounts::default(),
                 }
             }
@@ -425,6 +436,62 @@ pub fn each_kernel<M, V, const NQ: usize, const NV: usize>(
     of_q_v!(Output::KineticEnergy, kinetic_energy);
     of_q!(Output::PotentialEnergy, potential_energy);
     of_q_v!(Output::CoriolisMatrix, coriolis_matrix);
+    visitor.visit(
+        name,
+        Output::InverseDynamicsDerivatives,
+        M::ops(Output::InverseDynamicsDerivatives),
+        |i| {
+            let x = s(i);
+            black_box(M::inverse_dynamics_derivatives(
+                black_box(&x.q),
+                black_box(&x.v),
+                black_box(&x.a),
+            ));
+        },
+        |i| {
+            let x = s(i);
+            let _ = black_box(r.inverse_dynamics_derivatives(
+                black_box(x.q.as_slice()),
+                black_box(x.v.as_slice()),
+                black_box(x.a.as_slice()),
+            ));
+        },
+        None,
+    );
+    visitor.visit(
+        name,
+        Output::ForwardDynamicsDerivatives,
+        M::ops(Output::ForwardDynamicsDerivatives),
+        |i| {
+            let x = s(i);
+            let _ = black_box(M::forward_dynamics_derivatives(
+                black_box(&x.q),
+                black_box(&x.v),
+                black_box(&x.tau),
+            ));
+        },
+        |i| {
+            let x = s(i);
+            let _ = black_box(r.forward_dynamics_derivatives(
+                black_box(x.q.as_slice()),
+                black_box(x.v.as_slice()),
+                black_box(x.tau.as_slice()),
+            ));
+        },
+        None,
+    );
+    visitor.visit(
+        name,
+        Output::MassMatrixInverse,
+        M::ops(Output::MassMatrixInverse),
+        |i| {
+            let _ = black_box(M::mass_matrix_inverse(black_box(&s(i).q)));
+        },
+        |i| {
+            let _ = black_box(r.mass_matrix_inverse(black_box(s(i).q.as_slice())));
+        },
+        None,
+    );
 }
 
 /// Runs [`each_kernel`] for every small shipped model, in the order of `articulated_models::SMALL`.
@@ -454,7 +521,7 @@ mod tests {
     }
 
     /// The benchmarked calls compute the same thing on the benchmark's states, and no state is
-    /// singular (forward dynamics succeeds in both engines).
+    /// singular (forward dynamics and its derivatives succeed in both engines).
     fn agree<M: Model<NQ, NV>, const NQ: usize, const NV: usize>() {
         let r = reference(M::FILES);
         for x in states::<M, NQ, NV>() {
@@ -514,6 +581,25 @@ mod tests {
             ];
             for (ours, theirs) in pairs {
                 assert!(max_diff(&ours, &theirs) < 1e-10);
+            }
+            // The derivatives, relative to their largest entry (∂q̈ grows with κ(M)).
+            let (dq, dv) = M::inverse_dynamics_derivatives(&x.q, &x.v, &x.a);
+            let (rq, rv) = r.inverse_dynamics_derivatives(q, v, a).unwrap();
+            let (fq, fv, minv) = M::forward_dynamics_derivatives(&x.q, &x.v, &x.tau).unwrap();
+            let [gq, gv, ginv] = r.forward_dynamics_derivatives(q, v, tau).unwrap();
+            let inv = M::mass_matrix_inverse(&x.q).unwrap();
+            let rinv = r.mass_matrix_inverse(q).unwrap();
+            let derivatives = [
+                (dq.as_slice(), rq.as_slice()),
+                (dv.as_slice(), rv.as_slice()),
+                (fq.as_slice(), gq.as_slice()),
+                (fv.as_slice(), gv.as_slice()),
+                (minv.as_slice(), ginv.as_slice()),
+                (inv.as_slice(), rinv.as_slice()),
+            ];
+            for (ours, theirs) in derivatives {
+                let scale = theirs.iter().fold(1.0f64, |m, y| m.max(y.abs()));
+                assert!(max_diff(ours, theirs) < 1e-10 * scale);
             }
         }
     }
