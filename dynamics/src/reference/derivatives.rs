@@ -346,7 +346,7 @@ pub fn inverse_dynamics_derivatives<S: Scalar>(
 /// with their unreduced values (all must be positive, as for forward dynamics).
 pub fn mass_matrix_inverse_from<S: Scalar>(m: Vec<S>, nv: usize) -> (Vec<S>, Vec<(S, S)>) {
     let (ltdl, pivots) = Ltdl::new(m, nv);
-    (solve_columns(&ltdl, &identity(nv), false), pivots)
+    (inverse(&ltdl), pivots)
 }
 
 /// The identity, `n × n` row-major.
@@ -354,6 +354,20 @@ fn identity<S: Scalar>(n: usize) -> Vec<S> {
     (0..n * n)
         .map(|k| S::from_f64(if k / n == k % n { 1.0 } else { 0.0 }))
         .collect()
+}
+
+/// `M⁻¹`, row-major: each column solved, its upper triangle kept and mirrored (`M⁻¹` is
+/// symmetric; on a symbolic scalar the entries below the diagonal are then never computed,
+/// nearly halving the operations).
+fn inverse<S: Scalar>(ltdl: &Ltdl<S>) -> Vec<S> {
+    let n = ltdl.n;
+    let mut inv = solve_columns(ltdl, &identity(n), false);
+    for i in 0..n {
+        for j in 0..i {
+            inv[i * n + j] = inv[j * n + i];
+        }
+    }
+    inv
 }
 
 /// `M⁻¹·x` (or `−M⁻¹·x`) for a row-major `n × n` matrix `x`, one solve per column.
@@ -405,7 +419,7 @@ pub fn forward_dynamics_derivatives_with<S: Scalar>(
     FdDerivatives {
         dqdd_dq: solve_columns(&ltdl, &dtau_dq, true),
         dqdd_dv: solve_columns(&ltdl, &dtau_dv, true),
-        minv: solve_columns(&ltdl, &identity(nv), false),
+        minv: inverse(&ltdl),
         qdd,
         pivots,
     }
