@@ -230,27 +230,32 @@ def states(model, names, kind, count):
                 coriolis_check=check, states=out)
 
 
-out = {
-    "generator": f"Pinocchio {pin.__version__} (pip package `pin`), tests/data/make_centroidal_reference.py",
-    "conventions": __doc__,
-    "models": {},
-}
-
-humanoid = os.path.join(models_dir, 'humanoid.urdf')
-names = document_order(humanoid)
-out['models']['humanoid'] = {
-    'free_flyer': states(pin.buildModelFromUrdf(humanoid, pin.JointModelFreeFlyer()), names, 'free_flyer', 4),
-    'floating': states(pin.buildModelFromUrdf(humanoid, euler_base()), names, 'floating', 4),
-}
-for name in ('arm7', 'tree'):
-    urdf = os.path.join(models_dir, f'{name}.urdf')
-    out['models'][name] = {
-        'floating': states(pin.buildModelFromUrdf(urdf, euler_base()), document_order(urdf), 'floating', 4),
+def main():
+    out = {
+        "generator": f"Pinocchio {pin.__version__} (pip package `pin`), tests/data/make_centroidal_reference.py",
+        "conventions": __doc__,
+        "models": {},
     }
 
-path = os.path.join(here, 'pinocchio-centroidal.json')
-with open(path + '.tmp', 'w') as f:
-    json.dump(out, f, indent=None, separators=(',', ':'))
-os.replace(path + '.tmp', path)
-print(path, {m: {k: (v['nq'], v['nv'], v['coriolis_check']) for k, v in e.items()}
-             for m, e in out['models'].items()})
+    humanoid = os.path.join(models_dir, 'humanoid.urdf')
+    names = document_order(humanoid)
+    out['models']['humanoid'] = {
+        'free_flyer': states(pin.buildModelFromUrdf(humanoid, pin.JointModelFreeFlyer()), names, 'free_flyer', 4),
+        'floating': states(pin.buildModelFromUrdf(humanoid, euler_base()), names, 'floating', 4),
+    }
+    for name in ('arm7', 'tree'):
+        urdf = os.path.join(models_dir, f'{name}.urdf')
+        out['models'][name] = {
+            'floating': states(pin.buildModelFromUrdf(urdf, euler_base()), document_order(urdf), 'floating', 4),
+        }
+
+    path = os.path.join(here, 'pinocchio-centroidal.json')
+    with open(path + '.tmp', 'w') as f:
+        json.dump(out, f, indent=None, separators=(',', ':'))
+    os.replace(path + '.tmp', path)
+    print(path, {m: {k: (v['nq'], v['nv'], v['coriolis_check']) for k, v in e.items()}
+                 for m, e in out['models'].items()})
+
+
+if __name__ == '__main__':
+    main()

@@ -3,9 +3,8 @@
 Runs on our machines, NOT in CI (CI has no Pinocchio): `pip install pin numpy`, then
 `python tests/data/make_derivatives_reference.py` from the repository root or anywhere else. The
 JSON it writes is committed and read by the tests of the generated derivative code. Seeded: a
-rerun reproduces the file byte for byte. Modelled on `tests/data/make_centroidal_reference.py`
-(`euler_base` and `serial_euler` copied from there, because that script writes its own file when
-imported).
+rerun reproduces the file byte for byte. Modelled on `tests/data/make_centroidal_reference.py`,
+whose `euler_base`, `serial_euler` and `rel` it imports.
 
 Configurations, `models.<model>.<base>`:
 - `arm7.fixed`: `models/arm7.urdf`, fixed base (7 revolute joints).
@@ -74,6 +73,7 @@ import pinocchio as pin
 
 # The joint order and its permutation are the scale script's (importing it runs nothing).
 from make_scale_reference import document_order, permutation
+from make_centroidal_reference import euler_base, rel, serial_euler
 
 here = os.path.dirname(os.path.abspath(__file__))
 models_dir = os.path.join(here, '..', '..', 'models')
@@ -84,54 +84,10 @@ TOL = 1e-8
 ABA_FD_TOL = 1e-6
 
 
-def euler_base():
-    """Our Euler floating base as in the other scripts: translation (world), then z-y-x angles."""
-    euler = pin.JointModelComposite(2)
-    euler.addJoint(pin.JointModelTranslation())
-    euler.addJoint(pin.JointModelSphericalZYX())
-    return euler
-
-
-def serial_euler(model):
-    """`model` (built with `euler_base()`) with its base split into Translation, RZ, RY, RX joints.
-
-    Same coordinates, same velocities (rates), same dynamics; but no composite joint, which
-    Pinocchio's computeCoriolisMatrix (issue 2053) and derivatives get wrong."""
-    assert model.joints[1].shortname() == 'JointModelComposite' and model.joints[1].nq == 6
-    out = pin.Model()
-    out.name = model.name
-    out.gravity = model.gravity
-    I = pin.SE3.Identity()
-    parent = 0
-    for name, joint in (('root_translation', pin.JointModelTranslation()),
-                        ('root_z', pin.JointModelRZ()), ('root_y', pin.JointModelRY())):
-        parent = out.addJoint(parent, joint, I, name)
-    ids = {0: 0}
-    for i in range(1, model.njoints):
-        if i == 1:
-            joint, p = pin.JointModelRX(), parent
-        else:
-            joint, p = model.joints[i], ids[model.parents[i]]
-        ids[i] = out.addJoint(p, joint, model.jointPlacements[i], model.names[i])
-        out.appendBodyToJoint(ids[i], model.inertias[i], I)
-    for i in range(2, model.njoints):
-        assert out.joints[ids[i]].idx_q == model.joints[i].idx_q, model.names[i]
-        assert out.joints[ids[i]].idx_v == model.joints[i].idx_v, model.names[i]
-    assert (out.nq, out.nv) == (model.nq, model.nv)
-    return out
-
-
 def symmetric(X):
     """X symmetrized from its upper triangle."""
     X = np.array(X)
     return np.triu(X) + np.triu(X, 1).T
-
-
-def rel(x, y, scale=None):
-    """max |x - y| / max(1, max |scale|) (scale defaults to y)."""
-    x, y = np.asarray(x, float), np.asarray(y, float)
-    s = y if scale is None else np.asarray(scale, float)
-    return float(np.abs(x - y).max() / max(1.0, np.abs(s).max()))
 
 
 def central_differences(model, f, x, tangent):
