@@ -401,7 +401,7 @@ pub fn each_kernel<M, V, const NQ: usize, const NV: usize>(
                 $output,
                 M::ops($output),
                 |i| {
-                    black_box(M::$f(black_box(&s(i).q)));
+                    let _ = black_box(M::$f(black_box(&s(i).q)));
                 },
                 |i| {
                     let _ = black_box(r.$f(black_box(s(i).q.as_slice())));
@@ -428,6 +428,29 @@ pub fn each_kernel<M, V, const NQ: usize, const NV: usize>(
             )
         };
     }
+    // Functions of `(q, v, x)`, `x` the state's `a` or `tau`.
+    macro_rules! of_q_v_x {
+        ($output:expr, $f:ident, $x:ident) => {
+            visitor.visit(
+                name,
+                $output,
+                M::ops($output),
+                |i| {
+                    let x = s(i);
+                    let _ = black_box(M::$f(black_box(&x.q), black_box(&x.v), black_box(&x.$x)));
+                },
+                |i| {
+                    let x = s(i);
+                    let _ = black_box(r.$f(
+                        black_box(x.q.as_slice()),
+                        black_box(x.v.as_slice()),
+                        black_box(x.$x.as_slice()),
+                    ));
+                },
+                None,
+            )
+        };
+    }
     of_q!(Output::CenterOfMass, center_of_mass);
     of_q_v!(Output::CenterOfMassVelocity, center_of_mass_velocity);
     of_q!(Output::CenterOfMassJacobian, center_of_mass_jacobian);
@@ -436,62 +459,17 @@ pub fn each_kernel<M, V, const NQ: usize, const NV: usize>(
     of_q_v!(Output::KineticEnergy, kinetic_energy);
     of_q!(Output::PotentialEnergy, potential_energy);
     of_q_v!(Output::CoriolisMatrix, coriolis_matrix);
-    visitor.visit(
-        name,
+    of_q_v_x!(
         Output::InverseDynamicsDerivatives,
-        M::ops(Output::InverseDynamicsDerivatives),
-        |i| {
-            let x = s(i);
-            black_box(M::inverse_dynamics_derivatives(
-                black_box(&x.q),
-                black_box(&x.v),
-                black_box(&x.a),
-            ));
-        },
-        |i| {
-            let x = s(i);
-            let _ = black_box(r.inverse_dynamics_derivatives(
-                black_box(x.q.as_slice()),
-                black_box(x.v.as_slice()),
-                black_box(x.a.as_slice()),
-            ));
-        },
-        None,
+        inverse_dynamics_derivatives,
+        a
     );
-    visitor.visit(
-        name,
+    of_q_v_x!(
         Output::ForwardDynamicsDerivatives,
-        M::ops(Output::ForwardDynamicsDerivatives),
-        |i| {
-            let x = s(i);
-            let _ = black_box(M::forward_dynamics_derivatives(
-                black_box(&x.q),
-                black_box(&x.v),
-                black_box(&x.tau),
-            ));
-        },
-        |i| {
-            let x = s(i);
-            let _ = black_box(r.forward_dynamics_derivatives(
-                black_box(x.q.as_slice()),
-                black_box(x.v.as_slice()),
-                black_box(x.tau.as_slice()),
-            ));
-        },
-        None,
+        forward_dynamics_derivatives,
+        tau
     );
-    visitor.visit(
-        name,
-        Output::MassMatrixInverse,
-        M::ops(Output::MassMatrixInverse),
-        |i| {
-            let _ = black_box(M::mass_matrix_inverse(black_box(&s(i).q)));
-        },
-        |i| {
-            let _ = black_box(r.mass_matrix_inverse(black_box(s(i).q.as_slice())));
-        },
-        None,
-    );
+    of_q!(Output::MassMatrixInverse, mass_matrix_inverse);
 }
 
 /// Runs [`each_kernel`] for every small shipped model, in the order of `articulated_models::SMALL`.
