@@ -192,9 +192,39 @@ fn signature(cx: &Context, traced: &Traced, emitted: &Emitted) -> Signature {
             matrix(&nv, &nv),
             columns(cx, &transposed(values, cx.nv), cx.nv),
         ),
+        Output::InverseDynamicsDerivatives
+        | Output::ForwardDynamicsDerivatives
+        | Output::MassMatrixInverse => return derivative_signature(cx, traced, emitted),
+        Output::ForwardDynamics => {
+            let checks = pivot_checks(cx, traced, emitted);
+            let finite = finite_checks(values);
+            let out = vector(cx, values);
+            (
+                quote!(ForwardDynamics<#scalar, #nq, #nv>),
+                &["q", "v", "tau"],
+                quote!(::core::result::Result<#sv, ::articulated::SingularMassMatrix>),
+                quote!(#(#checks)* #(#finite)* Ok(#out)),
+            )
+        }
+    };
+    Signature {
+        trait_,
+        arguments,
+        ret,
+        result,
+    }
+}
+
+/// [`signature`] of the derivative outputs: `(∂τ/∂q, ∂τ/∂v)`, `Result<(∂q̈/∂q, ∂q̈/∂v, M⁻¹)>`
+/// and `Result<M⁻¹>`, each matrix from its row-major values.
+fn derivative_signature(cx: &Context, traced: &Traced, emitted: &Emitted) -> Signature {
+    let scalar = &cx.scalar;
+    let [nq, nv] = [cx.nq, cx.nv].map(Literal::usize_unsuffixed);
+    let values = &emitted.outputs[..traced.values.len()];
+    let m_ty = quote!(::articulated::nalgebra::SMatrix<#scalar, #nv, #nv>);
+    let (trait_, arguments, ret, result): (_, &'static [&'static str], _, _) = match traced.output {
         Output::InverseDynamicsDerivatives => {
             let (dq, dv) = values.split_at(cx.nv * cx.nv);
-            let m_ty = matrix(&nv, &nv);
             (
                 quote!(InverseDynamicsDerivatives<#scalar, #nq, #nv>),
                 &["q", "v", "a"],
@@ -210,7 +240,6 @@ fn signature(cx: &Context, traced: &Traced, emitted: &Emitted) -> Signature {
             let finite = finite_checks(qdd);
             let (dq, rest) = rest.split_at(cx.nv * cx.nv);
             let (dv, minv) = rest.split_at(cx.nv * cx.nv);
-            let m_ty = matrix(&nv, &nv);
             let out = square_matrices(cx, &[dq, dv, minv]);
             (
                 quote!(ForwardDynamicsDerivatives<#scalar, #nq, #nv>),
@@ -221,7 +250,6 @@ fn signature(cx: &Context, traced: &Traced, emitted: &Emitted) -> Signature {
         }
         Output::MassMatrixInverse => {
             let checks = pivot_checks(cx, traced, emitted);
-            let m_ty = matrix(&nv, &nv);
             (
                 quote!(MassMatrixInverse<#scalar, #nq, #nv>),
                 &["q"],
@@ -232,17 +260,7 @@ fn signature(cx: &Context, traced: &Traced, emitted: &Emitted) -> Signature {
                 },
             )
         }
-        Output::ForwardDynamics => {
-            let checks = pivot_checks(cx, traced, emitted);
-            let finite = finite_checks(values);
-            let out = vector(cx, values);
-            (
-                quote!(ForwardDynamics<#scalar, #nq, #nv>),
-                &["q", "v", "tau"],
-                quote!(::core::result::Result<#sv, ::articulated::SingularMassMatrix>),
-                quote!(#(#checks)* #(#finite)* Ok(#out)),
-            )
-        }
+        _ => unreachable!("not a derivative output"),
     };
     Signature {
         trait_,

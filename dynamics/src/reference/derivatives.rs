@@ -440,28 +440,21 @@ pub fn forward_dynamics_derivatives<S: Scalar>(
     })
 }
 
-/// `(∂τ/∂q, ∂τ/∂v)` as [`inverse_dynamics_derivatives`], by the analytical recursion of
-/// Carpentier & Mansard (RSS 2018, Algorithm 1) instead of duals: every quantity in the world
-/// frame, where moving joint `j` changes a quantity of a body below it by a cross product with
-/// the joint's world axis `s_j`. A forward pass gives, per column, `s` and the partial
-/// derivatives of the joint's own motion (`∂v/∂q = v_λ × s`, `∂a/∂q = a_λ × s + v_λ × ∂v/∂q`,
-/// `∂a/∂v = v × s + ∂v/∂q`, gravity entering as the base acceleration); a backward pass carries
-/// three composites per node (inertia `I_c`, its rate `İ_c = Σ v ×* I − I·v×`, momentum `h_c`,
-/// and the net force `f_c`) and fills each entry with one or two dot products:
-/// - below the diagonal (row `k` of a joint below column `j`'s):
-///   `s_kᵀ·(I_c,k·∂a_j + B_k·∂v_j)`, `B·x = İ_c·x + x ×* h_c`;
-/// - on and above it (row `j`, column `k` at or below): `s_jᵀ·∂f_k`, with
-///   `∂f_k/∂q = B_k·∂v_k/∂q + I_c,k·∂a_k/∂q (+ s_k ×* f_c,k` for the rows of the joints above `k`),
-///   `∂f_k/∂v = B_k·s_k + I_c,k·∂a_k/∂v`.
-///
-/// A second formulation, from other equations than the forward-mode one: each checks the other
-/// (`dynamics/tests/derivatives.rs`), and the generator traces both and keeps the cheaper.
-pub fn inverse_dynamics_derivatives_analytic<T: Scalar>(
-    tree: &Tree<T>,
-    q: &[T],
-    v: &[T],
-    a: &[T],
-) -> (Vec<T>, Vec<T>) {
+/// The forward pass of [`inverse_dynamics_derivatives_analytic`], in the world frame.
+struct WorldMotions<T> {
+    /// World → node transforms.
+    x0: Vec<Transform<T>>,
+    /// Each node's velocity and acceleration (gravity as the base's).
+    ov: Vec<Motion<T>>,
+    oa: Vec<Motion<T>>,
+    /// Per velocity column: the joint's axis `s` and the partial derivatives of its motion.
+    s: Vec<Motion<T>>,
+    dv_dq: Vec<Motion<T>>,
+    da_dq: Vec<Motion<T>>,
+    da_dv: Vec<Motion<T>>,
+}
+
+fn world_motions<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T], a: &[T]) -> WorldMotions<T> {
     let nv = tree.nv;
     let nodes = &tree.nodes;
     let x_up = tree.x_up(q);
@@ -515,6 +508,50 @@ pub fn inverse_dynamics_derivatives_analytic<T: Scalar>(
                 .label(format_args!("{n}_da_dv_w"), format_args!("{n}_da_dv_v"));
         }
     }
+    WorldMotions {
+        x0,
+        ov,
+        oa,
+        s,
+        dv_dq,
+        da_dq,
+        da_dv,
+    }
+}
+
+/// `(∂τ/∂q, ∂τ/∂v)` as [`inverse_dynamics_derivatives`], by the analytical recursion of
+/// Carpentier & Mansard (RSS 2018, Algorithm 1) instead of duals: every quantity in the world
+/// frame, where moving joint `j` changes a quantity of a body below it by a cross product with
+/// the joint's world axis `s_j`. A forward pass gives, per column, `s` and the partial
+/// derivatives of the joint's own motion (`∂v/∂q = v_λ × s`, `∂a/∂q = a_λ × s + v_λ × ∂v/∂q`,
+/// `∂a/∂v = v × s + ∂v/∂q`, gravity entering as the base acceleration); a backward pass carries
+/// three composites per node (inertia `I_c`, its rate `İ_c = Σ v ×* I − I·v×`, momentum `h_c`,
+/// and the net force `f_c`) and fills each entry with one or two dot products:
+/// - below the diagonal (row `k` of a joint below column `j`'s):
+///   `s_kᵀ·(I_c,k·∂a_j + B_k·∂v_j)`, `B·x = İ_c·x + x ×* h_c`;
+/// - on and above it (row `j`, column `k` at or below): `s_jᵀ·∂f_k`, with
+///   `∂f_k/∂q = B_k·∂v_k/∂q + I_c,k·∂a_k/∂q (+ s_k ×* f_c,k` for the rows of the joints above `k`),
+///   `∂f_k/∂v = B_k·s_k + I_c,k·∂a_k/∂v`.
+///
+/// A second formulation, from other equations than the forward-mode one: each checks the other
+/// (`dynamics/tests/derivatives.rs`), and the generator traces both and keeps the cheaper.
+pub fn inverse_dynamics_derivatives_analytic<T: Scalar>(
+    tree: &Tree<T>,
+    q: &[T],
+    v: &[T],
+    a: &[T],
+) -> (Vec<T>, Vec<T>) {
+    let nv = tree.nv;
+    let nodes = &tree.nodes;
+    let WorldMotions {
+        x0,
+        ov,
+        oa,
+        s,
+        dv_dq,
+        da_dq,
+        da_dv,
+    } = world_motions(tree, q, v, a);
     // Composites, from the leaves in.
     let mut ic: Vec<Inertia<T>> = Vec::new();
     let mut idc: Vec<Inertia<T>> = Vec::new();
