@@ -9,6 +9,8 @@
 #[cfg(feature = "alloc")]
 extern crate alloc;
 
+#[cfg(feature = "extended")]
+pub mod extended;
 #[cfg(feature = "alloc")]
 pub mod model;
 pub mod op_counts;
