@@ -164,7 +164,7 @@ impl Neg for Dd {
 
 /// `π/2` as the sum of three `f64`s (to about 160 bits), for the reduction of an angle.
 const HALF_PI: [f64; 3] = [
-    1.5707963267948966,
+    core::f64::consts::FRAC_PI_2,
     6.123233995736766e-17,
     -1.4973849048591698e-33,
 ];
