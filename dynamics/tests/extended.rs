@@ -9,6 +9,7 @@ use articulated_dynamics::model::JointKind;
 use articulated_dynamics::reference::Reference;
 use articulated_dynamics::Scalar;
 use common::*;
+use core::f64::consts::FRAC_PI_2;
 
 const Y: [f64; 3] = [0.0, 1.0, 0.0];
 
@@ -23,7 +24,10 @@ fn rel(a: Dd, b: Dd, floor: f64) -> f64 {
 
 /// `(x, sin x, cos x)`, each value as `(hi, lo)`, from
 /// `mpmath` (`mp.prec = 300`; `hi = float(y)`, `lo = float(y − hi)`), for `x` the `f64` shown.
-const SIN_COS: [(f64, (f64, f64), (f64, f64)); 8] = [
+/// A double-double value as `(hi, lo)`.
+type Pair = (f64, f64);
+
+const SIN_COS: [(f64, Pair, Pair); 8] = [
     (
         0.1,
         (0.09983341664682815, 3.08001512929492e-18),
@@ -35,7 +39,7 @@ const SIN_COS: [(f64, (f64, f64), (f64, f64)); 8] = [
         (0.5403023058681398, -4.760954612604417e-17),
     ),
     (
-        1.5707963267948966,
+        FRAC_PI_2,
         (1.0, -1.874699728327322e-33),
         (6.123233995736766e-17, -1.4973849048591698e-33),
     ),
@@ -131,7 +135,7 @@ fn double_pendulum_matches_lagrange_to_1e_28() {
     for &(t1, t2, d1, d2, tau1, tau2) in &[
         (0.3, -0.8, 1.1, -0.6, 0.5, -0.2),
         (2.0, 1.0, -0.4, 2.2, 0.0, 0.0),
-        (1.5707963267948966, 1e-9, 30.0, -20.0, 3.0, 1.0),
+        (FRAC_PI_2, 1e-9, 30.0, -20.0, 3.0, 1.0),
     ] {
         let (s2, co2) = d(t2).sin_cos();
         let s1 = d(t1).sin_cos().0;
