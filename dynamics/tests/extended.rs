@@ -9,7 +9,7 @@ use articulated_dynamics::model::JointKind;
 use articulated_dynamics::reference::Reference;
 use articulated_dynamics::Scalar;
 use common::*;
-use core::f64::consts::FRAC_PI_2;
+use core::f64::consts::{FRAC_PI_2, SQRT_2};
 
 const Y: [f64; 3] = [0.0, 1.0, 0.0];
 
@@ -68,7 +68,7 @@ const SIN_COS: [(f64, Pair, Pair); 8] = [
 
 /// `(x, √x)` from `mpmath` as above.
 const SQRT: [(f64, (f64, f64)); 4] = [
-    (2.0, (1.4142135623730951, -9.667293313452913e-17)),
+    (2.0, (SQRT_2, -9.667293313452913e-17)),
     (0.3, (0.5477225575051661, 2.890126723719787e-17)),
     (1e-20, (1e-10, -6.385556158839296e-27)),
     (12345.678, (111.11110655555547, -4.3594669324288495e-15)),
