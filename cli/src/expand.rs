@@ -3,7 +3,7 @@
 
 use articulated_codegen::generate::generate_file;
 use articulated_codegen::load::load;
-use articulated_codegen::options::{Output, ScalarKind};
+use articulated_codegen::options::{Accuracy, Output, ScalarKind};
 
 use crate::ExpandArgs;
 
@@ -35,6 +35,13 @@ pub fn run(args: &ExpandArgs) -> Result<String, String> {
             .collect::<Result<Vec<_>, _>>()?;
         chain.options.set_outputs(outputs);
         source.push_str(&format!(" --outputs {list}"));
+    }
+    if let Some(name) = &args.accuracy {
+        chain.options.accuracy = Accuracy::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = Accuracy::ALL.iter().map(|(_, n)| *n).collect();
+            format!("error: --accuracy `{name}`: expected {}", names.join(", "))
+        })?;
+        source.push_str(&format!(" --accuracy {name}"));
     }
     generate_file(&chain.model, &chain.options, &source)
         .map_err(|e| format!("{}: error: {e}", args.model.display()))

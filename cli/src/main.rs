@@ -100,6 +100,10 @@ pub struct ExpandArgs {
     /// `mass_matrix,inverse_dynamics`).
     #[arg(long)]
     pub outputs: Option<String>,
+    /// Speed or accuracy where formulations differ, in place of the description's: `fastest`
+    /// or `robust` (forward dynamics by ABA).
+    #[arg(long)]
+    pub accuracy: Option<String>,
 }
 
 /// Arguments of `articulated simulate`.

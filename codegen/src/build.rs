@@ -28,7 +28,7 @@ use articulated_dynamics::model::Model;
 use crate::emit;
 use crate::generate::generate;
 use crate::load::{load, LoadError};
-use crate::options::{Description, Output, ScalarKind};
+use crate::options::{Accuracy, Description, Output, ScalarKind};
 
 /// Collects descriptions and writes their generated code to one file.
 #[derive(Debug, Default)]
@@ -43,6 +43,7 @@ struct Entry {
     name: Option<String>,
     scalar: Option<ScalarKind>,
     outputs: Option<Vec<Output>>,
+    accuracy: Option<Accuracy>,
 }
 
 #[derive(Debug)]
@@ -99,6 +100,7 @@ impl Builder {
             name: None,
             scalar: None,
             outputs: None,
+            accuracy: None,
         });
         self
     }
@@ -151,6 +153,14 @@ impl Builder {
         self
     }
 
+    /// The accuracy choice of the source added last (as `accuracy = …` in `#[chain(…)]`).
+    pub fn accuracy(mut self, accuracy: Accuracy) -> Self {
+        if let Some(last) = self.sources.last_mut() {
+            last.accuracy = Some(accuracy);
+        }
+        self
+    }
+
     /// The formatted code of every source, with a header per chain.
     ///
     /// # Errors
@@ -182,6 +192,9 @@ impl Builder {
             }
             if let Some(o) = &entry.outputs {
                 chain.options.outputs = o.clone();
+            }
+            if let Some(a) = entry.accuracy {
+                chain.options.accuracy = a;
             }
             let failed = |error| BuildError::Generate {
                 source: label.clone(),

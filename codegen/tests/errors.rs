@@ -59,8 +59,18 @@ fn unknown_setting() {
         &["gravty: none;", B, J],
         2,
         1,
-        "unknown setting `gravty`: expected `gravity`, `scalar` or `outputs` (or `param`, \
-         `body`, `joint` items)",
+        "unknown setting `gravty`: expected `gravity`, `scalar`, `outputs` or `accuracy` (or \
+         `param`, `body`, `joint` items)",
+    );
+}
+
+#[test]
+fn unknown_accuracy() {
+    check(
+        &["accuracy: exact;", B, J],
+        1,
+        11,
+        "unknown accuracy `exact`: expected `fastest` or `robust`",
     );
 }
 

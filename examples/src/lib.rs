@@ -6,6 +6,10 @@
 //!   the examples `falling_cat` and `walking_rotation` both run on it.
 //! - [`falling_cat`]: the falling cat of Wieber (2005, §4.2): the cone cycles, one simulated
 //!   fall, and the planner that turns the cat over.
+//! - [`extremes`]: the accuracy study's extremes (gimbal lock, mass ratios, slender bodies,
+//!   lengths, spin), generated code against the double-double ground truth; the example
+//!   `extremes` writes `docs/accuracy.md` from it.
 
+pub mod extremes;
 pub mod falling_cat;
 pub mod free_floating;

@@ -8,7 +8,9 @@ use syn::meta::ParseNestedMeta;
 use syn::punctuated::Punctuated;
 use syn::{DeriveInput, Ident, LitStr, Token};
 
-use crate::options::{unknown_output, unknown_scalar, Output, ScalarKind};
+use crate::options::{
+    unknown_accuracy, unknown_output, unknown_scalar, Accuracy, Output, ScalarKind,
+};
 
 /// Where `#[chain(…)]` says the description is.
 pub(crate) enum Source {
@@ -35,10 +37,13 @@ pub(crate) struct Attr {
     pub scalar: Option<ScalarKind>,
     /// `outputs = […]`, if given.
     pub outputs: Option<Vec<Output>>,
+    /// `accuracy = fastest | robust`, if given.
+    pub accuracy: Option<Accuracy>,
 }
 
 const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, `floating`, \
-                    `scalar = f64 | f32 | generic` or `outputs = [mass_matrix, …]`";
+                    `scalar = f64 | f32 | generic`, `outputs = [mass_matrix, …]` or \
+                    `accuracy = fastest | robust`";
 
 /// Reads every `#[chain(…)]` on `input`.
 pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
@@ -47,6 +52,7 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
     let mut floating: Option<Ident> = None;
     let mut scalar = None;
     let mut outputs = None;
+    let mut accuracy = None;
     let mut seen = false;
     for attr in input.attrs.iter().filter(|a| a.path().is_ident("chain")) {
         seen = true;
@@ -58,6 +64,7 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
                 Some("floating") => floating = meta.path.get_ident().cloned(),
                 Some("scalar") => scalar = Some(parse_scalar(&meta)?),
                 Some("outputs") => outputs = Some(parse_outputs(&meta)?),
+                Some("accuracy") => accuracy = Some(parse_accuracy(&meta)?),
                 _ => return Err(meta.error(format!("unknown key in #[chain(…)]: {KEYS}"))),
             }
             Ok(())
@@ -96,7 +103,15 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
         source,
         scalar,
         outputs,
+        accuracy,
     })
+}
+
+/// `accuracy = fastest | robust`.
+fn parse_accuracy(meta: &ParseNestedMeta) -> syn::Result<Accuracy> {
+    let name: Ident = meta.value()?.parse()?;
+    Accuracy::from_name(&name.to_string())
+        .ok_or_else(|| syn::Error::new(name.span(), unknown_accuracy(&name.to_string())))
 }
 
 /// `scalar = f64 | f32 | generic`.

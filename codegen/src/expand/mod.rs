@@ -169,6 +169,9 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
     if let Some(outputs) = attr.outputs {
         chain.options.outputs = outputs;
     }
+    if let Some(accuracy) = attr.accuracy {
+        chain.options.accuracy = accuracy;
+    }
     let g = generate_impls(&chain.model, &chain.options, &lit.value())
         .map_err(|e| syn::Error::new(lit.span(), e.to_string()))?;
     let tokens = g.tokens;

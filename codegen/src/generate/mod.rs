@@ -14,7 +14,7 @@ use quote::{format_ident, quote};
 use crate::emit;
 use crate::options::{Options, Output, ScalarKind};
 use crate::sym::{OpCounts, Var};
-use crate::trace::{trace, Variant};
+use crate::trace::{trace_with, Variant};
 
 /// What [`generate`] produced: the tokens and, per function, its operation counts.
 #[derive(Debug)]
@@ -190,7 +190,7 @@ impl<'a> Context<'a> {
         let mut consts = Vec::new();
         let mut functions = Vec::new();
         for &output in &self.options.outputs {
-            let traced = trace(self.model, output);
+            let traced = trace_with(self.model, output, self.options.accuracy);
             let ops = traced.ops();
             items.push(function::item(self, &traced)?);
             consts.push(ops_const(output, &ops));

@@ -14,7 +14,9 @@ use syn::{Lit, Token};
 
 use super::{visibility, BodyDecl, InertiaDecl, JointDecl, Lower, Parent};
 use crate::model::{Placement, Value, DEFAULT_GRAVITY};
-use crate::options::{one_of, unknown_output, unknown_scalar, Options, Output, ScalarKind};
+use crate::options::{
+    one_of, unknown_accuracy, unknown_output, unknown_scalar, Accuracy, Options, Output, ScalarKind,
+};
 use crate::parse::{BodyDef, ChainDef, Expr, Field, Item, JointDef, Setting};
 
 impl Lower {
@@ -165,6 +167,16 @@ impl Lower {
                     None => self.cx.error(v, unknown_scalar(&v.to_string())),
                 }
             }
+            "accuracy" => {
+                let accuracy = match v {
+                    Expr::Name(n) => Accuracy::from_name(&n.to_string()),
+                    _ => None,
+                };
+                match accuracy {
+                    Some(a) => options.accuracy = a,
+                    None => self.cx.error(v, unknown_accuracy(&v.to_string())),
+                }
+            }
             "outputs" => {
                 let Expr::List(_, elems) = v else {
                     self.cx.error(
@@ -191,8 +203,8 @@ impl Lower {
             other => self.cx.error(
                 &s.key,
                 format!(
-                    "unknown setting `{other}`: expected `gravity`, `scalar` or `outputs` \
-                     (or `param`, `body`, `joint` items)"
+                    "unknown setting `{other}`: expected `gravity`, `scalar`, `outputs` or \
+                     `accuracy` (or `param`, `body`, `joint` items)"
                 ),
             ),
         }

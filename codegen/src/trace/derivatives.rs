@@ -194,13 +194,24 @@ pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> 
     }
 }
 
-/// The pivots with the sum of their unreduced values (inside the trace).
+/// The pivots of an `LᵀDL` with the sum of their unreduced values (inside the trace); a pivot
+/// that is its own unreduced value is exact ([`Pivots::exact`]).
 pub(crate) fn pivots_with_scale(pairs: Vec<(Sym, Sym)>) -> Pivots {
+    let exact = pairs.iter().map(|&(p, d)| p == d).collect();
+    pivots_with_exact(pairs, exact)
+}
+
+/// The pivots with the sum of their unreduced values and which are exact.
+pub(crate) fn pivots_with_exact(pairs: Vec<(Sym, Sym)>, exact: Vec<bool>) -> Pivots {
     let scale = pairs
         .iter()
         .map(|p| p.1)
         .reduce(|a, b| a + b)
         .unwrap_or_else(Sym::zero)
         .label(format_args!("pivot_scale"));
-    Pivots { pairs, scale }
+    Pivots {
+        pairs,
+        scale,
+        exact,
+    }
 }

@@ -13,7 +13,7 @@ use articulated_dynamics::model::Model;
 use articulated_dynamics::reference::{aba, ltdl_solve};
 use articulated_dynamics::Scalar;
 
-use super::derivatives::pivots_with_scale;
+use super::derivatives::{pivots_with_exact, pivots_with_scale};
 use super::{inputs, label_outputs, mass_matrix, rnea, symbolic_tree};
 use super::{Formulation, Traced, Variant};
 use crate::options::Output;
@@ -74,21 +74,29 @@ pub(crate) fn trace_variant(model: &Model, variant: Variant) -> Traced {
             inputs(tree.nv, Var::V),
             inputs(tree.nv, Var::Tau),
         );
-        let (values, pairs) = match variant.method {
+        let (values, pivots) = match variant.method {
             Some(FdMethod::CrbaLtdl) => {
                 let m = mass_matrix(variant.formulation, &tree, &q);
                 let zero = vec![Sym::zero(); tree.nv];
                 let h = rnea(variant.formulation, &tree, &q, &v, &zero, true);
                 let b: Vec<Sym> = tau.iter().zip(&h).map(|(&t, &h)| t - h).collect();
-                ltdl_solve(m, b, tree.nv)
+                let (values, pairs) = ltdl_solve(m, b, tree.nv);
+                // Inside the trace: the sum is recorded in this graph.
+                (values, pivots_with_scale(pairs))
             }
             _ => {
                 let out = aba(&tree, &q, &v, &tau, true);
-                (out.qdd, out.pivots.into_iter().zip(out.diag).collect())
+                // ABA's unreduced values are articulated already; a leaf body's are its own.
+                let mut exact = vec![false; tree.nv];
+                for (i, node) in tree.nodes.iter().enumerate() {
+                    if !tree.nodes.iter().any(|c| c.parent == Some(i)) {
+                        exact[node.v_at..node.v_at + node.nv()].fill(true);
+                    }
+                }
+                let pairs = out.pivots.into_iter().zip(out.diag).collect();
+                (out.qdd, pivots_with_exact(pairs, exact))
             }
         };
-        // Inside the trace: the sum is recorded in this graph.
-        let pivots = pivots_with_scale(pairs);
         let values = label_outputs(Output::ForwardDynamics, values, tree.nv);
         (values, pivots)
     });
