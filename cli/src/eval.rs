@@ -48,30 +48,28 @@ impl State {
     }
 }
 
-/// What `eval` prints, whichever engine computed it.
-struct Dynamics {
-    mass_matrix: DMatrix<f64>,
-    bias: DVector<f64>,
-    gravity: DVector<f64>,
-    tau: DVector<f64>,
-    qdd: DVector<f64>,
-    /// The quantities of the whole system at `(q, v)`.
-    whole: WholeBody,
+/// What `eval` prints, whichever engine computed it: each quantity under its key, or the
+/// message saying why it could not be computed at this state (forward dynamics where `M` is
+/// singular); the others are printed all the same.
+type Fields = Vec<(&'static str, Result<Value, String>)>;
+
+/// The condition number of `M` from its eigenvalues, infinite where one is not positive.
+fn condition(m: &DMatrix<f64>) -> f64 {
+    if m.is_empty() {
+        return 1.0;
+    }
+    let eig = m.clone().symmetric_eigenvalues();
+    let (lo, hi) = (eig.min(), eig.max());
+    if lo > 0.0 {
+        hi / lo
+    } else {
+        f64::INFINITY
+    }
 }
 
-/// Centre of mass, its velocity, the centroidal momentum `[k_G; p]`, the energies and the
-/// Coriolis matrix (the same as the generated functions of those names).
-struct WholeBody {
-    center_of_mass: DVector<f64>,
-    center_of_mass_velocity: DVector<f64>,
-    centroidal_momentum: DVector<f64>,
-    kinetic_energy: f64,
-    potential_energy: f64,
-    coriolis_matrix: DMatrix<f64>,
-}
-
-/// Runs `eval`; the JSON text, or the error message for stderr.
-pub fn run(args: &EvalArgs) -> Result<String, String> {
+/// Runs `eval`: the JSON text, and one message per quantity that could not be computed (the
+/// caller exits with failure if there is any); or the error message when nothing could be.
+pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
     // Checks the model and the parameter values, for both engines.
     let (model, reference) = load_reference(&args.model, args.floating, args.params.as_deref())?;
     let params = reference.params().to_vec();
@@ -91,52 +89,96 @@ pub fn run(args: &EvalArgs) -> Result<String, String> {
         tau: get(&args.tau, "tau")?,
         params,
     };
-    let fail = |e: Error| format!("error: {e}");
-    let d = match args.engine {
-        Engine::Reference => by_reference(&reference, &state).map_err(fail)?,
-        Engine::Symbolic => by_graph(&model, &state)?,
+    // A `q` that names no configuration fails every quantity alike: one error, nothing printed.
+    check_q(&model, &state.q).map_err(|e| format!("error: {e}"))?;
+    let computed = match args.engine {
+        Engine::Reference => by_reference(&reference, &state),
+        Engine::Symbolic => by_graph(&model, &state),
     };
-    let fields = [
-        ("nq", Value::from(nq)),
-        ("nv", Value::from(nv)),
-        ("mass_matrix", matrix_rows(&d.mass_matrix)),
-        ("bias", vector(&d.bias)),
-        ("gravity", vector(&d.gravity)),
-        ("tau", vector(&d.tau)),
-        ("qdd", vector(&d.qdd)),
-        ("center_of_mass", vector(&d.whole.center_of_mass)),
-        (
-            "center_of_mass_velocity",
-            vector(&d.whole.center_of_mass_velocity),
-        ),
-        ("centroidal_momentum", vector(&d.whole.centroidal_momentum)),
-        ("kinetic_energy", Value::from(d.whole.kinetic_energy)),
-        ("potential_energy", Value::from(d.whole.potential_energy)),
-        ("coriolis_matrix", matrix_rows(&d.whole.coriolis_matrix)),
-    ];
-    Ok(to_json(&fields))
+    let mut fields = vec![("nq", Ok(Value::from(nq))), ("nv", Ok(Value::from(nv)))];
+    fields.extend(computed);
+    let mut errors = Vec::new();
+    let values: Vec<(&str, Value)> = fields
+        .into_iter()
+        .map(|(key, value)| match value {
+            Ok(v) => (key, v),
+            Err(message) => {
+                errors.push(format!("error: `{key}`: {message}"));
+                let mut object = serde_json::Map::new();
+                object.insert("error".into(), Value::from(message));
+                (key, Value::Object(object))
+            }
+        })
+        .collect();
+    Ok((to_json(&values), errors))
 }
 
-fn by_reference(r: &Reference, s: &State) -> Result<Dynamics, Error> {
-    Ok(Dynamics {
-        mass_matrix: r.mass_matrix(&s.q)?,
-        bias: r.bias(&s.q, &s.v)?,
-        gravity: r.gravity(&s.q)?,
-        tau: r.inverse_dynamics(&s.q, &s.v, &s.a)?,
-        qdd: r.forward_dynamics(&s.q, &s.v, &s.tau)?,
-        whole: WholeBody {
-            center_of_mass: DVector::from_column_slice(r.center_of_mass(&s.q)?.as_slice()),
-            center_of_mass_velocity: DVector::from_column_slice(
-                r.center_of_mass_velocity(&s.q, &s.v)?.as_slice(),
-            ),
-            centroidal_momentum: DVector::from_column_slice(
-                r.centroidal_momentum(&s.q, &s.v)?.as_slice(),
-            ),
-            kinetic_energy: r.kinetic_energy(&s.q, &s.v)?,
-            potential_energy: r.potential_energy(&s.q)?,
-            coriolis_matrix: r.coriolis_matrix(&s.q, &s.v)?,
-        },
-    })
+fn by_reference(r: &Reference, s: &State) -> Fields {
+    let text = |e: Error| e.to_string();
+    let column = |v: Result<nalgebra::Vector3<f64>, Error>| {
+        v.map(|v| vector(&DVector::from_column_slice(v.as_slice())))
+            .map_err(text)
+    };
+    let m = r.mass_matrix(&s.q);
+    let cond = m.as_ref().map(condition).map_err(|e| e.clone());
+    vec![
+        (
+            "mass_matrix",
+            m.as_ref().map(matrix_rows).map_err(|e| text(e.clone())),
+        ),
+        (
+            "mass_matrix_condition",
+            cond.map(condition_value).map_err(text),
+        ),
+        ("bias", r.bias(&s.q, &s.v).map(|x| vector(&x)).map_err(text)),
+        ("gravity", r.gravity(&s.q).map(|x| vector(&x)).map_err(text)),
+        (
+            "tau",
+            r.inverse_dynamics(&s.q, &s.v, &s.a)
+                .map(|x| vector(&x))
+                .map_err(text),
+        ),
+        (
+            "qdd",
+            r.forward_dynamics(&s.q, &s.v, &s.tau)
+                .map(|x| vector(&x))
+                .map_err(text),
+        ),
+        ("center_of_mass", column(r.center_of_mass(&s.q))),
+        (
+            "center_of_mass_velocity",
+            column(r.center_of_mass_velocity(&s.q, &s.v)),
+        ),
+        (
+            "centroidal_momentum",
+            r.centroidal_momentum(&s.q, &s.v)
+                .map(|x| vector(&DVector::from_column_slice(x.as_slice())))
+                .map_err(text),
+        ),
+        (
+            "kinetic_energy",
+            r.kinetic_energy(&s.q, &s.v).map(Value::from).map_err(text),
+        ),
+        (
+            "potential_energy",
+            r.potential_energy(&s.q).map(Value::from).map_err(text),
+        ),
+        (
+            "coriolis_matrix",
+            r.coriolis_matrix(&s.q, &s.v)
+                .map(|x| matrix_rows(&x))
+                .map_err(text),
+        ),
+    ]
+}
+
+/// `cond(M)` as JSON: a number, or the string `"infinite"` where `M` is singular.
+fn condition_value(c: f64) -> Value {
+    if c.is_finite() {
+        Value::from(c)
+    } else {
+        Value::from("infinite")
+    }
 }
 
 /// The name of the joint that velocity `k` belongs to.
@@ -149,10 +191,7 @@ fn joint_of_v(model: &Model, k: usize) -> String {
 /// The generator's expression graphs (`articulated_codegen::trace::trace`), evaluated in
 /// `f64`: what the generated code computes, with the same checks (every forward-dynamics pivot
 /// positive, every result finite), reported as the reference reports them.
-fn by_graph(model: &Model, s: &State) -> Result<Dynamics, String> {
-    let fail = |e: Error| format!("error: {e}");
-    // As the reference: a zero quaternion names no rotation (the graph would give NaN).
-    check_q(model, &s.q).map_err(fail)?;
+fn by_graph(model: &Model, s: &State) -> Fields {
     let nv = model.nv();
     let values = |output: Output| -> Result<Vec<f64>, String> {
         let traced = trace(model, output);
@@ -179,15 +218,16 @@ fn by_graph(model: &Model, s: &State) -> Result<Dynamics, String> {
                 .min_by(|&i, &j| ratio(&pd[i]).total_cmp(&ratio(&pd[j])))
                 .unwrap_or(0);
             let (p, d) = pd.get(k).copied().unwrap_or((f64::NAN, f64::NAN));
-            return Err(fail(Error::Singular(Singularity::Pivot {
+            return Err(Error::Singular(Singularity::Pivot {
                 joint: joint_of_v(model, k),
                 velocity: k,
                 pivot: p,
                 unreduced: d,
-            })));
+            })
+            .to_string());
         }
         if let Some(k) = values.iter().position(|x| !x.is_finite()) {
-            return Err(fail(if output == Output::ForwardDynamics {
+            return Err(if output == Output::ForwardDynamics {
                 Error::Singular(Singularity::NonFiniteAcceleration {
                     joint: joint_of_v(model, k),
                     velocity: k,
@@ -196,25 +236,49 @@ fn by_graph(model: &Model, s: &State) -> Result<Dynamics, String> {
                 Error::NonFiniteResult {
                     output: output.name(),
                 }
-            }));
+            }
+            .to_string());
         }
         Ok(values)
     };
-    Ok(Dynamics {
-        mass_matrix: DMatrix::from_row_slice(nv, nv, &values(Output::MassMatrix)?),
-        bias: DVector::from_vec(values(Output::Bias)?),
-        gravity: DVector::from_vec(values(Output::Gravity)?),
-        tau: DVector::from_vec(values(Output::InverseDynamics)?),
-        qdd: DVector::from_vec(values(Output::ForwardDynamics)?),
-        whole: WholeBody {
-            center_of_mass: DVector::from_vec(values(Output::CenterOfMass)?),
-            center_of_mass_velocity: DVector::from_vec(values(Output::CenterOfMassVelocity)?),
-            centroidal_momentum: DVector::from_vec(values(Output::CentroidalMomentum)?),
-            kinetic_energy: values(Output::KineticEnergy)?[0],
-            potential_energy: values(Output::PotentialEnergy)?[0],
-            coriolis_matrix: DMatrix::from_row_slice(nv, nv, &values(Output::CoriolisMatrix)?),
-        },
-    })
+    let square = |x: Vec<f64>| DMatrix::from_row_slice(nv, nv, &x);
+    let vec_of = |x: Vec<f64>| vector(&DVector::from_vec(x));
+    let scalar = |x: Vec<f64>| Value::from(x.first().copied().unwrap_or(f64::NAN));
+    let m = values(Output::MassMatrix).map(square);
+    vec![
+        (
+            "mass_matrix",
+            m.as_ref().map(matrix_rows).map_err(String::clone),
+        ),
+        (
+            "mass_matrix_condition",
+            m.as_ref()
+                .map(|m| condition_value(condition(m)))
+                .map_err(String::clone),
+        ),
+        ("bias", values(Output::Bias).map(vec_of)),
+        ("gravity", values(Output::Gravity).map(vec_of)),
+        ("tau", values(Output::InverseDynamics).map(vec_of)),
+        ("qdd", values(Output::ForwardDynamics).map(vec_of)),
+        ("center_of_mass", values(Output::CenterOfMass).map(vec_of)),
+        (
+            "center_of_mass_velocity",
+            values(Output::CenterOfMassVelocity).map(vec_of),
+        ),
+        (
+            "centroidal_momentum",
+            values(Output::CentroidalMomentum).map(vec_of),
+        ),
+        ("kinetic_energy", values(Output::KineticEnergy).map(scalar)),
+        (
+            "potential_energy",
+            values(Output::PotentialEnergy).map(scalar),
+        ),
+        (
+            "coriolis_matrix",
+            values(Output::CoriolisMatrix).map(|x| matrix_rows(&square(x))),
+        ),
+    ]
 }
 
 /// One JSON object, keys in the order given (the README's `articulated eval`), a matrix row per line, numbers

@@ -219,7 +219,18 @@ pub fn parse_vector(text: &str, what: &str, len: usize) -> Result<Vec<f64>, Stri
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
-        Command::Eval(args) => eval::run(args),
+        Command::Eval(args) => match eval::run(args) {
+            // Every quantity computed at this state is printed; one that could not be fails
+            // the run, with its message on stderr too.
+            Ok((json, errors)) if !errors.is_empty() => {
+                println!("{json}");
+                for e in &errors {
+                    eprintln!("{e}");
+                }
+                return ExitCode::FAILURE;
+            }
+            other => other.map(|(json, _)| json),
+        },
         Command::Expand(args) => expand::run(args),
         Command::Simulate(args) => simulate::run(args),
         Command::Invert(args) => invert::run(args),

@@ -365,3 +365,52 @@ fn symbolic_engine_refuses_a_singular_mass_matrix() {
         "{stderr}"
     );
 }
+
+/// At exact gimbal lock forward dynamics cannot be computed, but everything else can: `eval`
+/// prints it all, with `qdd` as an error object naming the pivot, reports the failure on stderr
+/// and exits with failure, for both engines. `M` printed is singular to working precision
+/// (its condition number, printed too, past 1e16), and gravity is the reference's.
+#[test]
+fn a_singular_state_prints_what_it_can_and_fails() {
+    let q = format!("0.2,{},-0.3,0.1,0.4,0.2", std::f64::consts::FRAC_PI_2);
+    for engine in ["reference", "symbolic"] {
+        let (ok, stdout, stderr) = eval(&["models/two_link.chain", "--q", &q, "--engine", engine]);
+        assert!(!ok, "{engine}: {stdout}");
+        assert!(
+            stderr.contains("`qdd`") && stderr.contains("pivot"),
+            "{stderr}"
+        );
+        let out: Value = serde_json::from_str(&stdout).unwrap_or_else(|e| panic!("{e}: {stdout}"));
+        let message = out["qdd"]["error"]
+            .as_str()
+            .unwrap_or_else(|| panic!("{stdout}"));
+        assert!(message.contains("singular"), "{message}");
+        assert!(
+            out["mass_matrix_condition"]
+                .as_f64()
+                .is_some_and(|c| c > 1e16),
+            "{stdout}"
+        );
+        let m = flat(&out["mass_matrix"]);
+        assert_eq!(m.len(), 36);
+        // At the lock the ankle's first and third axes coincide: rows 0 and 2 of M agree.
+        for k in 0..6 {
+            assert!((m[k] - m[12 + k]).abs() < 1e-12, "{stdout}");
+        }
+        let g = flat(&out["gravity"]);
+        let reference = articulated_dynamics::reference::Reference::new(
+            &articulated_codegen::load::load_model(&repo().join("models/two_link.chain"), false)
+                .unwrap(),
+        )
+        .unwrap()
+        .gravity(
+            &q.split(',')
+                .map(|x| x.parse().unwrap())
+                .collect::<Vec<f64>>(),
+        )
+        .unwrap();
+        for (a, b) in g.iter().zip(reference.iter()) {
+            assert!((a - b).abs() < 1e-10, "{stdout}");
+        }
+    }
+}

@@ -68,7 +68,7 @@ fn unknown_setting() {
 fn unknown_accuracy() {
     check(
         &["accuracy: exact;", B, J],
-        1,
+        2,
         11,
         "unknown accuracy `exact`: expected `fastest` or `robust`",
     );

@@ -211,7 +211,8 @@ fn free_body_follows_eulers_equations_to_1e_28() {
     let truth = GroundTruth::new(&model).unwrap();
     let nv = truth.nv();
     assert_eq!(nv, 6);
-    // Body-frame velocity `[v; ω]`; q = [x, y, z, qx, qy, qz, qw] (a rotation about x by 0.6).
+    // Body-frame velocity `[v; ω]`; q = [x, y, z, w, qx, qy, qz], a unit quaternion (a turn
+    // about z): the body-frame equations do not depend on it.
     let (s, c) = (0.3f64.sin(), 0.3f64.cos());
     let q = [0.1, -0.2, 1.0, s, 0.0, 0.0, c];
     let w = [1.5, -40.0, 7.0];

@@ -9,7 +9,8 @@ use crate::emit::{self, Emitted};
 use crate::options::{Output, ScalarKind};
 use crate::sym::{Node, Var};
 use crate::trace::{
-    Traced, PIVOT_TOL_F32, PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_F32, PIVOT_TOL_GLOBAL_F64,
+    Traced, PIVOT_TOL_F32, PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_ABA_F32, PIVOT_TOL_GLOBAL_ABA_F64,
+    PIVOT_TOL_GLOBAL_F32, PIVOT_TOL_GLOBAL_F64,
 };
 
 /// The trait impl of one traced output.
@@ -335,10 +336,11 @@ fn pivot_checks(cx: &Context, traced: &Traced, emitted: &Emitted) -> Vec<TokenSt
         return Vec::new();
     };
     let f32 = cx.options.scalar == ScalarKind::F32;
-    let (tol, tol_global) = if f32 {
-        (PIVOT_TOL_F32, PIVOT_TOL_GLOBAL_F32)
-    } else {
-        (PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_F64)
+    let (tol, tol_global) = match (f32, pivots.aba) {
+        (true, false) => (PIVOT_TOL_F32, PIVOT_TOL_GLOBAL_F32),
+        (true, true) => (PIVOT_TOL_F32, PIVOT_TOL_GLOBAL_ABA_F32),
+        (false, false) => (PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_F64),
+        (false, true) => (PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_ABA_F64),
     };
     let constant = |s| match traced.graph.node(s) {
         Node::Const(x) => Some(x),

@@ -198,11 +198,12 @@ pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> 
 /// that is its own unreduced value is exact ([`Pivots::exact`]).
 pub(crate) fn pivots_with_scale(pairs: Vec<(Sym, Sym)>) -> Pivots {
     let exact = pairs.iter().map(|&(p, d)| p == d).collect();
-    pivots_with_exact(pairs, exact)
+    pivots_with_exact(pairs, exact, false)
 }
 
-/// The pivots with the sum of their unreduced values and which are exact.
-pub(crate) fn pivots_with_exact(pairs: Vec<(Sym, Sym)>, exact: Vec<bool>) -> Pivots {
+/// The pivots with the sum of their unreduced values, which are exact, and whether they are
+/// ABA's.
+pub(crate) fn pivots_with_exact(pairs: Vec<(Sym, Sym)>, exact: Vec<bool>, aba: bool) -> Pivots {
     let scale = pairs
         .iter()
         .map(|p| p.1)
@@ -213,5 +214,6 @@ pub(crate) fn pivots_with_exact(pairs: Vec<(Sym, Sym)>, exact: Vec<bool>) -> Piv
         pairs,
         scale,
         exact,
+        aba,
     }
 }

@@ -94,7 +94,7 @@ pub(crate) fn trace_variant(model: &Model, variant: Variant) -> Traced {
                     }
                 }
                 let pairs = out.pivots.into_iter().zip(out.diag).collect();
-                (out.qdd, pivots_with_exact(pairs, exact))
+                (out.qdd, pivots_with_exact(pairs, exact, true))
             }
         };
         let values = label_outputs(Output::ForwardDynamics, values, tree.nv);

@@ -124,6 +124,9 @@ pub struct Pivots {
     /// articulated, the pivots of a leaf body's joint. A body 1e12 lighter than the rest, or a
     /// slender one, at the leaves then passes in `f32` too.
     pub exact: Vec<bool>,
+    /// Whether these are ABA's pivots (held to [`PIVOT_TOL_GLOBAL_ABA_F64`]) rather than an
+    /// `LᵀDL`'s.
+    pub aba: bool,
     /// The sum of the unreduced values.
     pub scale: Sym,
 }
@@ -135,16 +138,22 @@ pub struct Pivots {
 pub const PIVOT_TOL_F64: f64 = 1e-13;
 /// The same for `f32` (its epsilon is 1.2e-7).
 pub const PIVOT_TOL_F32: f64 = 1e-6;
-/// Every pivot must also exceed this fraction of the sum of all unreduced pivots (for CRBA +
-/// LᵀDL, the trace of `M`). A pivot of an exactly singular `M` comes out as rounding noise, about
-/// ε·trace(M) times some growth, which can pass the test against its own unreduced value;
-/// against the trace it cannot. Set as the reference's (1e-15 of the largest), so that what the
-/// reference solves passes too: a body 1e12 times lighter than the rest, a slender body with an
-/// axial moment 1e-12 of the others' (pivots 1e-12 of the trace, the ground truth's error 1e-16).
-/// It was 1e-12, which refused those (issue 12).
-pub const PIVOT_TOL_GLOBAL_F64: f64 = 1e-15;
-/// The same for `f32`: 1e-6 of the trace, a few times its epsilon.
-pub const PIVOT_TOL_GLOBAL_F32: f64 = 1e-6;
+/// Every pivot of an `LᵀDL` must also exceed this fraction of the sum of all unreduced pivots
+/// (the trace of `M`). A pivot of an exactly singular `M` comes out as rounding noise, about
+/// ε·trace(M) times some growth, which can pass the test against its own unreduced value (a
+/// massless root under a free base: the pivot of 1e-16 against `M_kk` of 1e-3, and Pinocchio's
+/// `arm6_mixed` on a free base, where 1e-15 let 1e14 through); against the trace it cannot.
+/// Legitimate pivots of ill-conditioned chains (κ up to 1e11) pass; a pivot nothing was
+/// eliminated from is exempt ([`Pivots::exact`]).
+pub const PIVOT_TOL_GLOBAL_F64: f64 = 1e-12;
+/// The same for `f32`.
+pub const PIVOT_TOL_GLOBAL_F32: f64 = 1e-5;
+/// The same for ABA's pivots, as the reference's (1e-15 of the largest): ABA keeps its digits
+/// where `M` is ill-conditioned, so what the reference solves passes too (a body 1e12 times
+/// lighter than the rest, a slender body with an axial moment 1e-12 of the others').
+pub const PIVOT_TOL_GLOBAL_ABA_F64: f64 = 1e-15;
+/// The same for `f32`: a few times its epsilon.
+pub const PIVOT_TOL_GLOBAL_ABA_F32: f64 = 1e-6;
 
 /// One output traced into its own graph.
 #[derive(Debug)]
@@ -195,6 +204,7 @@ impl Traced {
                     .pivots
                     .as_ref()
                     .map_or_else(Vec::new, |p| p.exact.clone()),
+                aba: self.pivots.as_ref().is_some_and(|p| p.aba),
             }
         });
         Traced {
@@ -214,9 +224,13 @@ impl Traced {
             None => true,
             Some((&scale, values)) => {
                 let exact = self.pivots.as_ref().map_or(&[][..], |p| &p.exact[..]);
+                let tol_global = match self.pivots.as_ref().is_some_and(|p| p.aba) {
+                    true => PIVOT_TOL_GLOBAL_ABA_F64,
+                    false => PIVOT_TOL_GLOBAL_F64,
+                };
                 values.chunks(2).zip(exact).all(|(pd, &exact)| {
                     // As the generated checks: an exact pivot is not held to the scale.
-                    let global = exact || pd[0] > PIVOT_TOL_GLOBAL_F64 * scale;
+                    let global = exact || pd[0] > tol_global * scale;
                     pd[0] > PIVOT_TOL_F64 * pd[1] && global && pd[0].is_finite()
                 })
             }
