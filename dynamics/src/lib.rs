@@ -15,6 +15,8 @@ pub mod extended;
 pub mod model;
 pub mod op_counts;
 #[cfg(feature = "alloc")]
+pub mod prune;
+#[cfg(feature = "alloc")]
 pub mod random;
 #[cfg(feature = "alloc")]
 pub mod reference;
