@@ -43,6 +43,26 @@ pub fn run(args: &ExpandArgs) -> Result<String, String> {
         })?;
         source.push_str(&format!(" --accuracy {name}"));
     }
+    for lock in &args.locks {
+        let (joint, values) = lock
+            .split_once('=')
+            .ok_or_else(|| format!("error: --lock `{lock}`: expected JOINT=Q[,Q…]"))?;
+        let q = values
+            .split(',')
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<Result<Vec<f64>, _>>()
+            .map_err(|e| format!("error: --lock `{lock}`: {e}"))?;
+        chain.options.locks.push((joint.trim().to_string(), q));
+        source.push_str(&format!(" --lock {lock}"));
+    }
+    if let Some(keep) = &args.keep {
+        chain.options.keep = Some(keep.split(',').map(|b| b.trim().to_string()).collect());
+        source.push_str(&format!(" --keep {keep}"));
+    }
+    if args.quasi_static {
+        chain.options.quasi_static = true;
+        source.push_str(" --quasi-static");
+    }
     generate_file(&chain.model, &chain.options, &source)
         .map_err(|e| format!("{}: error: {e}", args.model.display()))
 }

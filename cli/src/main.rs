@@ -104,6 +104,17 @@ pub struct ExpandArgs {
     /// or `robust` (forward dynamics by ABA).
     #[arg(long)]
     pub accuracy: Option<String>,
+    /// Locks a joint at its position coordinates, e.g. `--lock elbow=0.3` or
+    /// `--lock hip=0,0.1,0` (repeatable): it becomes fixed and its body merges into its parent.
+    #[arg(long = "lock")]
+    pub locks: Vec<String>,
+    /// Keeps only these bodies, comma-separated; the other joints are locked at neutral and
+    /// their bodies ride as a payload.
+    #[arg(long)]
+    pub keep: Option<String>,
+    /// Quasi-static motion: velocity-product terms dropped.
+    #[arg(long)]
+    pub quasi_static: bool,
 }
 
 /// Arguments of `articulated simulate`.

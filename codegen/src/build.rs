@@ -44,6 +44,9 @@ struct Entry {
     scalar: Option<ScalarKind>,
     outputs: Option<Vec<Output>>,
     accuracy: Option<Accuracy>,
+    locks: Vec<(String, Vec<f64>)>,
+    keep: Option<Vec<String>>,
+    quasi_static: bool,
 }
 
 #[derive(Debug)]
@@ -101,6 +104,9 @@ impl Builder {
             scalar: None,
             outputs: None,
             accuracy: None,
+            locks: Vec::new(),
+            keep: None,
+            quasi_static: false,
         });
         self
     }
@@ -161,6 +167,33 @@ impl Builder {
         self
     }
 
+    /// Locks `joint` of the source added last at the position coordinates `q` (as `lock = […]` in
+    /// `#[chain(…)]`): it becomes fixed and its child merges into its parent.
+    pub fn lock(mut self, joint: &str, q: &[f64]) -> Self {
+        if let Some(last) = self.sources.last_mut() {
+            last.locks.push((joint.to_string(), q.to_vec()));
+        }
+        self
+    }
+
+    /// Keeps only `bodies` of the source added last (as `keep = […]`): the other joints are
+    /// locked at neutral and their bodies ride as a payload.
+    pub fn keep(mut self, bodies: &[&str]) -> Self {
+        if let Some(last) = self.sources.last_mut() {
+            last.keep = Some(bodies.iter().map(|b| b.to_string()).collect());
+        }
+        self
+    }
+
+    /// Quasi-static motion for the source added last (as `quasi_static`): velocity-product
+    /// terms dropped.
+    pub fn quasi_static(mut self) -> Self {
+        if let Some(last) = self.sources.last_mut() {
+            last.quasi_static = true;
+        }
+        self
+    }
+
     /// The formatted code of every source, with a header per chain.
     ///
     /// # Errors
@@ -196,6 +229,11 @@ impl Builder {
             if let Some(a) = entry.accuracy {
                 chain.options.accuracy = a;
             }
+            chain.options.locks.extend(entry.locks.iter().cloned());
+            if let Some(k) = &entry.keep {
+                chain.options.keep = Some(k.clone());
+            }
+            chain.options.quasi_static |= entry.quasi_static;
             let failed = |error| BuildError::Generate {
                 source: label.clone(),
                 error,

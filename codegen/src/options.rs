@@ -14,6 +14,7 @@ use proc_macro2::TokenStream;
 use quote::quote;
 
 use articulated_dynamics::model::Model;
+use articulated_dynamics::prune::{self, PruneError};
 
 /// Which scalar the generated code computes in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -285,6 +286,15 @@ pub struct Options {
     pub outputs: Vec<Output>,
     /// Speed or accuracy, where formulations differ.
     pub accuracy: Accuracy,
+    /// Joints locked at the given position coordinates (`lock: [elbow(0.3)]`): they become fixed
+    /// and their bodies merge ([`articulated_dynamics::prune`]).
+    pub locks: Vec<(String, Vec<f64>)>,
+    /// The bodies the scene moves (`keep: [base, upper]`); every other joint is locked (at
+    /// `locks`' value or neutral) and the dropped bodies ride as a payload. `None`: all.
+    pub keep: Option<Vec<String>>,
+    /// Quasi-static motion (`quasi_static: true`): the velocity-product terms are dropped, as
+    /// if `v = 0` in every output (an approximation; `bias` is then zero).
+    pub quasi_static: bool,
 }
 
 impl Default for Options {
@@ -296,11 +306,40 @@ impl Default for Options {
             scalar: ScalarKind::F64,
             outputs: Output::DEFAULT.to_vec(),
             accuracy: Accuracy::Fastest,
+            locks: Vec::new(),
+            keep: None,
+            quasi_static: false,
         }
     }
 }
 
 impl Options {
+    /// Whether the scene asks for less than the whole model (locked joints or a sub-tree).
+    pub fn prunes(&self) -> bool {
+        !self.locks.is_empty() || self.keep.is_some()
+    }
+
+    /// The model the generator works on for this scene: `model` with the locked joints fixed,
+    /// reduced to the sub-tree, and its fixed joints merged ([`articulated_dynamics::prune`]);
+    /// `model` itself when nothing is pruned.
+    ///
+    /// # Errors
+    /// A lock or a kept body that does not fit the model.
+    pub fn scene_model(&self, model: &Model) -> Result<Model, PruneError> {
+        if !self.prunes() {
+            return Ok(model.clone());
+        }
+        let mut m = model.clone();
+        for (joint, q) in &self.locks {
+            m = prune::lock(&m, joint, q)?;
+        }
+        if let Some(keep) = &self.keep {
+            let names: Vec<&str> = keep.iter().map(String::as_str).collect();
+            m = prune::keep(&m, &names, &[])?;
+        }
+        Ok(prune::merge_fixed(&m))
+    }
+
     /// Sets the outputs, sorted and without duplicates.
     pub fn set_outputs(&mut self, outputs: impl IntoIterator<Item = Output>) {
         self.outputs = outputs.into_iter().collect();

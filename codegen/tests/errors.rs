@@ -59,8 +59,8 @@ fn unknown_setting() {
         &["gravty: none;", B, J],
         2,
         1,
-        "unknown setting `gravty`: expected `gravity`, `scalar`, `outputs` or `accuracy` (or \
-         `param`, `body`, `joint` items)",
+        "unknown setting `gravty`: expected `gravity`, `scalar`, `outputs`, `accuracy`, \
+         `lock`, `keep` or `quasi_static` (or `param`, `body`, `joint` items)",
     );
 }
 
@@ -71,6 +71,65 @@ fn unknown_accuracy() {
         2,
         11,
         "unknown accuracy `exact`: expected `fastest` or `robust`",
+    );
+}
+
+#[test]
+fn lock_of_an_unknown_joint() {
+    check(
+        &["lock: [elbow(0.3)];", B, J],
+        2,
+        8,
+        "cannot lock `elbow`: no joint of that name",
+    );
+}
+
+#[test]
+fn lock_with_the_wrong_number_of_coordinates() {
+    check(
+        &["lock: [j(0.3, 0.1)];", B, J],
+        2,
+        8,
+        "joint `j` is locked with 2 values but has 1 position coordinate",
+    );
+}
+
+#[test]
+fn lock_needs_joint_calls() {
+    check(
+        &["lock: [j];", B, J],
+        2,
+        8,
+        "expected a joint and its position coordinates such as `elbow(0.3)`, found `j`",
+    );
+}
+
+#[test]
+fn keep_of_a_body_without_its_parent() {
+    let b2 = "body b { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }";
+    let j2 = "joint k: revolute(x) { parent: a, child: b }";
+    check(
+        &["keep: [b];", B, b2, J, j2],
+        2,
+        8,
+        "body `b` is kept but its parent `a` is not: a sub-tree keeps every body between the \
+         world and the bodies it names",
+    );
+    check(
+        &["keep: [ghost];", B, J],
+        2,
+        8,
+        "cannot keep `ghost`: no body of that name",
+    );
+}
+
+#[test]
+fn quasi_static_is_true_or_false() {
+    check(
+        &["quasi_static: yes;", B, J],
+        2,
+        15,
+        "expected `true` or `false`, found `yes`",
     );
 }
 

@@ -64,8 +64,10 @@ impl fmt::Display for PruneError {
                 found,
             } => write!(
                 f,
-                "joint `{joint}` is locked with {found} values but has {expected} position \
-                 coordinates"
+                "joint `{joint}` is locked with {found} value{} but has {expected} position \
+                 coordinate{}",
+                if *found == 1 { "" } else { "s" },
+                if *expected == 1 { "" } else { "s" },
             ),
             PruneError::Value { joint } => write!(
                 f,

@@ -6,10 +6,13 @@
 //!   the examples `falling_cat` and `walking_rotation` both run on it.
 //! - [`falling_cat`]: the falling cat of Wieber (2005, §4.2): the cone cycles, one simulated
 //!   fall, and the planner that turns the cat over.
+//! - [`drift`]: the energy and momentum drift of every integrator over long horizons, on the
+//!   two-link and the falling cat; the example `drift` writes `docs/drift.md` from it.
 //! - [`extremes`]: the accuracy study's extremes (gimbal lock, mass ratios, slender bodies,
 //!   lengths, spin), generated code against the double-double ground truth; the example
 //!   `extremes` writes `docs/accuracy.md` from it.
 
+pub mod drift;
 pub mod extremes;
 pub mod falling_cat;
 pub mod free_floating;

@@ -39,11 +39,18 @@ pub(crate) struct Attr {
     pub outputs: Option<Vec<Output>>,
     /// `accuracy = fastest | robust`, if given.
     pub accuracy: Option<Accuracy>,
+    /// `lock = [joint(q…), …]`: the joints locked, each with its name's token.
+    pub locks: Vec<(Ident, Vec<f64>)>,
+    /// `keep = [body, …]`, if given.
+    pub keep: Option<Vec<Ident>>,
+    /// `quasi_static`.
+    pub quasi_static: bool,
 }
 
 const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, `floating`, \
-                    `scalar = f64 | f32 | generic`, `outputs = [mass_matrix, …]` or \
-                    `accuracy = fastest | robust`";
+                    `scalar = f64 | f32 | generic`, `outputs = [mass_matrix, …]`, \
+                    `accuracy = fastest | robust`, `lock = [joint(q, …), …]`, \
+                    `keep = [body, …]` or `quasi_static`";
 
 /// Reads every `#[chain(…)]` on `input`.
 pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
@@ -53,6 +60,9 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
     let mut scalar = None;
     let mut outputs = None;
     let mut accuracy = None;
+    let mut locks = Vec::new();
+    let mut keep = None;
+    let mut quasi_static = false;
     let mut seen = false;
     for attr in input.attrs.iter().filter(|a| a.path().is_ident("chain")) {
         seen = true;
@@ -65,6 +75,15 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
                 Some("scalar") => scalar = Some(parse_scalar(&meta)?),
                 Some("outputs") => outputs = Some(parse_outputs(&meta)?),
                 Some("accuracy") => accuracy = Some(parse_accuracy(&meta)?),
+                Some("lock") => locks.extend(parse_locks(&meta)?),
+                Some("keep") => {
+                    let value = meta.value()?;
+                    let content;
+                    syn::bracketed!(content in value);
+                    let names = Punctuated::<Ident, Token![,]>::parse_terminated(&content)?;
+                    keep = Some(names.into_iter().collect());
+                }
+                Some("quasi_static") => quasi_static = true,
                 _ => return Err(meta.error(format!("unknown key in #[chain(…)]: {KEYS}"))),
             }
             Ok(())
@@ -104,7 +123,51 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
         scalar,
         outputs,
         accuracy,
+        locks,
+        keep,
+        quasi_static,
     })
+}
+
+/// `lock = [joint(q, …), …]`, each coordinate a number literal, negative or not.
+fn parse_locks(meta: &ParseNestedMeta) -> syn::Result<Vec<(Ident, Vec<f64>)>> {
+    let value = meta.value()?;
+    let content;
+    syn::bracketed!(content in value);
+    let items = Punctuated::<syn::ExprCall, Token![,]>::parse_terminated(&content)?;
+    items
+        .iter()
+        .map(|call| {
+            let syn::Expr::Path(path) = &*call.func else {
+                return Err(syn::Error::new_spanned(&call.func, "expected a joint name"));
+            };
+            let name = path
+                .path
+                .get_ident()
+                .cloned()
+                .ok_or_else(|| syn::Error::new_spanned(path, "expected a joint name"))?;
+            let values = call.args.iter().map(number).collect::<syn::Result<Vec<f64>>>()?;
+            Ok((name, values))
+        })
+        .collect()
+}
+
+/// A number literal, or its negation.
+fn number(e: &syn::Expr) -> syn::Result<f64> {
+    let bad = || syn::Error::new_spanned(e, "expected a number such as `0.3` or `-1.2`");
+    match e {
+        syn::Expr::Lit(syn::ExprLit { lit, .. }) => match lit {
+            syn::Lit::Float(f) => f.base10_parse().map_err(|_| bad()),
+            syn::Lit::Int(i) => i.base10_parse::<i64>().map(|x| x as f64).map_err(|_| bad()),
+            _ => Err(bad()),
+        },
+        syn::Expr::Unary(syn::ExprUnary {
+            op: syn::UnOp::Neg(_),
+            expr,
+            ..
+        }) => number(expr).map(|x| -x),
+        _ => Err(bad()),
+    }
 }
 
 /// `accuracy = fastest | robust`.

@@ -172,6 +172,25 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
     if let Some(accuracy) = attr.accuracy {
         chain.options.accuracy = accuracy;
     }
+    chain.options.quasi_static |= attr.quasi_static;
+    let mut names: Vec<&Ident> = Vec::new();
+    for (name, q) in &attr.locks {
+        chain.options.locks.push((name.to_string(), q.clone()));
+        names.push(name);
+    }
+    if let Some(keep) = &attr.keep {
+        chain.options.keep = Some(keep.iter().map(Ident::to_string).collect());
+        names.extend(keep);
+    }
+    // A lock or a kept body that does not fit the model: an error at its name.
+    if let Err(e) = chain.options.scene_model(&chain.model) {
+        let text = e.to_string();
+        let at = names
+            .iter()
+            .find(|n| text.contains(&format!("`{n}`")))
+            .map_or(lit.span(), |n| n.span());
+        return Err(syn::Error::new(at, text));
+    }
     let g = generate_impls(&chain.model, &chain.options, &lit.value())
         .map_err(|e| syn::Error::new(lit.span(), e.to_string()))?;
     let tokens = g.tokens;

@@ -43,6 +43,32 @@ pub(super) fn type_doc(cx: &Context) -> Vec<String> {
         outputs.join(", ")
     );
     lines.extend(wrap(&summary));
+    let mut scene = Vec::new();
+    for (joint, q) in &cx.options.locks {
+        let values: Vec<String> = q.iter().map(|x| format!("{x:?}")).collect();
+        scene.push(format!("joint `{joint}` locked at `[{}]`", values.join(", ")));
+    }
+    if let Some(keep) = &cx.options.keep {
+        let names: Vec<String> = keep.iter().map(|b| format!("`{b}`")).collect();
+        scene.push(format!(
+            "only the bodies {} move (the others locked at neutral, carried as a payload)",
+            names.join(", ")
+        ));
+    }
+    if cx.options.quasi_static {
+        scene.push(
+            "quasi-static: the velocity-product terms are dropped (as if `v = 0`), an \
+             approximation"
+                .to_string(),
+        );
+    }
+    if !scene.is_empty() {
+        lines.push(String::new());
+        lines.extend(wrap(&format!(
+            "Generated for its scene only: {}.",
+            scene.join("; ")
+        )));
+    }
     lines
 }
 

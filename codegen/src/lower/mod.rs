@@ -29,6 +29,8 @@ use quote::ToTokens;
 
 use crate::model::{Body, Joint, JointKind, Model, Param, Placement, Value};
 use crate::options::{Description, Visibility};
+use articulated_dynamics::prune::PruneError;
+use proc_macro2::Ident;
 use crate::parse::{BodyDef, ChainDef, Expr, JointDef};
 use context::Ctxt;
 
@@ -52,6 +54,8 @@ struct Lower {
     /// Whether each parameter's default was valid (checks at defaults skip the others).
     param_ok: Vec<bool>,
     param_index: HashMap<String, usize>,
+    /// The joints named in `lock` and the bodies named in `keep`, for errors at their tokens.
+    scene_names: HashMap<String, Ident>,
 }
 
 /// A parent as resolved: the world, a body (declaration index), or an error already reported.
@@ -125,6 +129,22 @@ impl Lower {
             bodies,
             joints,
         };
+        // The scene's pruning must fit the model: a lock or a kept body that does not is an
+        // error at its name.
+        if let Err(e) = options.scene_model(&model) {
+            let name = match &e {
+                PruneError::UnknownJoint(n) | PruneError::UnknownBody(n) => n.clone(),
+                PruneError::Coordinates { joint, .. }
+                | PruneError::Value { joint }
+                | PruneError::Parameter { joint } => joint.clone(),
+                PruneError::NotConnected { body, .. } => body.clone(),
+            };
+            match self.scene_names.get(&name) {
+                Some(ident) => self.cx.error(ident, e.to_string()),
+                None => self.cx.error(&def.name, e.to_string()),
+            }
+            return None;
+        }
         Some(Description { model, options })
     }
 }

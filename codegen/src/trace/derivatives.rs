@@ -76,6 +76,7 @@ pub(crate) fn variants(model: &Model, output: Output) -> Vec<Variant> {
                     method,
                     analytic,
                     coriolis,
+                    quasi_static: false,
                 })
         })
         .collect()
@@ -149,7 +150,7 @@ pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> 
     let (graph, (values, pivots)) = sym::trace(|| {
         let tree = symbolic_tree(model, variant.regrouped);
         let nv = tree.nv;
-        let (q, v) = (inputs(tree.nq, Var::Q), inputs(nv, Var::V));
+        let (q, v) = (inputs(tree.nq, Var::Q), super::velocities(nv, variant));
         let form = variant.formulation;
         match output {
             Output::InverseDynamicsDerivatives => {

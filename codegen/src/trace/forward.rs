@@ -47,6 +47,7 @@ pub(crate) fn variants() -> impl Iterator<Item = Variant> {
         method: Some(FdMethod::Aba),
         analytic: false,
         coriolis: false,
+        quasi_static: false,
     });
     let ltdl = [false, true].into_iter().flat_map(|regrouped| {
         [
@@ -60,6 +61,7 @@ pub(crate) fn variants() -> impl Iterator<Item = Variant> {
             method: Some(FdMethod::CrbaLtdl),
             analytic: false,
             coriolis: false,
+            quasi_static: false,
         })
     });
     aba.into_iter().chain(ltdl)
@@ -71,7 +73,7 @@ pub(crate) fn trace_variant(model: &Model, variant: Variant) -> Traced {
         let tree = symbolic_tree(model, variant.regrouped);
         let (q, v, tau) = (
             inputs(tree.nq, Var::Q),
-            inputs(tree.nv, Var::V),
+            super::velocities(tree.nv, variant),
             inputs(tree.nv, Var::Tau),
         );
         let (values, pivots) = match variant.method {

@@ -80,6 +80,8 @@ pub struct Variant {
     /// Derivatives only: `∂τ/∂v` as `2·N(q, v)`, twice the Coriolis matrix (the Christoffel
     /// one, exact wherever `v = q̇`: traced only for chains without quaternion joints).
     pub coriolis: bool,
+    /// Quasi-static: traced with `v = 0`, so every velocity-product term folds away.
+    pub quasi_static: bool,
 }
 
 impl fmt::Display for Variant {
@@ -106,6 +108,9 @@ impl fmt::Display for Variant {
         }
         if self.regrouped {
             parts.push("regrouped inertias");
+        }
+        if self.quasi_static {
+            parts.push("quasi-static (v = 0)");
         }
         write!(f, "{}", parts.join(", "))
     }
@@ -242,12 +247,17 @@ impl Traced {
 /// Traces `output` of `model` every way there is and keeps the fewest operations (see the
 /// [module docs](self)).
 pub fn trace(model: &Model, output: Output) -> Traced {
-    trace_with(model, output, Accuracy::Fastest)
+    trace_with(model, output, Accuracy::Fastest, false)
 }
 
 /// Traces `output` of `model` every way `accuracy` allows and keeps the fewest operations:
-/// [`Accuracy::Robust`] keeps forward dynamics to ABA.
-pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy) -> Traced {
+/// [`Accuracy::Robust`] keeps forward dynamics to ABA. `quasi_static` traces every variant with
+/// `v = 0` ([`Variant::quasi_static`]).
+pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy, quasi_static: bool) -> Traced {
+    let scene = |mut v: Variant| {
+        v.quasi_static = quasi_static;
+        v
+    };
     // Regrouping moves inertia between bodies: the joint wrenches change, so they never use it.
     // So do the centre of mass, the momenta and the potential energy; the kinetic energy and
     // the Coriolis matrix depend on `M(q)` only, which regrouping keeps.
@@ -265,13 +275,13 @@ pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy) -> Traced {
     let traced: Vec<Traced> = match output {
         Output::ForwardDynamics => forward::variants()
             .filter(|v| accuracy == Accuracy::Fastest || v.method == Some(FdMethod::Aba))
-            .map(|variant| forward::trace_variant(model, variant))
+            .map(|variant| forward::trace_variant(model, scene(variant)))
             .collect(),
         Output::InverseDynamicsDerivatives
         | Output::ForwardDynamicsDerivatives
         | Output::MassMatrixInverse => derivatives::variants(model, output)
             .into_iter()
-            .map(|variant| derivatives::trace_variant(model, output, variant))
+            .map(|variant| derivatives::trace_variant(model, output, scene(variant)))
             .collect(),
         _ => regroupings
             .iter()
@@ -304,9 +314,10 @@ pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy) -> Traced {
                     method: None,
                     analytic: false,
                     coriolis: false,
+                    quasi_static: false,
                 })
             })
-            .map(|variant| trace_variant(model, output, variant))
+            .map(|variant| trace_variant(model, output, scene(variant)))
             .collect(),
     };
     let candidates: Vec<(Variant, OpCounts)> =
@@ -331,7 +342,7 @@ fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
         let tree = symbolic_tree(model, variant.regrouped);
         let (q, v, a) = (
             inputs(tree.nq, Var::Q),
-            inputs(tree.nv, Var::V),
+            velocities(tree.nv, variant),
             inputs(tree.nv, Var::A),
         );
         let zero = vec![Sym::zero(); tree.nv];
@@ -458,6 +469,15 @@ pub(crate) fn symbolic_tree(model: &Model, regrouped: bool) -> Tree<Sym> {
         regroup::regroup(&mut tree);
     }
     tree
+}
+
+/// The velocities a variant is traced with: the inputs `v`, or zeros when quasi-static.
+pub(crate) fn velocities(n: usize, variant: Variant) -> Vec<Sym> {
+    if variant.quasi_static {
+        vec![Sym::zero(); n]
+    } else {
+        inputs(n, Var::V)
+    }
 }
 
 /// The inputs `var(0), …, var(n − 1)`.
