@@ -103,7 +103,9 @@ fn joint_pose(kind: JointKind, q: &[f64]) -> (Mat3<f64>, Vec3<f64>) {
         JointKind::Revolute { axis } => (Mat3::rot_axis(Vec3(axis), q[0]), Vec3::zero()),
         JointKind::Prismatic { axis } => (Mat3::identity(), Vec3(axis).scale(q[0])),
         JointKind::SphericalEuler { seq } => (euler(seq, q), Vec3::zero()),
-        JointKind::SphericalQuaternion => (Mat3::quaternion([q[0], q[1], q[2], q[3]]), Vec3::zero()),
+        JointKind::SphericalQuaternion => {
+            (Mat3::quaternion([q[0], q[1], q[2], q[3]]), Vec3::zero())
+        }
         JointKind::FreeEuler { seq } => (euler(seq, &q[3..6]), Vec3([q[0], q[1], q[2]])),
         JointKind::FreeQuaternion => (
             Mat3::quaternion([q[3], q[4], q[5], q[6]]),
@@ -115,8 +117,16 @@ fn joint_pose(kind: JointKind, q: &[f64]) -> (Mat3<f64>, Vec3<f64>) {
 
 /// A placement's rotation and translation, if both are constants.
 fn pose_of(p: &Placement) -> Option<(Mat3<f64>, Vec3<f64>)> {
-    let xyz = [p.xyz[0].as_const()?, p.xyz[1].as_const()?, p.xyz[2].as_const()?];
-    let [r, pi, y] = [p.rpy[0].as_const()?, p.rpy[1].as_const()?, p.rpy[2].as_const()?];
+    let xyz = [
+        p.xyz[0].as_const()?,
+        p.xyz[1].as_const()?,
+        p.xyz[2].as_const()?,
+    ];
+    let [r, pi, y] = [
+        p.rpy[0].as_const()?,
+        p.rpy[1].as_const()?,
+        p.rpy[2].as_const()?,
+    ];
     Some((Mat3::rpy(r, pi, y), Vec3(xyz)))
 }
 
@@ -229,7 +239,11 @@ fn vsub(a: Vec3<f64>, b: Vec3<f64>) -> Vec3<f64> {
 
 /// A body's mass properties as constants: mass, centre of mass, inertia about it.
 fn mass_props(b: &Body) -> Option<(f64, Vec3<f64>, Mat3<f64>)> {
-    let c = [b.com[0].as_const()?, b.com[1].as_const()?, b.com[2].as_const()?];
+    let c = [
+        b.com[0].as_const()?,
+        b.com[1].as_const()?,
+        b.com[2].as_const()?,
+    ];
     let mut i = [[0.0; 3]; 3];
     for (r, row) in b.inertia.iter().enumerate() {
         for (k, x) in row.iter().enumerate() {
@@ -316,9 +330,8 @@ pub fn merge_fixed(model: &Model) -> Model {
             Some(p) if host[p] != p => {
                 // The parent merged away: compose its pose in its host with this placement.
                 let (rh, xh) = pose[p];
-                let composed = pose_of(&joint.placement).map(|(r, x)| {
-                    placement(&rh.mul_mat(&r), vadd(xh, rh.mul_vec(x)))
-                });
+                let composed = pose_of(&joint.placement)
+                    .map(|(r, x)| placement(&rh.mul_mat(&r), vadd(xh, rh.mul_vec(x))));
                 (Some(host[p]), composed)
             }
             other => (other, Some(joint.placement)),

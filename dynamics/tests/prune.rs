@@ -48,7 +48,10 @@ fn max_diff(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
 
 /// Every reduced quantity against the full model's, at three random states of the reduced one.
 fn agrees(full: &Model, reduced: &Model, locked: &[(&str, Vec<f64>)], tol: f64) {
-    let (rf, rr) = (Reference::new(full).unwrap(), Reference::new(reduced).unwrap());
+    let (rf, rr) = (
+        Reference::new(full).unwrap(),
+        Reference::new(reduced).unwrap(),
+    );
     let keep = kept_velocities(full, locked);
     assert_eq!(keep.len(), reduced.nv());
     for seed in 0..3 {
@@ -58,20 +61,38 @@ fn agrees(full: &Model, reduced: &Model, locked: &[(&str, Vec<f64>)], tol: f64) 
             expand(full, locked, &v, false),
             expand(full, locked, &a, false),
         );
-        let mf = rf.mass_matrix(&qf).unwrap().select_rows(&keep).select_columns(&keep);
+        let mf = rf
+            .mass_matrix(&qf)
+            .unwrap()
+            .select_rows(&keep)
+            .select_columns(&keep);
         assert!(max_diff(&rr.mass_matrix(&q).unwrap(), &mf) < tol, "M");
-        let tf = rf.inverse_dynamics(&qf, &vf, &af).unwrap().select_rows(&keep);
+        let tf = rf
+            .inverse_dynamics(&qf, &vf, &af)
+            .unwrap()
+            .select_rows(&keep);
         let tr = rr.inverse_dynamics(&q, &v, &a).unwrap();
         let d = DMatrix::from_column_slice(tr.len(), 1, (tr - &tf).as_slice());
         assert!(d.amax() < tol * tf.amax().max(1.0), "τ: {d}");
         // Forward dynamics with the locked coordinates held: the kept block of M solves it.
         let qdd = rr.forward_dynamics(&q, &v, tf.as_slice()).unwrap();
         let back = DVector::from_vec(a.clone());
-        assert!((qdd - back).amax() < 1e3 * tol * (1.0 + a.iter().fold(0.0f64, |m, x| m.max(x.abs()))));
-        let (cf, cr) = (rf.center_of_mass(&qf).unwrap(), rr.center_of_mass(&q).unwrap());
+        assert!(
+            (qdd - back).amax() < 1e3 * tol * (1.0 + a.iter().fold(0.0f64, |m, x| m.max(x.abs())))
+        );
+        let (cf, cr) = (
+            rf.center_of_mass(&qf).unwrap(),
+            rr.center_of_mass(&q).unwrap(),
+        );
         assert!((cf - cr).amax() < tol, "centre of mass");
-        let (ef, er) = (rf.potential_energy(&qf).unwrap(), rr.potential_energy(&q).unwrap());
-        assert!((ef - er).abs() < tol * ef.abs().max(1.0), "potential energy");
+        let (ef, er) = (
+            rf.potential_energy(&qf).unwrap(),
+            rr.potential_energy(&q).unwrap(),
+        );
+        assert!(
+            (ef - er).abs() < tol * ef.abs().max(1.0),
+            "potential energy"
+        );
     }
 }
 
@@ -115,7 +136,10 @@ fn merging_fixed_joints_changes_no_dynamics() {
         }
         agrees(&full, &merged, &[], 1e-12);
     }
-    assert!(merged_some > 5, "the random models have fixed joints to merge");
+    assert!(
+        merged_some > 5,
+        "the random models have fixed joints to merge"
+    );
 }
 
 #[test]
@@ -150,9 +174,15 @@ fn bad_requests_are_refused_with_a_message() {
         .expect("a one-coordinate joint");
     let e = lock(&full, &j.name, &[0.0, 1.0]).unwrap_err();
     assert!(e.to_string().contains("2 values"), "{e}");
-    assert!(matches!(lock(&full, &j.name, &[f64::NAN]), Err(PruneError::Value { .. })));
+    assert!(matches!(
+        lock(&full, &j.name, &[f64::NAN]),
+        Err(PruneError::Value { .. })
+    ));
     let leaf = &full.bodies[full.bodies.len() - 1].name;
     let e = keep(&full, &[leaf.as_str()], &[]).unwrap_err();
     assert!(matches!(e, PruneError::NotConnected { .. }), "{e}");
-    assert!(matches!(keep(&full, &["ghost"], &[]), Err(PruneError::UnknownBody(_))));
+    assert!(matches!(
+        keep(&full, &["ghost"], &[]),
+        Err(PruneError::UnknownBody(_))
+    ));
 }

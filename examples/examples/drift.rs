@@ -1,4 +1,4 @@
-//! The long-horizon study of issue 12: every integrator on the two-link and the falling cat,
+//! The long-horizon study of issue 12: every integrator on the two-link and the floating cat,
 //! 100 s at steps of 1e-3 s (1e5 steps) and 1e-4 s (1e6 steps), generated `f64` code. Writes
 //! `docs/drift.md` (the table) and `docs/figures/drift.svg` (the energy error against time at
 //! 1e-3 s), each whole or not at all, and prints the table.
@@ -42,7 +42,11 @@ fn main() {
             let steps = (HORIZON / dt).round() as usize;
             let every = (RECORD_EVERY_S / dt).round() as usize;
             for method in METHODS {
-                eprintln!("{} {} dt = {dt:e} ({steps} steps)…", model.name(), method.name());
+                eprintln!(
+                    "{} {} dt = {dt:e} ({steps} steps)…",
+                    model.name(),
+                    method.name()
+                );
                 let r: Run = run(model, method, dt, steps, every);
                 let (first, second) = r.halves();
                 let momentum = |v: &[(f64, f64)]| match v.is_empty() {
@@ -59,7 +63,9 @@ fn main() {
                     momentum(&r.angular_momentum),
                     momentum(&r.linear_momentum),
                     r.seconds,
-                    r.fault.map(|f| format!(" stopped: {f}")).unwrap_or_default(),
+                    r.fault
+                        .map(|f| format!(" stopped: {f}"))
+                        .unwrap_or_default(),
                 ));
                 if dt == 1e-3 {
                     let points = r.energy.iter().map(|&(t, e)| (t, log10(e))).collect();
@@ -74,9 +80,10 @@ fn main() {
          Written by `cargo run --release -p articulated-examples --example drift` \
          (`examples/src/drift.rs`; the bounds asserted on shorter runs: `examples/tests/drift.rs`). \
          Each model is left to itself (`τ = 0`) for {HORIZON} s with generated `f64` code; the \
-         errors are relative to the initial values (the energy `T + V`; on the falling cat the \
-         angular momentum about the centre of mass `k_G`, and the linear momentum against \
-         `p₀ + m·g·t`, relative to `m·|g|·t_end`), the largest over the run and over each half \
+         errors are relative to the initial values (the energy `T + V`; on the floating cat, the \
+         falling cat of `models/falling_cat.chain` without gravity, the angular momentum about \
+         the centre of mass `k_G` and the linear momentum `p`), the largest over the run and \
+         over each half \
          (a drift grows from the first half to the second; a bounded error does not). Dopri5's \
          step is its output interval (tolerances 1e-10 relative, 1e-12 absolute).\n\n\
          ![Energy error against time](figures/drift.svg)\n\n{table}"

@@ -91,7 +91,11 @@ where
     let mut rng = Rng::new(11);
     let zeros = vec![0.0; held.len()];
     for _ in 0..20 {
-        let (q, v, a) = (random(&mut rng, N, 2.0), random(&mut rng, N, 1.5), random(&mut rng, N, 3.0));
+        let (q, v, a) = (
+            random(&mut rng, N, 2.0),
+            random(&mut rng, N, 1.5),
+            random(&mut rng, N, 3.0),
+        );
         let (qf, vf, af) = (full(&q, held), full(&v, &zeros), full(&a, &zeros));
         let (qs, vs, as_) = (
             SVector::<f64, N>::from_column_slice(&q),
@@ -105,9 +109,15 @@ where
         let ours = C::inverse_dynamics(&qs, &vs, &as_);
         assert!(rel_err(ours.as_slice(), &tau) < 1e-13, "τ");
         let bias = reference.bias(&qf, &vf).unwrap();
-        assert!(rel_err(C::bias(&qs, &vs).as_slice(), &bias.as_slice()[..N]) < 1e-13, "bias");
+        assert!(
+            rel_err(C::bias(&qs, &vs).as_slice(), &bias.as_slice()[..N]) < 1e-13,
+            "bias"
+        );
         let g = reference.gravity(&qf).unwrap();
-        assert!(rel_err(C::gravity(&qs).as_slice(), &g.as_slice()[..N]) < 1e-13, "gravity");
+        assert!(
+            rel_err(C::gravity(&qs).as_slice(), &g.as_slice()[..N]) < 1e-13,
+            "gravity"
+        );
         // With the held coordinates still, the reduced forward dynamics undoes τ.
         let taus = SVector::<f64, N>::from_column_slice(&tau);
         let qdd = C::forward_dynamics(&qs, &vs, &taus).unwrap();
@@ -131,7 +141,11 @@ fn quasi_static_drops_the_velocity_terms() {
     let mut rng = Rng::new(5);
     let zero = vec![0.0; 7];
     for _ in 0..20 {
-        let (q, v, a) = (random(&mut rng, 7, 2.0), random(&mut rng, 7, 1.5), random(&mut rng, 7, 3.0));
+        let (q, v, a) = (
+            random(&mut rng, 7, 2.0),
+            random(&mut rng, 7, 1.5),
+            random(&mut rng, 7, 3.0),
+        );
         let (qs, vs, as_) = (
             SVector::<f64, 7>::from_column_slice(&q),
             SVector::<f64, 7>::from_column_slice(&v),
@@ -181,6 +195,9 @@ fn each_scene_costs_fewer_operations() {
             assert!(3 * s < 2 * *f, "{name}: {scene:?} vs {full:?}");
         }
     }
-    assert!(Arm7QuasiStatic::INVERSE_DYNAMICS_OPS.total() * 3 < Arm7Full::INVERSE_DYNAMICS_OPS.total() * 2);
+    assert!(
+        Arm7QuasiStatic::INVERSE_DYNAMICS_OPS.total() * 3
+            < Arm7Full::INVERSE_DYNAMICS_OPS.total() * 2
+    );
     assert_eq!(Arm7QuasiStatic::BIAS_OPS.total(), 0);
 }

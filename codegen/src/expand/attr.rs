@@ -146,7 +146,11 @@ fn parse_locks(meta: &ParseNestedMeta) -> syn::Result<Vec<(Ident, Vec<f64>)>> {
                 .get_ident()
                 .cloned()
                 .ok_or_else(|| syn::Error::new_spanned(path, "expected a joint name"))?;
-            let values = call.args.iter().map(number).collect::<syn::Result<Vec<f64>>>()?;
+            let values = call
+                .args
+                .iter()
+                .map(number)
+                .collect::<syn::Result<Vec<f64>>>()?;
             Ok((name, values))
         })
         .collect()

@@ -46,7 +46,10 @@ pub(super) fn type_doc(cx: &Context) -> Vec<String> {
     let mut scene = Vec::new();
     for (joint, q) in &cx.options.locks {
         let values: Vec<String> = q.iter().map(|x| format!("{x:?}")).collect();
-        scene.push(format!("joint `{joint}` locked at `[{}]`", values.join(", ")));
+        scene.push(format!(
+            "joint `{joint}` locked at `[{}]`",
+            values.join(", ")
+        ));
     }
     if let Some(keep) = &cx.options.keep {
         let names: Vec<String> = keep.iter().map(|b| format!("`{b}`")).collect();

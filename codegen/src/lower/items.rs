@@ -229,7 +229,9 @@ impl Lower {
                             self.scene_names.insert(n.to_string(), n.clone());
                             names.push(n.to_string());
                         }
-                        _ => self.cx.error(e, format!("expected a body name, found `{e}`")),
+                        _ => self
+                            .cx
+                            .error(e, format!("expected a body name, found `{e}`")),
                     }
                 }
                 options.keep = Some(names);

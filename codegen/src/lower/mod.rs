@@ -29,10 +29,10 @@ use quote::ToTokens;
 
 use crate::model::{Body, Joint, JointKind, Model, Param, Placement, Value};
 use crate::options::{Description, Visibility};
-use articulated_dynamics::prune::PruneError;
-use proc_macro2::Ident;
 use crate::parse::{BodyDef, ChainDef, Expr, JointDef};
+use articulated_dynamics::prune::PruneError;
 use context::Ctxt;
+use proc_macro2::Ident;
 
 /// Checks `def` and builds its [`Model`]: bodies and joints in depth-first pre-order from the
 /// world (children in joint declaration order), outputs sorted and deduplicated.
