@@ -323,6 +323,12 @@ impl GroundTruth {
         Ok((out.qdd, out.pivots))
     }
 
+    /// `q̈` by ABA at a state already in double-double (no checks: a step of an integration
+    /// whose start [`GroundTruth::forward_dynamics`] checked). The lengths must be the model's.
+    pub fn acceleration(&self, q: &[Dd], v: &[Dd], tau: &[Dd]) -> Vec<Dd> {
+        aba(&self.tree, q, v, tau, true).qdd
+    }
+
     /// `q̈` by CRBA, RNEA and `LᵀDL`: the second way to the same value, to check the first.
     ///
     /// # Errors

@@ -8,6 +8,8 @@
 //!   fall, and the planner that turns the cat over.
 //! - [`drift`]: the energy and momentum drift of every integrator over long horizons, on the
 //!   two-link and the falling cat; the example `drift` writes `docs/drift.md` from it.
+//! - [`trade`]: the speed–accuracy trade (scalar, accuracy choice, integrator and step, full or
+//!   pruned model) against the ground truth; the example `trade` writes `docs/trade.md`.
 //! - [`extremes`]: the accuracy study's extremes (gimbal lock, mass ratios, slender bodies,
 //!   lengths, spin), generated code against the double-double ground truth; the example
 //!   `extremes` writes `docs/accuracy.md` from it.
@@ -16,3 +18,4 @@ pub mod drift;
 pub mod extremes;
 pub mod falling_cat;
 pub mod free_floating;
+pub mod trade;
