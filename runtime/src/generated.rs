@@ -373,7 +373,7 @@ pub trait CoriolisMatrix<T, const NQ: usize, const NV: usize>: Chain<T> {
 }
 
 /// `(∂τ/∂q, ∂τ/∂v)` of [`InverseDynamics`], `NV × NV` each (`∂τ/∂a = M`); `∂/∂q` along the
-/// configuration's tangent (the [module docs](self)).
+/// configuration's tangent (`q ⊕ δ`, [`crate::control::tangent::retract`]).
 pub trait InverseDynamicsDerivatives<T, const NQ: usize, const NV: usize>: Chain<T> {
     /// The derivatives for the parameters `p`.
     fn inverse_dynamics_derivatives_with(
@@ -397,7 +397,7 @@ pub type FdDerivatives<T, const NV: usize> =
     (SMatrix<T, NV, NV>, SMatrix<T, NV, NV>, SMatrix<T, NV, NV>);
 
 /// `(∂q̈/∂q, ∂q̈/∂v, M⁻¹)` of [`ForwardDynamics`], `NV × NV` each (`∂q̈/∂τ = M⁻¹`); `∂/∂q`
-/// along the configuration's tangent (the [module docs](self)).
+/// along the configuration's tangent (`q ⊕ δ`, [`crate::control::tangent::retract`]).
 pub trait ForwardDynamicsDerivatives<T, const NQ: usize, const NV: usize>: Chain<T> {
     /// The derivatives for the parameters `p`.
     ///
