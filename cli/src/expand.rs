@@ -2,18 +2,21 @@
 //! "Generated code"), so users can read generated code without `cargo expand` or a nightly toolchain.
 
 use articulated_codegen::generate::generate_file;
-use articulated_codegen::load::load;
+use articulated_codegen::load::{load, FloatingBase};
 use articulated_codegen::options::{Accuracy, Output, ScalarKind};
 
 use crate::ExpandArgs;
 
 /// Runs `expand`; the Rust source, or the error message for stderr.
 pub fn run(args: &ExpandArgs) -> Result<String, String> {
-    let mut chain = load(&args.model, args.floating).map_err(|e| e.to_string())?;
+    let mut chain =
+        load(&args.model, args.floating.unwrap_or_default()).map_err(|e| e.to_string())?;
     // The header names the command that regenerates the file, so it carries the flags too.
     let mut source = args.model.display().to_string();
-    if args.floating {
-        source.push_str(" --floating");
+    match args.floating {
+        Some(FloatingBase::Quaternion) => source.push_str(" --floating=quaternion"),
+        Some(_) => source.push_str(" --floating"),
+        None => {}
     }
     if let Some(name) = &args.scalar {
         chain.options.scalar = ScalarKind::from_name(name).ok_or_else(|| {

@@ -13,6 +13,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use articulated_codegen::load::FloatingBase;
 use clap::{Parser, Subcommand, ValueEnum};
 
 mod eval;
@@ -74,10 +75,17 @@ pub struct EvalArgs {
     /// Runtime parameter values in declaration order, comma-separated (default: the file's).
     #[arg(long, allow_hyphen_values = true)]
     pub params: Option<String>,
-    /// Put a free base (translation, then Euler angles zyx) under a URDF root: q and v gain 6
-    /// leading entries.
-    #[arg(long)]
-    pub floating: bool,
+    /// Put a free base under a URDF root: `--floating` or `--floating=euler`, translation then
+    /// Euler angles zyx (q and v gain 6 leading entries); `--floating=quaternion`, translation
+    /// then a quaternion (q gains 7, v 6).
+    #[arg(
+        long,
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "euler",
+        value_parser = parse_floating
+    )]
+    pub floating: Option<FloatingBase>,
     /// Which implementation evaluates the model: `reference` (the interpreted recursions) or
     /// `symbolic` (the generator's expression graphs; checks the generator without compiling).
     #[arg(long, value_enum, default_value_t = Engine::Reference)]
@@ -89,9 +97,16 @@ pub struct EvalArgs {
 pub struct ExpandArgs {
     /// The model: a `.chain` or `.urdf` file.
     pub model: PathBuf,
-    /// Put a free base (translation, then Euler angles zyx) under a URDF root.
-    #[arg(long)]
-    pub floating: bool,
+    /// Put a free base under a URDF root: `--floating` or `--floating=euler` (translation, then
+    /// Euler angles zyx), `--floating=quaternion` (translation, then a quaternion).
+    #[arg(
+        long,
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "euler",
+        value_parser = parse_floating
+    )]
+    pub floating: Option<FloatingBase>,
     /// The scalar of the generated code, in place of the description's: `f64`, `f32` or
     /// `generic`.
     #[arg(long)]
@@ -141,9 +156,16 @@ pub struct SimulateArgs {
     /// Runtime parameter values in declaration order, comma-separated (default: the file's).
     #[arg(long, allow_hyphen_values = true)]
     pub params: Option<String>,
-    /// Put a free base (translation, then Euler angles zyx) under a URDF root.
-    #[arg(long)]
-    pub floating: bool,
+    /// Put a free base under a URDF root: `--floating` or `--floating=euler` (translation, then
+    /// Euler angles zyx), `--floating=quaternion` (translation, then a quaternion).
+    #[arg(
+        long,
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "euler",
+        value_parser = parse_floating
+    )]
+    pub floating: Option<FloatingBase>,
     /// `dopri5`: relative tolerance per component.
     #[arg(long, default_value_t = 1e-9)]
     pub rtol: f64,
@@ -178,19 +200,27 @@ pub struct InvertArgs {
     /// Runtime parameter values in declaration order, comma-separated (default: the file's).
     #[arg(long, allow_hyphen_values = true)]
     pub params: Option<String>,
-    /// Put a free base (translation, then Euler angles zyx) under a URDF root.
-    #[arg(long)]
-    pub floating: bool,
+    /// Put a free base under a URDF root: `--floating` or `--floating=euler` (translation, then
+    /// Euler angles zyx), `--floating=quaternion` (translation, then a quaternion).
+    #[arg(
+        long,
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "euler",
+        value_parser = parse_floating
+    )]
+    pub floating: Option<FloatingBase>,
 }
 
 /// The model in `path` (with a free base under a URDF root if `floating`) and its reference
 /// dynamics at the parameter values `params` (comma-separated; the file's defaults if `None`).
 pub fn load_reference(
     path: &std::path::Path,
-    floating: bool,
+    floating: Option<FloatingBase>,
     params: Option<&str>,
 ) -> Result<(articulated::model::Model, articulated::reference::Reference), String> {
-    let model = articulated_codegen::load::load_model(path, floating).map_err(|e| e.to_string())?;
+    let model = articulated_codegen::load::load_model(path, floating.unwrap_or_default())
+        .map_err(|e| e.to_string())?;
     let params = match params {
         None => model.param_defaults(),
         Some(p) => parse_vector(p, "params", model.params.len())?,
@@ -225,6 +255,14 @@ pub fn parse_vector(text: &str, what: &str, len: usize) -> Result<Vec<f64>, Stri
             Err(_) => Err(format!("error: --{what}[{i}] = `{s}` is not a number")),
         })
         .collect()
+}
+
+/// `euler` or `quaternion`, for `--floating`.
+fn parse_floating(name: &str) -> Result<FloatingBase, String> {
+    match FloatingBase::from_name(name) {
+        Some(b) if b.is_floating() => Ok(b),
+        _ => Err(format!("`{name}`: expected `euler` or `quaternion`")),
+    }
 }
 
 fn main() -> ExitCode {

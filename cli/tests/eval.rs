@@ -414,3 +414,36 @@ fn a_singular_state_prints_what_it_can_and_fails() {
         }
     }
 }
+
+/// `--floating=quaternion` puts Pinocchio's free flyer under a URDF root: 7 more positions and 6
+/// more velocities, and at rest the same joint gravity as the Euler base; a base of another name
+/// is an error.
+#[test]
+fn a_quaternion_floating_base() {
+    let (ok, stdout, stderr) = eval(&["models/arm7.urdf", "--floating=quaternion"]);
+    assert!(ok, "{stderr}");
+    let flyer: Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(
+        (flyer["nq"].as_u64(), flyer["nv"].as_u64()),
+        (Some(14), Some(13))
+    );
+    let (ok, stdout, stderr) = eval(&["models/arm7.urdf", "--floating"]);
+    assert!(ok, "{stderr}");
+    let euler: Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(
+        (euler["nq"].as_u64(), euler["nv"].as_u64()),
+        (Some(13), Some(13))
+    );
+    let (gf, ge) = (flat(&flyer["gravity"]), flat(&euler["gravity"]));
+    for k in 6..13 {
+        assert!(
+            (gf[k] - ge[k]).abs() < 1e-12 * (1.0 + ge[k].abs()),
+            "{gf:?} vs {ge:?}"
+        );
+    }
+    let (ok, _, stderr) = eval(&["models/arm7.urdf", "--floating=quat"]);
+    assert!(
+        !ok && stderr.contains("expected `euler` or `quaternion`"),
+        "{stderr}"
+    );
+}

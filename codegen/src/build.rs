@@ -27,7 +27,7 @@ use articulated_dynamics::model::Model;
 
 use crate::emit;
 use crate::generate::generate;
-use crate::load::{load, LoadError};
+use crate::load::{load, FloatingBase, LoadError};
 use crate::options::{Accuracy, Description, Output, ScalarKind};
 
 /// Collects descriptions and writes their generated code to one file.
@@ -51,7 +51,7 @@ struct Entry {
 
 #[derive(Debug)]
 enum Source {
-    File(PathBuf, bool),
+    File(PathBuf, FloatingBase),
     Model(Box<Description>),
 }
 
@@ -113,12 +113,16 @@ impl Builder {
 
     /// Adds a `.chain` file (relative paths are relative to `CARGO_MANIFEST_DIR`).
     pub fn file(self, path: impl AsRef<Path>) -> Self {
-        self.push(Source::File(path.as_ref().to_path_buf(), false))
+        self.push(Source::File(
+            path.as_ref().to_path_buf(),
+            FloatingBase::Fixed,
+        ))
     }
 
-    /// Adds a URDF file; `floating` puts a free base under its root.
-    pub fn urdf(self, path: impl AsRef<Path>, floating: bool) -> Self {
-        self.push(Source::File(path.as_ref().to_path_buf(), floating))
+    /// Adds a URDF file; `floating` puts a free base under its root (`true`: Euler `zyx`;
+    /// [`FloatingBase::Quaternion`]: a quaternion).
+    pub fn urdf(self, path: impl AsRef<Path>, floating: impl Into<FloatingBase>) -> Self {
+        self.push(Source::File(path.as_ref().to_path_buf(), floating.into()))
     }
 
     /// Adds a model built by a program (for example a seeded random tree), with the default
@@ -258,10 +262,14 @@ impl Builder {
         let out_dir = std::env::var_os("OUT_DIR").ok_or(BuildError::NoOutDir)?;
         let path = Path::new(&out_dir).join(file_name);
         let source = self.to_source()?;
-        std::fs::write(&path, source).map_err(|error| BuildError::Write {
-            path: path.clone(),
-            error,
-        })?;
+        // Whole or not at all: a failed write leaves the previous file, never half of one.
+        let tmp = path.with_extension("rs.tmp");
+        std::fs::write(&tmp, source)
+            .and_then(|()| std::fs::rename(&tmp, &path))
+            .map_err(|error| BuildError::Write {
+                path: path.clone(),
+                error,
+            })?;
         for entry in &self.sources {
             if let Source::File(p, _) = &entry.source {
                 println!("cargo:rerun-if-changed={}", p.display());

@@ -7,7 +7,7 @@ use std::path::Path;
 use articulated_codegen::load::{load, load_model};
 use articulated_codegen::model::{EulerSeq, JointKind, Model, Value};
 use articulated_codegen::options::{Output, Visibility};
-use articulated_codegen::urdf::{from_urdf_str, UrdfError};
+use articulated_codegen::urdf::{from_urdf_str, FloatingBase, UrdfError};
 use articulated_dynamics::random::Rng;
 
 fn c(v: &Value) -> f64 {
@@ -65,7 +65,7 @@ fn inertials_are_read_not_zeros() {
         2.5,
         "0.1 -0.2 0.3",
         "0 0 0",
-        [0.11, 0.012, -0.013, 0.22, 0.023, 0.33],
+        [0.21, 0.012, -0.013, 0.22, 0.023, 0.33],
     ));
     let b = &m.bodies[0];
     assert_eq!(b.name, "l1");
@@ -74,7 +74,7 @@ fn inertials_are_read_not_zeros() {
     assert_eq!(
         c33(&b.inertia),
         [
-            [0.11, 0.012, -0.013],
+            [0.21, 0.012, -0.013],
             [0.012, 0.22, 0.023],
             [-0.013, 0.023, 0.33]
         ]
@@ -85,7 +85,8 @@ fn inertials_are_read_not_zeros() {
 fn inertial_rotated_90_degrees_about_z_swaps_ixx_and_iyy() {
     // R = Rz(90°) = [[0,-1,0],[1,0,0],[0,0,1]]. With I = [[a,d,e],[d,b,f],[e,f,c]], by hand:
     // R·I = [[-d,-b,-f],[a,d,e],[e,f,c]], and (R·I)·Rᵀ = [[b,-d,-f],[-d,a,e],[-f,e,c]].
-    let (a, b, cc, d, e, f) = (0.1, 0.2, 0.3, 0.01, 0.02, 0.03);
+    // A physical tensor (principal moments within the triangle inequality), all entries distinct.
+    let (a, b, cc, d, e, f) = (0.2, 0.25, 0.3, 0.01, 0.02, 0.03);
     let m = one_link(&inertial(
         1.0,
         "0 0 0",
@@ -151,8 +152,8 @@ fn rz(t: f64) -> M3 {
 fn inertial_in_a_general_rotated_frame_is_r_i_rt() {
     let (r, p, y) = (0.3, -0.5, 1.1);
     let i = [
-        [0.11, 0.012, -0.013],
-        [0.012, 0.22, 0.023],
+        [0.21, 0.012, -0.013],
+        [0.012, 0.25, 0.023],
         [-0.013, 0.023, 0.33],
     ];
     let m = one_link(&inertial(
@@ -586,4 +587,91 @@ fn links_welded_to_the_root_join_the_world_or_the_floating_root() {
     );
     assert_eq!(m.joints[1].parent, Some(0));
     assert_eq!(c3(&m.joints[1].placement.xyz), [0.0, 0.0, 1.5]);
+}
+
+/// `floating = quaternion`: the same root under Pinocchio's free flyer (7 positions, 6
+/// velocities), and the same dynamics as the Euler base where both are defined (checked in
+/// `tests/tests/pinocchio.rs` against Pinocchio's own free flyer).
+#[test]
+fn a_quaternion_base_is_a_free_flyer() {
+    let xml = robot(&format!(
+        r#"<link name="torso">{}</link><link name="arm">{}</link>
+<joint name="shoulder" type="revolute"><parent link="torso"/><child link="arm"/><axis xyz="0 1 0"/></joint>"#,
+        inertial(7.0, "0 0 0.1", "0 0 0", [1.0, 0.0, 0.0, 2.0, 0.0, 3.0]),
+        inertial(1.0, "0 0 -0.2", "0 0 0", [0.1, 0.0, 0.0, 0.1, 0.0, 0.05])
+    ));
+    let m = from_urdf_str(&xml, FloatingBase::Quaternion).unwrap().model;
+    assert_eq!(m.joints[0].kind, JointKind::FreeQuaternion);
+    assert_eq!((m.nq(), m.nv()), (8, 7));
+    assert_eq!(m.bodies[0].name, "torso");
+    assert_eq!(FloatingBase::from(true), FloatingBase::Euler);
+    assert_eq!(
+        FloatingBase::from_name("quaternion"),
+        Some(FloatingBase::Quaternion)
+    );
+    assert_eq!(FloatingBase::from_name("quaternions"), None);
+}
+
+/// A mimic joint is refused, naming it, the joint it mimics and its line; never imported as an
+/// independent coordinate.
+#[test]
+fn a_mimic_joint_is_refused_with_its_name_and_line() {
+    let e = err(&chain_with(
+        r#"<link name="b"/>
+<joint name="finger2" type="revolute"><parent link="a"/><child link="b"/><mimic joint="ja" multiplier="-1"/></joint>"#,
+    ));
+    assert_eq!(e.line(), Some(7), "{e}");
+    assert!(e.message().contains("joint `finger2` mimics `ja`"), "{e}");
+}
+
+/// What the dynamics never reads does not stop an import: a `<mesh>` without `filename` (as
+/// iCub's description has), an unknown element inside `<visual>`; and the lines of later errors
+/// stay the file's.
+#[test]
+fn visual_and_collision_elements_are_never_read() {
+    let geometry = r#"<visual><geometry><mesh scale="1 1 1"/></geometry><material name="m"/></visual>
+<collision><geometry><mesh/></geometry><whatever/></collision>"#;
+    let xml = robot(&format!(
+        "<link name=\"base\"/>\n<link name=\"a\">{}\n{geometry}\n</link>\n\
+         <joint name=\"ja\" type=\"revolute\"><parent link=\"base\"/><child link=\"a\"/></joint>",
+        inertial(1.0, "0 0 0", "0 0 0", [0.1, 0.0, 0.0, 0.1, 0.0, 0.1])
+    ));
+    let m = from_urdf_str(&xml, false)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model;
+    assert_eq!(m.nb(), 1);
+    assert_eq!(c(&m.bodies[0].mass), 1.0);
+    let bad = xml.replace(
+        "<parent link=\"base\"/><child link=\"a\"/>",
+        "<parent link=\"base\"/><child link=\"ghost\"/>",
+    );
+    assert_eq!(err(&bad).line(), Some(8));
+}
+
+/// A link's inertia follows the `.chain` rules: no negative principal moment, the triangle
+/// inequality; zero (a frame, a point mass) and the edge of the inequality are accepted.
+#[test]
+fn inertias_that_no_body_has_are_refused_at_the_link() {
+    let link = |i: [f64; 6]| {
+        robot(&format!(
+            "<link name=\"base\"/>\n<link name=\"l1\">{}</link>\n\
+             <joint name=\"j1\" type=\"revolute\"><parent link=\"base\"/><child link=\"l1\"/></joint>",
+            inertial(1.0, "0 0 0", "0 0 0", i)
+        ))
+    };
+    let e = err(&link([1.0, 0.0, 0.0, 1.0, 0.0, -0.5]));
+    assert!(e.message().contains("not positive semi-definite"), "{e}");
+    assert_eq!(e.line(), Some(4));
+    let e = err(&link([0.1, 0.0, 0.0, 0.1, 0.0, 0.5]));
+    assert!(e.message().contains("triangle inequality"), "{e}");
+    // Off-diagonal terms large enough to make it indefinite.
+    let e = err(&link([0.1, 0.2, 0.0, 0.1, 0.0, 0.1]));
+    assert!(e.message().contains("not positive semi-definite"), "{e}");
+    for ok in [
+        [0.0; 6],
+        [0.5, 0.0, 0.0, 0.5, 0.0, 1.0],
+        [0.2, 0.01, 0.0, 0.3, 0.0, 0.4],
+    ] {
+        from_urdf_str(&link(ok), false).unwrap_or_else(|e| panic!("{ok:?}: {e}"));
+    }
 }

@@ -43,6 +43,55 @@ use nalgebra::{SMatrix, SVector};
 
 pub use articulated_dynamics::OpCounts;
 
+/// A slice whose length is not the size a generated function takes ([`vector`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LengthMismatch {
+    /// The length the function takes (`NQ` or `NV`).
+    pub expected: usize,
+    /// The slice's length.
+    pub found: usize,
+}
+
+impl fmt::Display for LengthMismatch {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "expected {} entries, found {}",
+            self.expected, self.found
+        )
+    }
+}
+
+impl core::error::Error for LengthMismatch {}
+
+/// A slice as the fixed-size vector generated functions take, for inputs that arrive as slices
+/// (a message, a `Vec`, a row of a file): an error, never a panic, when its length is not `N`.
+///
+/// ```
+/// # use articulated::nalgebra::SVector;
+/// let q: Vec<f64> = vec![0.1, 0.2, 0.3];
+/// let fixed: SVector<f64, 3> = articulated::vector(&q)?;
+/// assert_eq!(fixed[2], 0.3);
+/// let e = articulated::vector::<f64, 4>(&q).unwrap_err();
+/// assert_eq!(e.to_string(), "expected 4 entries, found 3");
+/// # Ok::<(), articulated::LengthMismatch>(())
+/// ```
+///
+/// # Errors
+/// [`LengthMismatch`] when `x.len() != N`.
+pub fn vector<T: nalgebra::Scalar + Copy, const N: usize>(
+    x: &[T],
+) -> Result<SVector<T, N>, LengthMismatch> {
+    if x.len() == N {
+        Ok(SVector::from_column_slice(x))
+    } else {
+        Err(LengthMismatch {
+            expected: N,
+            found: x.len(),
+        })
+    }
+}
+
 /// Generated forward dynamics found `M(q)` singular (or not positive definite) at this state:
 /// a pivot of its factorization was not positive relative to its unreduced value, or the result
 /// was not finite.

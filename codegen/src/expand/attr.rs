@@ -8,6 +8,7 @@ use syn::meta::ParseNestedMeta;
 use syn::punctuated::Punctuated;
 use syn::{DeriveInput, Ident, LitStr, Token};
 
+use crate::load::FloatingBase;
 use crate::options::{
     unknown_accuracy, unknown_output, unknown_scalar, Accuracy, Output, ScalarKind,
 };
@@ -16,8 +17,8 @@ use crate::options::{
 pub(crate) enum Source {
     /// A `.chain` file.
     Chain(LitStr),
-    /// A URDF file, with `floating`.
-    Urdf(LitStr, bool),
+    /// A URDF file, with its base (`floating`, `floating = quaternion`).
+    Urdf(LitStr, FloatingBase),
 }
 
 impl Source {
@@ -47,7 +48,8 @@ pub(crate) struct Attr {
     pub quasi_static: bool,
 }
 
-const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, `floating`, \
+const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, \
+                    `floating [= euler | quaternion]`, \
                     `scalar = f64 | f32 | generic`, `outputs = [mass_matrix, …]`, \
                     `accuracy = fastest | robust`, `lock = [joint(q, …), …]`, \
                     `keep = [body, …]` or `quasi_static`";
@@ -56,7 +58,7 @@ const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, `flo
 pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
     let mut file: Option<LitStr> = None;
     let mut urdf: Option<LitStr> = None;
-    let mut floating: Option<Ident> = None;
+    let mut floating: Option<(Ident, FloatingBase)> = None;
     let mut scalar = None;
     let mut outputs = None;
     let mut accuracy = None;
@@ -71,7 +73,28 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
             match key.as_deref() {
                 Some("file") => file = Some(meta.value()?.parse()?),
                 Some("urdf") => urdf = Some(meta.value()?.parse()?),
-                Some("floating") => floating = meta.path.get_ident().cloned(),
+                Some("floating") => {
+                    let key = meta.path.get_ident().cloned();
+                    // `floating` alone is the Euler base; `floating = euler | quaternion`.
+                    let base = if meta.input.peek(Token![=]) {
+                        let name: Ident = meta.value()?.parse()?;
+                        match FloatingBase::from_name(&name.to_string()) {
+                            Some(b) if b.is_floating() => b,
+                            _ => {
+                                return Err(syn::Error::new(
+                                    name.span(),
+                                    format!(
+                                        "unknown floating base `{name}`: expected `euler` or \
+                                         `quaternion`"
+                                    ),
+                                ))
+                            }
+                        }
+                    } else {
+                        FloatingBase::Euler
+                    };
+                    floating = key.map(|k| (k, base));
+                }
                 Some("scalar") => scalar = Some(parse_scalar(&meta)?),
                 Some("outputs") => outputs = Some(parse_outputs(&meta)?),
                 Some("accuracy") => accuracy = Some(parse_accuracy(&meta)?),
@@ -92,12 +115,14 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
     let source =
         match (file, urdf, seen) {
             (Some(_), None, _) if floating.is_some() => return Err(syn::Error::new(
-                floating.map_or_else(Span::call_site, |f| f.span()),
+                floating.map_or_else(Span::call_site, |(f, _)| f.span()),
                 "`floating` applies to `urdf = …`; in a `.chain` file write the free base as a \
                  joint",
             )),
             (Some(f), None, _) => Source::Chain(f),
-            (None, Some(u), _) => Source::Urdf(u, floating.is_some()),
+            (None, Some(u), _) => {
+                Source::Urdf(u, floating.map_or(FloatingBase::Fixed, |(_, base)| base))
+            }
             (Some(_), Some(u), _) => {
                 return Err(syn::Error::new(
                     u.span(),

@@ -19,7 +19,7 @@ use attr::{parse_attr, Source};
 use fallback::fallback;
 
 use crate::generate::{generate, generate_impls};
-use crate::load::{load, LoadError};
+use crate::load::{load, FloatingBase, LoadError};
 use crate::lower::lower;
 use crate::parse::ChainDef;
 
@@ -148,7 +148,7 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
     let attr = parse_attr(&input)?;
     let lit = attr.source.lit();
     let (is_urdf, floating) = match attr.source {
-        Source::Chain(_) => (false, false),
+        Source::Chain(_) => (false, FloatingBase::Fixed),
         Source::Urdf(_, floating) => (true, floating),
     };
     let path = resolve(&lit.value());

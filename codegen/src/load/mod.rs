@@ -13,6 +13,7 @@ use articulated_dynamics::model::Model;
 pub use chain_file::{parse_chain_str, Diagnostic, FileError};
 
 use crate::options::Description;
+pub use crate::urdf::FloatingBase;
 use crate::urdf::{self, UrdfError};
 
 /// Why a model file could not be loaded.
@@ -61,15 +62,19 @@ impl std::fmt::Display for LoadError {
 
 impl std::error::Error for LoadError {}
 
-/// Loads a `.chain` or `.urdf` file into a [`Description`]. With `floating`, a URDF root gets the
-/// default free base (Euler `zyx`, Wieber's form): q and v gain 6 leading entries.
+/// Loads a `.chain` or `.urdf` file into a [`Description`]. With `floating` a URDF root gets a
+/// free base: `true` or [`FloatingBase::Euler`] the default (Euler `zyx`, Wieber's form: q and v
+/// gain 6 leading entries), [`FloatingBase::Quaternion`] a quaternion (q gains 7, v 6).
 ///
 /// # Errors
 /// A [`LoadError`] naming the file (and, for a problem inside it, the line).
-pub fn load(path: &Path, floating: bool) -> Result<Description, LoadError> {
+pub fn load(path: &Path, floating: impl Into<FloatingBase>) -> Result<Description, LoadError> {
+    let floating = floating.into();
     let ext = path.extension().and_then(|e| e.to_str());
     match ext {
-        Some("chain") if floating => return Err(LoadError::FloatingChain(path.to_path_buf())),
+        Some("chain") if floating.is_floating() => {
+            return Err(LoadError::FloatingChain(path.to_path_buf()))
+        }
         Some("chain" | "urdf") => {}
         _ => return Err(LoadError::UnknownExtension(path.to_path_buf())),
     }
@@ -88,6 +93,6 @@ pub fn load(path: &Path, floating: bool) -> Result<Description, LoadError> {
 ///
 /// # Errors
 /// As [`load`].
-pub fn load_model(path: &Path, floating: bool) -> Result<Model, LoadError> {
+pub fn load_model(path: &Path, floating: impl Into<FloatingBase>) -> Result<Model, LoadError> {
     load(path, floating).map(|d| d.model)
 }

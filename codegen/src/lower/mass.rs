@@ -192,7 +192,7 @@ impl Lower {
 /// order; `None` if nalgebra's solver has not converged after 1000 iterations (3×3 matrices take
 /// a few: the cap only keeps a macro expansion from hanging, which `symmetric_eigenvalues`,
 /// without one, would not).
-fn eigenvalues(m: &[[f64; 3]; 3]) -> Option<[f64; 3]> {
+pub(crate) fn eigenvalues(m: &[[f64; 3]; 3]) -> Option<[f64; 3]> {
     let upper = Matrix3::from_fn(|i, j| m[i.min(j)][i.max(j)]);
     let e = SymmetricEigen::try_new(upper, f64::EPSILON, 1000)?.eigenvalues;
     let mut e = [e[0], e[1], e[2]];

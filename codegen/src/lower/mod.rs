@@ -188,6 +188,17 @@ fn renumber(
 }
 
 /// The visibility as written: none, `pub`, `pub(crate)`, `pub(in a::b)`.
+/// The principal moments of a symmetric 3×3 inertia, ascending (for the URDF importer's checks,
+/// the `.chain` rules).
+pub(crate) fn principal_moments(m: &[[f64; 3]; 3]) -> Option<[f64; 3]> {
+    mass::eigenvalues(m)
+}
+
+/// A number as messages print it.
+pub(crate) fn number(x: f64) -> String {
+    context::num(x)
+}
+
 pub(crate) fn visibility(vis: &syn::Visibility) -> Visibility {
     match vis {
         syn::Visibility::Public(_) => Visibility::Public,

@@ -4,7 +4,12 @@
 //! - `revolute` and `continuous` joints become [`JointKind::Revolute`] (one angle; a `continuous`
 //!   joint is not stored as cos/sin as Pinocchio does), `prismatic` becomes
 //!   [`JointKind::Prismatic`]. The axis is normalized; URDF's default axis is `[1, 0, 0]`; a zero
-//!   axis is an error. Limits, dynamics, mimic and safety tags are ignored.
+//!   axis is an error. Limits, dynamics and safety tags are ignored; a `<mimic>` joint is an
+//!   error naming it (importing it as an independent coordinate would change the dynamics).
+//! - `<visual>` and `<collision>` (meshes, materials) are never read: an element there that
+//!   urdf-rs would refuse does not stop the import.
+//! - A link's inertia may not have a negative principal moment or break the triangle inequality
+//!   (the `.chain` rules; zero, a massless frame or a point mass, is allowed).
 //! - `floating` joints become [`JointKind::FreeEuler`] with the sequence [`EulerSeq::ZYX`].
 //! - `fixed` joints are merged: the child link's mass properties are added to the nearest body
 //!   above it (masses summed, centres of mass combined, inertias combined with the parallel-axis
@@ -18,9 +23,10 @@
 //!   inertial frame, is `R·I·Rᵀ` in the link frame. A link without `<inertial>` is a massless
 //!   body (mass 0, zero inertia).
 //! - The root link (the one that is no joint's child) is fixed to the world and dropped: the joints
-//!   below it get `parent: None`. With `floating = true` the root is kept as the first body (with
-//!   its inertial) under a [`JointKind::FreeEuler`] `zyx` joint named `root_joint` with the
-//!   identity placement, so its 6 coordinates come first.
+//!   below it get `parent: None`. With a [`FloatingBase`] other than `Fixed` the root is kept as
+//!   the first body (with its inertial) under a joint named `root_joint` with the identity
+//!   placement, [`JointKind::FreeEuler`] `zyx` (6 coordinates) or [`JointKind::FreeQuaternion`]
+//!   (7 positions, 6 velocities), whose coordinates come first.
 //! - Joints and bodies are in depth-first order, the children of a link in document order.
 //! - The model's name is the robot's name in UpperCamelCase (`arm6_mixed` → `Arm6Mixed`),
 //!   gravity `[0, 0, −9.81]`; the [`Options`] are the defaults (a `pub` type in `f64`, the
@@ -53,6 +59,49 @@ mod lines;
 
 use frames::{matrix_rpy, rotate_inertia, MassProps, Transform};
 use lines::{parse_error_line, ElementLines};
+
+/// What a URDF root is attached to the world by.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FloatingBase {
+    /// Nothing: the root link is the world (a fixed-base robot).
+    #[default]
+    Fixed,
+    /// A free base in Wieber's form, translation then Euler angles `zyx`
+    /// ([`JointKind::FreeEuler`]): 6 positions, singular at a pitch of ±90°.
+    Euler,
+    /// A free base with a quaternion ([`JointKind::FreeQuaternion`], Pinocchio's free flyer):
+    /// 7 positions, 6 velocities, no singularity.
+    Quaternion,
+}
+
+impl From<bool> for FloatingBase {
+    /// `true`: [`FloatingBase::Euler`] (what `--floating` and `floating` alone have always
+    /// meant); `false`: [`FloatingBase::Fixed`].
+    fn from(floating: bool) -> Self {
+        if floating {
+            FloatingBase::Euler
+        } else {
+            FloatingBase::Fixed
+        }
+    }
+}
+
+impl FloatingBase {
+    /// The base of that name: `euler` or `quaternion` (a free base), `fixed`.
+    pub fn from_name(name: &str) -> Option<FloatingBase> {
+        match name {
+            "fixed" => Some(FloatingBase::Fixed),
+            "euler" => Some(FloatingBase::Euler),
+            "quaternion" => Some(FloatingBase::Quaternion),
+            _ => None,
+        }
+    }
+
+    /// Whether the root gets a free joint.
+    pub fn is_floating(self) -> bool {
+        self != FloatingBase::Fixed
+    }
+}
 
 /// An error found while importing a URDF description.
 ///
@@ -111,16 +160,44 @@ impl fmt::Display for UrdfError {
 
 impl std::error::Error for UrdfError {}
 
-/// Builds the [`Description`] of a URDF robot given as text (see the [module docs](self)). With
-/// `floating`, a free `zyx` Euler base is put under the root link.
+/// Builds the [`Description`] of a URDF robot given as text (see the [module docs](self)), with
+/// the root attached to the world as `floating` says (`true`: a free `zyx` Euler base).
 ///
 /// # Errors
 /// A [`UrdfError`] with the line of the offending element where it can be found.
-pub fn from_urdf_str(xml: &str, floating: bool) -> Result<Description, UrdfError> {
-    let robot = read_robot(xml)
+pub fn from_urdf_str(
+    xml: &str,
+    floating: impl Into<FloatingBase>,
+) -> Result<Description, UrdfError> {
+    // What the dynamics never reads (`<visual>`, `<collision>`: meshes, materials) is blanked
+    // out first, newlines kept, so that an element urdf-rs would refuse there (a `<mesh>`
+    // without `filename`, as in iCub's description) does not stop the import, and every line
+    // number stays the file's.
+    let kept = without_geometry(xml);
+    let robot = read_robot(&kept)
         .map_err(|e| UrdfError::new(format!("malformed URDF: {e}")).at(parse_error_line(xml)))?;
     let lines = ElementLines::new(xml);
-    Importer { lines, robot }.build(floating)
+    Importer { lines, robot }.build(floating.into())
+}
+
+/// `xml` with every `<visual>` and `<collision>` element replaced by spaces (newlines kept); the
+/// text unchanged if it is not well-formed XML (urdf-rs then reports the error).
+fn without_geometry(xml: &str) -> String {
+    let Ok(doc) = roxmltree::Document::parse(xml) else {
+        return xml.to_string();
+    };
+    let mut bytes = xml.as_bytes().to_vec();
+    for node in doc.descendants() {
+        if node.is_element() && matches!(node.tag_name().name(), "visual" | "collision") {
+            for b in &mut bytes[node.range()] {
+                if *b != b'\n' {
+                    *b = b' ';
+                }
+            }
+        }
+    }
+    // Only ASCII bytes of whole elements were replaced by ASCII spaces: still UTF-8.
+    String::from_utf8(bytes).unwrap_or_else(|_| xml.to_string())
 }
 
 /// urdf-rs's reader, with a panic deep in an XML library turned into an error.
@@ -218,6 +295,43 @@ impl Importer {
             [t.ixy, t.iyy, t.iyz],
             [t.ixz, t.iyz, t.izz],
         ]);
+        // The rules of a `.chain` body's inertia, with zero allowed (a frame, a point mass):
+        // no negative principal moment, and the triangle inequality on them.
+        if let Some(e) = crate::lower::principal_moments(&i_frame.0) {
+            let scale = i_frame
+                .0
+                .iter()
+                .flatten()
+                .fold(0.0f64, |a, x| a.max(x.abs()));
+            let num = crate::lower::number;
+            if e[0] < -1e-12 * scale {
+                return Err(self.link_error(
+                    link,
+                    format!(
+                        "link `{}`: its inertia is not positive semi-definite: principal moments \
+                         {}, {}, {}; expected none negative",
+                        l.name,
+                        num(e[0]),
+                        num(e[1]),
+                        num(e[2])
+                    ),
+                ));
+            }
+            if e[0] + e[1] < e[2] - 1e-9 * e[2].abs() {
+                return Err(self.link_error(
+                    link,
+                    format!(
+                        "link `{}`: its inertia breaks the triangle inequality: principal \
+                         moments {} + {} < {}; expected each moment to be at most the sum of \
+                         the other two",
+                        l.name,
+                        num(e[0]),
+                        num(e[1]),
+                        num(e[2])
+                    ),
+                ));
+            }
+        }
         let [roll, pitch, yaw] = *inertial.origin.rpy;
         let i = if [roll, pitch, yaw] == [0.0; 3] {
             i_frame
@@ -242,6 +356,18 @@ impl Importer {
                 format!(
                     "joint `{}`: its origin or axis has a non-finite number",
                     j.name
+                ),
+            ));
+        }
+        if let Some(m) = &j.mimic {
+            return Err(self.joint_error(
+                joint,
+                format!(
+                    "joint `{}` mimics `{}` (`<mimic>`): mimic joints are not supported, and \
+                     importing it as an independent coordinate would change the robot's \
+                     dynamics; remove the `<mimic>` element to model it as independent, or make \
+                     the joint `fixed`",
+                    j.name, m.joint
                 ),
             ));
         }
@@ -284,7 +410,7 @@ impl Importer {
     }
 
     /// The model: names checked, the tree checked, then walked from the root.
-    fn build(&self, floating: bool) -> Result<Description, UrdfError> {
+    fn build(&self, floating: FloatingBase) -> Result<Description, UrdfError> {
         if self.robot.links.is_empty() {
             return Err(UrdfError::new(format!(
                 "robot `{}` has no links",
@@ -422,7 +548,7 @@ impl Importer {
     /// The bodies and joints in depth-first order from `root`, children in document order:
     /// a movable joint starts a body, a fixed joint welds its child link to the body above (or,
     /// above the first movable joint of a fixed base, to the world, dropping its mass).
-    fn walk(&self, tree: &Tree, root: usize, floating: bool) -> Result<Built, UrdfError> {
+    fn walk(&self, tree: &Tree, root: usize, floating: FloatingBase) -> Result<Built, UrdfError> {
         let joints = &self.robot.joints;
         let mut built = Built::default();
         let mut reached = vec![false; self.robot.links.len()];
@@ -434,12 +560,15 @@ impl Importer {
                 stack.push((j, body, t));
             }
         };
-        let root_body = if floating {
+        let root_body = if floating.is_floating() {
             let name = self.robot.links[root].name.clone();
             built.bodies.push((name, self.link_mass(root)?));
             built.joints.push(Joint {
                 name: "root_joint".into(),
-                kind: JointKind::FreeEuler { seq: EulerSeq::ZYX },
+                kind: match floating {
+                    FloatingBase::Quaternion => JointKind::FreeQuaternion,
+                    _ => JointKind::FreeEuler { seq: EulerSeq::ZYX },
+                },
                 parent: None,
                 placement: Placement::IDENTITY,
             });
