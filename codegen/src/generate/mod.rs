@@ -38,6 +38,11 @@ pub struct FunctionReport {
     pub candidates: Vec<(Variant, OpCounts)>,
 }
 
+/// The most velocity coordinates the generator emits straight-line code for.
+pub const MAX_NV: usize = 160;
+/// The most operations one generated function may take.
+pub const MAX_OPS: usize = 150_000;
+
 /// Generates the type and trait impls for `model` (the outputs of `options`, in its scalar).
 ///
 /// # Errors
@@ -180,6 +185,38 @@ impl<'a> Context<'a> {
         quote!(#id)
     }
 
+    /// Refuses an output whose constants overflow `f64`: evaluated at the neutral
+    /// configuration, at rest, with the default parameters, every value of an output that
+    /// solves nothing must be finite (a mass of 1e300 at 1e10 m has no `f64` inertia).
+    fn finite_at_rest(&self, traced: &crate::trace::Traced) -> syn::Result<()> {
+        if traced.pivots.is_some() {
+            // Forward dynamics and `M⁻¹` check their results at run time.
+            return Ok(());
+        }
+        let q = self.model.neutral();
+        let params = self.model.param_defaults();
+        let input = |var: Var| match var {
+            Var::Q(i) => q[i],
+            Var::Param(i) => params[i],
+            _ => 0.0,
+        };
+        let (values, _) = traced.eval(input);
+        match values.iter().position(|x| !x.is_finite()) {
+            None => Ok(()),
+            Some(k) => Err(syn::Error::new(
+                Span::call_site(),
+                format!(
+                    "`{}` of `{}` overflows f64 at the neutral configuration (entry {k} is {}): \
+                     the model's masses, lengths or inertias are too large or too small for \
+                     f64; rescale its units",
+                    traced.output.name(),
+                    self.model.name,
+                    values[k]
+                ),
+            )),
+        }
+    }
+
     /// The type, its constants, its parameters, its `Chain` impl and one impl per output.
     fn generate(&self, with_struct: bool) -> syn::Result<Generated> {
         let bottom_up = self
@@ -197,6 +234,19 @@ impl<'a> Context<'a> {
                 ),
             ));
         }
+        if self.nv > MAX_NV {
+            return Err(syn::Error::new(
+                Span::call_site(),
+                format!(
+                    "`{}` has {} velocity coordinates, past the generator's limit of {MAX_NV}: \
+                     straight-line code grows as their square (200 serial joints: a mass matrix \
+                     of 235,000 operations, 1.8 GB to generate); generate what the scene moves \
+                     (`keep: […]`, `lock: […]`) or use the interpreted reference \
+                     (`articulated::interpreted`)",
+                    self.model.name, self.nv
+                ),
+            ));
+        }
         let mut items = Vec::new();
         let mut consts = Vec::new();
         let mut functions = Vec::new();
@@ -208,6 +258,21 @@ impl<'a> Context<'a> {
                 self.options.quasi_static,
             );
             let ops = traced.ops();
+            if ops.total() > MAX_OPS {
+                return Err(syn::Error::new(
+                    Span::call_site(),
+                    format!(
+                        "`{}` of `{}` takes {} operations, past the generator's limit of \
+                         {MAX_OPS} per function (the compiler would take minutes on it); \
+                         generate fewer outputs, or what the scene moves (`keep: […]`, \
+                         `lock: […]`)",
+                        output.name(),
+                        self.model.name,
+                        ops.total()
+                    ),
+                ));
+            }
+            self.finite_at_rest(&traced)?;
             items.push(function::item(self, &traced)?);
             consts.push(ops_const(output, &ops));
             functions.push(FunctionReport {
