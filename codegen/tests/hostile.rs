@@ -71,10 +71,10 @@ fn agrees_with_reference(d: &Description) {
 #[test]
 fn a_deep_chain_past_the_limit_is_refused_naming_it() {
     let d = chain(&serial(MAX_NV + 40));
-    let e = generate(&d.model, &d.options)
-        .err()
-        .expect("refused")
-        .to_string();
+    let Err(e) = generate(&d.model, &d.options) else {
+        panic!("expected a refusal");
+    };
+    let e = e.to_string();
     assert!(
         e.contains("200 velocity coordinates") && e.contains(&format!("limit of {MAX_NV}")),
         "{e}"
@@ -123,10 +123,10 @@ fn numbers_that_overflow_f64_are_refused() {
             joint j1: revolute(y) { parent: world, child: a }
         }",
     );
-    let e = generate(&d.model, &d.options)
-        .err()
-        .expect("refused")
-        .to_string();
+    let Err(e) = generate(&d.model, &d.options) else {
+        panic!("expected a refusal");
+    };
+    let e = e.to_string();
     assert!(
         e.contains("overflows f64") && e.contains("`mass_matrix`"),
         "{e}"
