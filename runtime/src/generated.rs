@@ -36,6 +36,16 @@
 //! Each takes and returns nalgebra fixed-size types and allocates nothing. A chain with runtime
 //! parameters takes them through the `_with` twin of each function (`C::mass_matrix_with(&q,
 //! &params)`); the plain function uses the defaults from the description.
+//!
+//! # Non-finite inputs
+//! The functions that solve with `M` (forward dynamics, its derivatives, `M⁻¹`) return
+//! `Err(SingularMassMatrix)` when a pivot or a result is not finite, so a NaN or an infinity in
+//! `q`, `v`, `τ` or a parameter comes back as that error, never as a value. The others are
+//! straight-line arithmetic with no check on the hot path: a NaN or an infinity in their inputs
+//! propagates to their outputs as IEEE arithmetic has it (NaN in, NaN out), and finite inputs
+//! give finite outputs (the generator refuses models whose numbers overflow `f64`). Inputs that
+//! arrive as slices go through [`vector`] (an error for a wrong length); the integrators stop
+//! with a [`crate::integrate::Fault`] naming the time, the step and the first non-finite value.
 
 use core::fmt;
 
