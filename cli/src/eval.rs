@@ -71,7 +71,8 @@ fn condition(m: &DMatrix<f64>) -> f64 {
 /// caller exits with failure if there is any); or the error message when nothing could be.
 pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
     // Checks the model and the parameter values, for both engines.
-    let (model, reference) = load_reference(&args.model, args.floating, args.params.as_deref())?;
+    let (model, reference) =
+        load_reference(&args.model, args.base.floating, args.params.as_deref())?;
     let params = reference.params().to_vec();
     let (nq, nv) = (reference.nq(), reference.nv());
     let q = match &args.q {

@@ -10,10 +10,10 @@ use crate::ExpandArgs;
 /// Runs `expand`; the Rust source, or the error message for stderr.
 pub fn run(args: &ExpandArgs) -> Result<String, String> {
     let mut chain =
-        load(&args.model, args.floating.unwrap_or_default()).map_err(|e| e.to_string())?;
+        load(&args.model, args.base.floating.unwrap_or_default()).map_err(|e| e.to_string())?;
     // The header names the command that regenerates the file, so it carries the flags too.
     let mut source = args.model.display().to_string();
-    match args.floating {
+    match args.base.floating {
         Some(FloatingBase::Quaternion) => source.push_str(" --floating=quaternion"),
         Some(_) => source.push_str(" --floating"),
         None => {}

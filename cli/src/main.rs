@@ -75,17 +75,9 @@ pub struct EvalArgs {
     /// Runtime parameter values in declaration order, comma-separated (default: the file's).
     #[arg(long, allow_hyphen_values = true)]
     pub params: Option<String>,
-    /// Put a free base under a URDF root: `--floating` or `--floating=euler`, translation then
-    /// Euler angles zyx (q and v gain 6 leading entries); `--floating=quaternion`, translation
-    /// then a quaternion (q gains 7, v 6).
-    #[arg(
-        long,
-        num_args = 0..=1,
-        require_equals = true,
-        default_missing_value = "euler",
-        value_parser = parse_floating
-    )]
-    pub floating: Option<FloatingBase>,
+    /// The base under a URDF root.
+    #[command(flatten)]
+    pub base: Base,
     /// Which implementation evaluates the model: `reference` (the interpreted recursions) or
     /// `symbolic` (the generator's expression graphs; checks the generator without compiling).
     #[arg(long, value_enum, default_value_t = Engine::Reference)]
@@ -97,16 +89,9 @@ pub struct EvalArgs {
 pub struct ExpandArgs {
     /// The model: a `.chain` or `.urdf` file.
     pub model: PathBuf,
-    /// Put a free base under a URDF root: `--floating` or `--floating=euler` (translation, then
-    /// Euler angles zyx), `--floating=quaternion` (translation, then a quaternion).
-    #[arg(
-        long,
-        num_args = 0..=1,
-        require_equals = true,
-        default_missing_value = "euler",
-        value_parser = parse_floating
-    )]
-    pub floating: Option<FloatingBase>,
+    /// The base under a URDF root.
+    #[command(flatten)]
+    pub base: Base,
     /// The scalar of the generated code, in place of the description's: `f64`, `f32` or
     /// `generic`.
     #[arg(long)]
@@ -156,16 +141,9 @@ pub struct SimulateArgs {
     /// Runtime parameter values in declaration order, comma-separated (default: the file's).
     #[arg(long, allow_hyphen_values = true)]
     pub params: Option<String>,
-    /// Put a free base under a URDF root: `--floating` or `--floating=euler` (translation, then
-    /// Euler angles zyx), `--floating=quaternion` (translation, then a quaternion).
-    #[arg(
-        long,
-        num_args = 0..=1,
-        require_equals = true,
-        default_missing_value = "euler",
-        value_parser = parse_floating
-    )]
-    pub floating: Option<FloatingBase>,
+    /// The base under a URDF root.
+    #[command(flatten)]
+    pub base: Base,
     /// `dopri5`: relative tolerance per component.
     #[arg(long, default_value_t = 1e-9)]
     pub rtol: f64,
@@ -200,16 +178,9 @@ pub struct InvertArgs {
     /// Runtime parameter values in declaration order, comma-separated (default: the file's).
     #[arg(long, allow_hyphen_values = true)]
     pub params: Option<String>,
-    /// Put a free base under a URDF root: `--floating` or `--floating=euler` (translation, then
-    /// Euler angles zyx), `--floating=quaternion` (translation, then a quaternion).
-    #[arg(
-        long,
-        num_args = 0..=1,
-        require_equals = true,
-        default_missing_value = "euler",
-        value_parser = parse_floating
-    )]
-    pub floating: Option<FloatingBase>,
+    /// The base under a URDF root.
+    #[command(flatten)]
+    pub base: Base,
 }
 
 /// The model in `path` (with a free base under a URDF root if `floating`) and its reference
@@ -255,6 +226,22 @@ pub fn parse_vector(text: &str, what: &str, len: usize) -> Result<Vec<f64>, Stri
             Err(_) => Err(format!("error: --{what}[{i}] = `{s}` is not a number")),
         })
         .collect()
+}
+
+/// `--floating[=euler|quaternion]`, shared by every command that reads a model.
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub struct Base {
+    /// Put a free base under a URDF root: `--floating` or `--floating=euler`, translation then
+    /// Euler angles zyx (q and v gain 6 leading entries); `--floating=quaternion`, translation
+    /// then a quaternion (q gains 7, v 6).
+    #[arg(
+        long,
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "euler",
+        value_parser = parse_floating
+    )]
+    pub floating: Option<FloatingBase>,
 }
 
 /// `euler` or `quaternion`, for `--floating`.

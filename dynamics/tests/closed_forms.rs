@@ -90,28 +90,7 @@ fn single_pendulum_with_parameter_mass() {
 #[test]
 fn planar_double_pendulum() {
     let (m1, m2, l1, c1, c2, i1, i2) = (1.3, 0.8, 0.9, 0.4, 0.35, 0.07, 0.03);
-    let model = model(
-        vec![
-            body("upper", m1, [0.0, 0.0, -c1], diag(0.1, i1, 0.02)),
-            body("lower", m2, [0.0, 0.0, -c2], diag(0.05, i2, 0.01)),
-        ],
-        vec![
-            joint(
-                "shoulder",
-                JointKind::Revolute { axis: Y },
-                None,
-                [0.0; 3],
-                [0.0; 3],
-            ),
-            joint(
-                "elbow",
-                JointKind::Revolute { axis: Y },
-                Some(0),
-                [0.0, 0.0, -l1],
-                [0.0; 3],
-            ),
-        ],
-    );
+    let model = double_pendulum_model(m1, m2, l1, c1, c2, i1, i2);
     let r = Reference::new(&model).unwrap();
     for &(t1, t2, d1, d2) in &[
         (0.3, -0.8, 1.1, -0.6),

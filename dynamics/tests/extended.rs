@@ -106,28 +106,7 @@ fn sine_and_cosine_keep_the_pythagorean_identity() {
 #[test]
 fn double_pendulum_matches_lagrange_to_1e_28() {
     let (m1, m2, l1, c1, c2, i1, i2) = (1.3, 0.8, 0.9, 0.4, 0.35, 0.07, 0.03);
-    let model = model(
-        vec![
-            body("upper", m1, [0.0, 0.0, -c1], diag(0.1, i1, 0.02)),
-            body("lower", m2, [0.0, 0.0, -c2], diag(0.05, i2, 0.01)),
-        ],
-        vec![
-            joint(
-                "shoulder",
-                JointKind::Revolute { axis: Y },
-                None,
-                [0.0; 3],
-                [0.0; 3],
-            ),
-            joint(
-                "elbow",
-                JointKind::Revolute { axis: Y },
-                Some(0),
-                [0.0, 0.0, -l1],
-                [0.0; 3],
-            ),
-        ],
-    );
+    let model = double_pendulum_model(m1, m2, l1, c1, c2, i1, i2);
     let truth = GroundTruth::new(&model).unwrap();
     let d = Dd::from_f64;
     let (m1, m2, l1, c1, c2, i1, i2, g) =

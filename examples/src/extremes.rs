@@ -302,6 +302,20 @@ fn row(
     }
 }
 
+/// A two-link row (Euler joints) from its four generated chains.
+fn two_link_row(scenario: &'static str, case: String, model: &Model, s: &State) -> Row {
+    row(
+        scenario,
+        case,
+        model,
+        s,
+        evaluate!(TwoLinkFastest, f64, 6, 6, |_| ()),
+        evaluate!(TwoLinkRobust, f64, 6, 6, |_| ()),
+        evaluate!(TwoLinkFastestF32, f32, 6, 6, |_| ()),
+        evaluate!(TwoLinkRobustF32, f32, 6, 6, |_| ()),
+    )
+}
+
 const TWO_LINK_V: [f64; 6] = [0.5, -0.3, 0.8, 0.2, -0.1, 0.3];
 const TWO_LINK_TAU: [f64; 6] = [1.0, -2.0, 0.5, 3.0, 1.0, -1.0];
 
@@ -317,15 +331,11 @@ fn gimbal_lock(rows: &mut Vec<Row>) {
             tau: &TWO_LINK_TAU,
             params: &[],
         };
-        rows.push(row(
+        rows.push(two_link_row(
             "gimbal lock, Euler angles",
             format!("δ = {delta:.0e}"),
             &euler,
             &s,
-            evaluate!(TwoLinkFastest, f64, 6, 6, |_| ()),
-            evaluate!(TwoLinkRobust, f64, 6, 6, |_| ()),
-            evaluate!(TwoLinkFastestF32, f32, 6, 6, |_| ()),
-            evaluate!(TwoLinkRobustF32, f32, 6, 6, |_| ()),
         ));
         let (a, b) = (
             quaternion_xyz(q[0], q[1], q[2]),
@@ -486,15 +496,11 @@ fn spin(rows: &mut Vec<Row>) {
             tau: &TWO_LINK_TAU,
             params: &[],
         };
-        rows.push(row(
+        rows.push(two_link_row(
             "spin, two-link",
             format!("{rate:.0e} rad/s"),
             &euler,
             &s,
-            evaluate!(TwoLinkFastest, f64, 6, 6, |_| ()),
-            evaluate!(TwoLinkRobust, f64, 6, 6, |_| ()),
-            evaluate!(TwoLinkFastestF32, f32, 6, 6, |_| ()),
-            evaluate!(TwoLinkRobustF32, f32, 6, 6, |_| ()),
         ));
         let v3 = [0.5 * rate, -0.3 * rate, 0.8 * rate];
         rows.push(three_link_row(

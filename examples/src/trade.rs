@@ -301,91 +301,76 @@ pub fn points(s: &Scenario, truth: &[f64]) -> Vec<Point> {
                     });
                 };
             let n = s.v0.len();
+            // One scenario's six generated types: full in each scalar and accuracy choice, the
+            // pruned model (its coordinates), the quasi-static one.
+            macro_rules! options {
+                ($f64:ty, $robust:ty, $f32:ty, $f32_robust:ty, $pruned:ty, $kept:literal,
+                 $quasi:ty, $n:literal) => {
+                    push(
+                        "f64",
+                        "fastest",
+                        "full",
+                        n,
+                        simulate::<f64, $f64, $n, $n>(s, method, dt),
+                    );
+                    push(
+                        "f64",
+                        "robust",
+                        "full",
+                        n,
+                        simulate::<f64, $robust, $n, $n>(s, method, dt),
+                    );
+                    push(
+                        "f32",
+                        "fastest",
+                        "full",
+                        n,
+                        simulate::<f32, $f32, $n, $n>(s, method, dt),
+                    );
+                    push(
+                        "f32",
+                        "robust",
+                        "full",
+                        n,
+                        simulate::<f32, $f32_robust, $n, $n>(s, method, dt),
+                    );
+                    push(
+                        "f64",
+                        "fastest",
+                        s.pruned,
+                        s.kept,
+                        simulate::<f64, $pruned, $kept, $kept>(s, method, dt),
+                    );
+                    push(
+                        "f64",
+                        "fastest",
+                        "quasi-static",
+                        n,
+                        simulate::<f64, $quasi, $n, $n>(s, method, dt),
+                    );
+                };
+            }
             if s.name == TWO_LINK.name {
-                push(
-                    "f64",
-                    "fastest",
-                    "full",
-                    n,
-                    simulate::<f64, TwoLinkF64, 6, 6>(s, method, dt),
-                );
-                push(
-                    "f64",
-                    "robust",
-                    "full",
-                    n,
-                    simulate::<f64, TwoLinkF64Robust, 6, 6>(s, method, dt),
-                );
-                push(
-                    "f32",
-                    "fastest",
-                    "full",
-                    n,
-                    simulate::<f32, TwoLinkF32, 6, 6>(s, method, dt),
-                );
-                push(
-                    "f32",
-                    "robust",
-                    "full",
-                    n,
-                    simulate::<f32, TwoLinkF32Robust, 6, 6>(s, method, dt),
-                );
-                push(
-                    "f64",
-                    "fastest",
-                    s.pruned,
-                    s.kept,
-                    simulate::<f64, TwoLinkHipLocked, 3, 3>(s, method, dt),
-                );
-                push(
-                    "f64",
-                    "fastest",
-                    "quasi-static",
-                    n,
-                    simulate::<f64, TwoLinkQuasiStatic, 6, 6>(s, method, dt),
+                options!(
+                    TwoLinkF64,
+                    TwoLinkF64Robust,
+                    TwoLinkF32,
+                    TwoLinkF32Robust,
+                    TwoLinkHipLocked,
+                    3,
+                    TwoLinkQuasiStatic,
+                    6
                 );
             } else {
-                push(
-                    "f64",
-                    "fastest",
-                    "full",
-                    n,
-                    simulate::<f64, Arm7F64, 7, 7>(s, method, dt),
-                );
-                push(
-                    "f64",
-                    "robust",
-                    "full",
-                    n,
-                    simulate::<f64, Arm7F64Robust, 7, 7>(s, method, dt),
-                );
-                push(
-                    "f32",
-                    "fastest",
-                    "full",
-                    n,
-                    simulate::<f32, Arm7F32, 7, 7>(s, method, dt),
-                );
-                push(
-                    "f32",
-                    "robust",
-                    "full",
-                    n,
-                    simulate::<f32, Arm7F32Robust, 7, 7>(s, method, dt),
-                );
-                push(
-                    "f64",
-                    "fastest",
-                    s.pruned,
-                    s.kept,
-                    simulate::<f64, Arm7WristLocked, 4, 4>(s, method, dt),
-                );
-                push(
-                    "f64",
-                    "fastest",
-                    "quasi-static",
-                    n,
-                    simulate::<f64, Arm7QuasiStatic, 7, 7>(s, method, dt),
+                options!(
+                    Arm7F64,
+                    Arm7F64Robust,
+                    Arm7F32,
+                    Arm7F32Robust,
+                    Arm7WristLocked,
+                    4,
+                    Arm7QuasiStatic,
+                    7
                 );
             }
         }
@@ -412,9 +397,9 @@ pub fn mark_pareto(points: &mut [Point]) {
     }
 }
 
-/// Forward dynamics of one generated chain: its operation count and its time per call (ns, the
-/// least of several batches of calls at the scenario's start).
-fn fd_cost<C, const NQ: usize, const NV: usize>(s: &Scenario) -> (usize, f64)
+/// Forward dynamics of one generated chain: its time per call (ns, the least of several batches
+/// of calls at the scenario's start).
+fn fd_cost<C, const NQ: usize, const NV: usize>(s: &Scenario) -> f64
 where
     C: ForwardDynamics<f64, NQ, NV>,
 {
@@ -436,47 +421,36 @@ where
         std::hint::black_box(sink);
         best = best.min(t0.elapsed().as_secs_f64() / batch as f64);
     }
-    (0, best * 1e9)
+    best * 1e9
 }
 
 /// What the scene costs: forward dynamics of the full model, of the pruned one and of the
 /// quasi-static one, `(label, operations, ns per call)`.
 pub fn scene_costs(s: &Scenario) -> Vec<(&'static str, usize, f64)> {
+    macro_rules! costs {
+        ($full:ty, $pruned:ty, $kept:literal, $quasi:ty, $n:literal) => {
+            vec![
+                (
+                    "full",
+                    <$full>::FORWARD_DYNAMICS_OPS.total(),
+                    fd_cost::<$full, $n, $n>(s),
+                ),
+                (
+                    s.pruned,
+                    <$pruned>::FORWARD_DYNAMICS_OPS.total(),
+                    fd_cost::<$pruned, $kept, $kept>(s),
+                ),
+                (
+                    "quasi-static",
+                    <$quasi>::FORWARD_DYNAMICS_OPS.total(),
+                    fd_cost::<$quasi, $n, $n>(s),
+                ),
+            ]
+        };
+    }
     if s.name == TWO_LINK.name {
-        vec![
-            (
-                "full",
-                TwoLinkF64::FORWARD_DYNAMICS_OPS.total(),
-                fd_cost::<TwoLinkF64, 6, 6>(s).1,
-            ),
-            (
-                s.pruned,
-                TwoLinkHipLocked::FORWARD_DYNAMICS_OPS.total(),
-                fd_cost::<TwoLinkHipLocked, 3, 3>(s).1,
-            ),
-            (
-                "quasi-static",
-                TwoLinkQuasiStatic::FORWARD_DYNAMICS_OPS.total(),
-                fd_cost::<TwoLinkQuasiStatic, 6, 6>(s).1,
-            ),
-        ]
+        costs!(TwoLinkF64, TwoLinkHipLocked, 3, TwoLinkQuasiStatic, 6)
     } else {
-        vec![
-            (
-                "full",
-                Arm7F64::FORWARD_DYNAMICS_OPS.total(),
-                fd_cost::<Arm7F64, 7, 7>(s).1,
-            ),
-            (
-                s.pruned,
-                Arm7WristLocked::FORWARD_DYNAMICS_OPS.total(),
-                fd_cost::<Arm7WristLocked, 4, 4>(s).1,
-            ),
-            (
-                "quasi-static",
-                Arm7QuasiStatic::FORWARD_DYNAMICS_OPS.total(),
-                fd_cost::<Arm7QuasiStatic, 7, 7>(s).1,
-            ),
-        ]
+        costs!(Arm7F64, Arm7WristLocked, 4, Arm7QuasiStatic, 7)
     }
 }

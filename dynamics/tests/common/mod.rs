@@ -120,3 +120,30 @@ pub fn integrate(model: &Model, q: &[f64], v: &[f64], h: f64) -> Vec<f64> {
     }
     out
 }
+
+/// The planar double pendulum of the closed-form tests: both joints about y, link 1 of length
+/// `l1` with its centre of mass `c1` below the shoulder, link 2's `c2` below the elbow, the
+/// moments about y `i1`, `i2` (the others' values do not enter the planar motion).
+pub fn double_pendulum_model(
+    m1: f64,
+    m2: f64,
+    l1: f64,
+    c1: f64,
+    c2: f64,
+    i1: f64,
+    i2: f64,
+) -> Model {
+    let y = JointKind::Revolute {
+        axis: [0.0, 1.0, 0.0],
+    };
+    model(
+        vec![
+            body("upper", m1, [0.0, 0.0, -c1], diag(0.1, i1, 0.02)),
+            body("lower", m2, [0.0, 0.0, -c2], diag(0.05, i2, 0.01)),
+        ],
+        vec![
+            joint("shoulder", y, None, [0.0; 3], [0.0; 3]),
+            joint("elbow", y, Some(0), [0.0, 0.0, -l1], [0.0; 3]),
+        ],
+    )
+}
