@@ -178,64 +178,8 @@ impl Lower {
                     None => self.cx.error(v, unknown_accuracy(&v.to_string())),
                 }
             }
-            "lock" => {
-                let Expr::List(_, elems) = v else {
-                    self.cx.error(
-                        v,
-                        format!(
-                            "expected a list of locked joints such as `[elbow(0.3), hip(0.0, \
-                             0.1, 0.0)]`, found `{v}`"
-                        ),
-                    );
-                    return;
-                };
-                for e in elems {
-                    let Expr::Call(name, _, args) = e else {
-                        self.cx.error(
-                            e,
-                            format!(
-                                "expected a joint and its position coordinates such as \
-                                 `elbow(0.3)`, found `{e}`"
-                            ),
-                        );
-                        continue;
-                    };
-                    let values: Vec<Option<f64>> = args
-                        .iter()
-                        .map(|a| self.constant(a, NumCtx::Axis))
-                        .collect();
-                    if values.iter().all(Option::is_some) {
-                        let values = values.into_iter().flatten().collect();
-                        self.scene_names.insert(name.to_string(), name.clone());
-                        options.locks.push((name.to_string(), values));
-                    }
-                }
-            }
-            "keep" => {
-                let Expr::List(_, elems) = v else {
-                    self.cx.error(
-                        v,
-                        format!(
-                            "expected a list of the bodies to keep such as `[base, upper]`, \
-                             found `{v}`"
-                        ),
-                    );
-                    return;
-                };
-                let mut names = Vec::new();
-                for e in elems {
-                    match e {
-                        Expr::Name(n) => {
-                            self.scene_names.insert(n.to_string(), n.clone());
-                            names.push(n.to_string());
-                        }
-                        _ => self
-                            .cx
-                            .error(e, format!("expected a body name, found `{e}`")),
-                    }
-                }
-                options.keep = Some(names);
-            }
+            "lock" => self.locks(v, options),
+            "keep" => self.keep(v, options),
             "quasi_static" => match v {
                 Expr::Name(n) if n == "true" || n == "false" => options.quasi_static = n == "true",
                 _ => self
@@ -274,6 +218,68 @@ impl Lower {
                 ),
             ),
         }
+    }
+
+    /// `lock: [joint(q, …), …]`: each joint and its position coordinates, constants only.
+    fn locks(&mut self, v: &Expr, options: &mut Options) {
+        let Expr::List(_, elems) = v else {
+            self.cx.error(
+                v,
+                format!(
+                    "expected a list of locked joints such as `[elbow(0.3), hip(0.0, \
+                     0.1, 0.0)]`, found `{v}`"
+                ),
+            );
+            return;
+        };
+        for e in elems {
+            let Expr::Call(name, _, args) = e else {
+                self.cx.error(
+                    e,
+                    format!(
+                        "expected a joint and its position coordinates such as \
+                         `elbow(0.3)`, found `{e}`"
+                    ),
+                );
+                continue;
+            };
+            let values: Vec<Option<f64>> = args
+                .iter()
+                .map(|a| self.constant(a, NumCtx::Axis))
+                .collect();
+            if values.iter().all(Option::is_some) {
+                let values = values.into_iter().flatten().collect();
+                self.scene_names.insert(name.to_string(), name.clone());
+                options.locks.push((name.to_string(), values));
+            }
+        }
+    }
+
+    /// `keep: [body, …]`: the bodies the scene moves.
+    fn keep(&mut self, v: &Expr, options: &mut Options) {
+        let Expr::List(_, elems) = v else {
+            self.cx.error(
+                v,
+                format!(
+                    "expected a list of the bodies to keep such as `[base, upper]`, \
+                     found `{v}`"
+                ),
+            );
+            return;
+        };
+        let mut names = Vec::new();
+        for e in elems {
+            match e {
+                Expr::Name(n) => {
+                    self.scene_names.insert(n.to_string(), n.clone());
+                    names.push(n.to_string());
+                }
+                _ => self
+                    .cx
+                    .error(e, format!("expected a body name, found `{e}`")),
+            }
+        }
+        options.keep = Some(names);
     }
 
     /// The fields of a block, by position in `allowed`; reports unknown and repeated fields.
