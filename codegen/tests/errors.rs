@@ -658,7 +658,71 @@ fn unknown_joint_field() {
         ],
         3,
         49,
-        "unknown field `axis` in joint `j`: expected `parent`, `child`, `xyz` or `rpy`",
+        "unknown field `axis` in joint `j`: expected `parent`, `child`, `xyz`, `rpy`, \
+         `armature`, `damping`, `friction`, `lower`, `upper`, `velocity` or `effort`",
+    );
+}
+
+#[test]
+fn negative_armature() {
+    check(
+        &[
+            B,
+            "joint j: revolute(z) { parent: world, child: a, armature: -0.1 }",
+        ],
+        3,
+        49,
+        "joint `j`: armature must be finite and >= 0, found -0.1",
+    );
+}
+
+#[test]
+fn limits_upside_down() {
+    check(
+        &[
+            B,
+            "joint j: revolute(z) { parent: world, child: a, lower: 1.0, upper: -1.0 }",
+        ],
+        3,
+        49,
+        "joint `j`: limits must satisfy lower <= upper, found [1, -1]",
+    );
+}
+
+#[test]
+fn limits_on_a_spherical_joint() {
+    check(
+        &[
+            B,
+            "joint j: spherical(xyz) { parent: world, child: a, upper: 1.0 }",
+        ],
+        3,
+        52,
+        "joint `j`: position limits apply to revolute and prismatic joints only",
+    );
+}
+
+#[test]
+fn zero_effort_limit() {
+    check(
+        &[
+            B,
+            "joint j: revolute(z) { parent: world, child: a, damping: 0.1, effort: 0.0 }",
+        ],
+        3,
+        63,
+        "joint `j`: the effort limit must be > 0, found 0",
+    );
+}
+
+#[test]
+fn parameter_in_a_drive() {
+    check_src(
+        "chain C {\nparam k = 0.1;\nbody a { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }\n\
+         joint j: revolute(z) { parent: world, child: a, damping: k }\n}\n",
+        4,
+        58,
+        "parameter `k` cannot be used in a joint's `damping`: expected a constant",
     );
 }
 

@@ -5,7 +5,7 @@ use std::f64::consts::FRAC_PI_2;
 use std::path::Path;
 
 use articulated_codegen::load::{load, load_model};
-use articulated_codegen::model::{EulerSeq, JointKind, Model, Value};
+use articulated_codegen::model::{Drive, EulerSeq, JointKind, Model, Value};
 use articulated_codegen::options::{Output, Visibility};
 use articulated_codegen::urdf::{from_urdf_str, FloatingBase, UrdfError};
 use articulated_dynamics::random::Rng;
@@ -622,6 +622,70 @@ fn a_mimic_joint_is_refused_with_its_name_and_line() {
     ));
     assert_eq!(e.line(), Some(7), "{e}");
     assert!(e.message().contains("joint `finger2` mimics `ja`"), "{e}");
+}
+
+/// A joint's `<dynamics>` and `<limit>` become its drive, with the non-standard `armature`;
+/// absent limits are no limits (urdf-rs reads them as 0).
+#[test]
+fn dynamics_and_limits_are_read_into_the_drive() {
+    let xml = chain_with(
+        r#"<link name="b"/>
+<joint name="jb" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 1 0"/>
+<limit lower="-1.5" upper="2.5" effort="40" velocity="3"/><dynamics damping="0.7" friction="0.2" armature="0.03"/></joint>
+<link name="c"/>
+<joint name="jc" type="continuous"><parent link="b"/><child link="c"/><limit effort="5" velocity="0"/></joint>"#,
+    );
+    let m = from_urdf_str(&xml, false)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model;
+    let drive = |name: &str| m.joints.iter().find(|j| j.name == name).unwrap().drive;
+    assert_eq!(drive("ja"), Drive::FREE);
+    assert_eq!(
+        drive("jb"),
+        Drive {
+            armature: 0.03,
+            damping: 0.7,
+            friction: 0.2,
+            lower: -1.5,
+            upper: 2.5,
+            velocity: 3.0,
+            effort: 40.0,
+        }
+    );
+    assert_eq!(
+        drive("jc"),
+        Drive {
+            effort: 5.0,
+            ..Drive::FREE
+        }
+    );
+}
+
+/// A drive that cannot be is refused at its joint's line, saying what is wrong.
+#[test]
+fn a_bad_drive_is_refused_at_its_line() {
+    let cases = [
+        (
+            r#"<dynamics damping="-1"/>"#,
+            "joint `jb`: damping must be finite and >= 0, found -1",
+        ),
+        (
+            r#"<limit lower="1" upper="-1" effort="1" velocity="1"/>"#,
+            "joint `jb`: limits must satisfy lower <= upper, found [1, -1]",
+        ),
+        (
+            r#"<dynamics armature="heavy"/>"#,
+            "joint `jb`: `<dynamics armature=\"heavy\">` is not a number",
+        ),
+    ];
+    for (element, message) in cases {
+        let e = err(&chain_with(&format!(
+            "<link name=\"b\"/>\n<joint name=\"jb\" type=\"revolute\"><parent link=\"a\"/>\
+             <child link=\"b\"/>{element}</joint>"
+        )));
+        assert_eq!(e.line(), Some(7), "{e}");
+        assert_eq!(e.message(), message);
+    }
 }
 
 /// What the dynamics never reads does not stop an import: a `<mesh>` without `filename` (as

@@ -9,6 +9,7 @@
 #[cfg(feature = "alloc")]
 extern crate alloc;
 
+pub mod drive;
 #[cfg(feature = "extended")]
 pub mod extended;
 #[cfg(feature = "alloc")]

@@ -20,6 +20,7 @@ use alloc::string::String;
 use alloc::vec::Vec;
 use core::fmt;
 
+pub use crate::drive::Drive;
 use crate::scalar::Scalar;
 
 /// A number in the model: a constant, or a runtime parameter (an index into [`Model::params`]).
@@ -240,7 +241,8 @@ pub struct Body {
     pub inertia: [[Value; 3]; 3],
 }
 
-/// A joint: its kind, its parent, its placement. Its child is the body with the same index.
+/// A joint: its kind, its parent, its placement, its drive. Its child is the body with the same
+/// index.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Joint {
     /// Its name in the description.
@@ -251,6 +253,8 @@ pub struct Joint {
     pub parent: Option<usize>,
     /// The joint frame in the parent frame.
     pub placement: Placement,
+    /// What lies between the joint and its actuator: rotor inertia, losses, limits.
+    pub drive: Drive,
 }
 
 /// A whole chain or tree of rigid bodies: what every front end produces.
@@ -391,6 +395,12 @@ impl Model {
             for v in j.placement.xyz.iter().chain(&j.placement.rpy) {
                 check_value(v, Place::Placement(joint()))?;
             }
+            if let Some((_, problem)) = j.drive.problem(&j.kind) {
+                return Err(ModelError::Drive {
+                    joint: joint(),
+                    problem,
+                });
+            }
             for v in [&b.mass]
                 .into_iter()
                 .chain(&b.com)
@@ -461,6 +471,13 @@ pub enum ModelError {
         /// The value.
         value: f64,
     },
+    /// A joint's [`Drive`] is not valid ([`Drive::problem`]).
+    Drive {
+        /// The joint.
+        joint: String,
+        /// What is wrong.
+        problem: String,
+    },
     /// A [`Value::Param`] names a parameter the model does not have.
     UnknownParam {
         /// Where it stands.
@@ -492,6 +509,7 @@ impl fmt::Display for ModelError {
             ModelError::NonFinite { place, value } => {
                 write!(f, "a number in {place} is not finite ({value})")
             }
+            ModelError::Drive { joint, problem } => write!(f, "joint `{joint}`: {problem}"),
             ModelError::UnknownParam { place, index } => write!(
                 f,
                 "a number in {place} names parameter #{index}, which does not exist"

@@ -14,7 +14,7 @@ use alloc::string::{String, ToString};
 use alloc::vec::Vec;
 use core::fmt;
 
-use crate::model::{Body, Joint, JointKind, Model, Placement, Value};
+use crate::model::{Body, Drive, Joint, JointKind, Model, Placement, Value};
 use crate::spatial::{Mat3, Vec3};
 
 /// Why a model could not be pruned as asked.
@@ -189,6 +189,8 @@ pub fn lock(model: &Model, joint: &str, q: &[f64]) -> Result<Model, PruneError> 
         kind: JointKind::Fixed,
         parent: j.parent,
         placement: placement(&r0.mul_mat(&rj), vadd(x0, r0.mul_vec(pj))),
+        // A locked joint has no coordinate left for its rotor or limits to act on.
+        drive: Drive::FREE,
     };
     Ok(out)
 }
@@ -346,6 +348,7 @@ pub fn merge_fixed(model: &Model) -> Model {
             kind: joint.kind,
             parent: parent.and_then(|p| index[p]),
             placement: placement_of,
+            drive: joint.drive,
         });
     }
     Model {

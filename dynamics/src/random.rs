@@ -16,7 +16,7 @@ use alloc::format;
 use alloc::vec::Vec;
 use core::f64::consts::PI;
 
-use crate::model::{Axis, Body, EulerSeq, Joint, JointKind, Model, Placement, Value};
+use crate::model::{Axis, Body, Drive, EulerSeq, Joint, JointKind, Model, Placement, Value};
 use crate::spatial::Mat3;
 
 /// SplitMix64 (Steele, Lea & Flood 2014): a seeded, reproducible stream, enough randomness for
@@ -185,6 +185,7 @@ pub fn random_model(seed: u64, n_bodies: usize) -> Model {
             kind,
             parent,
             placement,
+            drive: Drive::FREE,
         });
     }
     Model::new("Random", bodies, joints)

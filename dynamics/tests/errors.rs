@@ -2,7 +2,7 @@
 
 mod common;
 
-use articulated_dynamics::model::{EulerSeq, JointKind, ModelError, Param, Value};
+use articulated_dynamics::model::{Drive, EulerSeq, JointKind, ModelError, Param, Value};
 use articulated_dynamics::reference::{jacobian, Error, Reference, Singularity};
 use common::*;
 
@@ -295,6 +295,7 @@ fn one_body(
         kind,
         parent: None,
         placement: Placement::IDENTITY,
+        drive: Drive::FREE,
     };
     Model::new("One", vec![body], vec![joint])
 }

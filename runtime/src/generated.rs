@@ -51,6 +51,8 @@ use core::fmt;
 
 use nalgebra::{SMatrix, SVector};
 
+use crate::Drive;
+
 pub use articulated_dynamics::OpCounts;
 
 /// A slice whose length is not the size a generated function takes ([`vector`]).
@@ -166,6 +168,10 @@ pub trait Chain<T> {
     /// Its joints' coordinates, in joint order, fixed joints left out: `Σ nq = NQ`,
     /// `Σ nv = NV`.
     const COORDINATES: &'static [Coordinates];
+    /// Its joints' drives, one per entry of [`COORDINATES`](Chain::COORDINATES): the armature
+    /// (already in the generated `M`, `τ` and `q̈`), and the damping, friction and limits that
+    /// [`Drives`](crate::drives::Drives) applies in a simulation.
+    const DRIVES: &'static [Drive];
     /// Its runtime parameters: `()` when it has none, else a generated struct with one public
     /// field per parameter.
     type Params: Copy;

@@ -123,6 +123,7 @@ extern crate alloc;
 pub mod configuration;
 pub mod control;
 pub mod differentiate;
+pub mod drives;
 #[cfg(feature = "std")]
 pub mod files;
 mod generated;
@@ -141,6 +142,7 @@ pub mod samples;
 pub mod simulate;
 pub mod trajectory;
 
+pub use articulated_dynamics::drive::Drive;
 pub use articulated_dynamics::scalar::{self, Scalar};
 pub use articulated_dynamics::spatial;
 #[cfg(feature = "alloc")]

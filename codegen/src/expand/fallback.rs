@@ -34,6 +34,7 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
         impl<T> ::articulated::Chain<T> for #name {
             const NAME: &'static str = #name_str;
             const COORDINATES: &'static [::articulated::Coordinates] = &[];
+            const DRIVES: &'static [::articulated::Drive] = &[];
             type Params = ();
             fn default_params() {}
         }

@@ -7,7 +7,7 @@
 mod docs;
 mod function;
 
-use articulated_dynamics::model::{JointKind, Model};
+use articulated_dynamics::model::{Drive, JointKind, Model};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
@@ -335,6 +335,12 @@ impl<'a> Context<'a> {
             .joints
             .iter()
             .filter_map(|j| coordinates_tokens(j.kind));
+        let drives = self
+            .model
+            .joints
+            .iter()
+            .filter(|j| j.kind != JointKind::Fixed)
+            .map(|j| drive_tokens(&j.drive));
         let params_ty = &self.params_ty;
         // `-> ()` would trip clippy's `unused_unit` in the user's crate.
         let default_fn = if self.param_idents.is_empty() {
@@ -348,6 +354,7 @@ impl<'a> Context<'a> {
             impl #generics ::articulated::Chain<#scalar> for #name {
                 const NAME: &'static str = #name_str;
                 const COORDINATES: &'static [::articulated::Coordinates] = &[#(#coordinates),*];
+                const DRIVES: &'static [::articulated::Drive] = &[#(#drives),*];
                 type Params = #params_ty;
                 #default_fn
             }
@@ -415,6 +422,45 @@ fn ops_const(output: Output, ops: &OpCounts) -> TokenStream {
 }
 
 /// The runtime's `Coordinates` of a joint kind; `None` for a fixed joint.
+/// A joint's drive as a constant: `Drive::FREE`, or the fields the description gives over it.
+fn drive_tokens(drive: &Drive) -> TokenStream {
+    let free = Drive::FREE;
+    let fields = [
+        ("armature", drive.armature, free.armature),
+        ("damping", drive.damping, free.damping),
+        ("friction", drive.friction, free.friction),
+        ("lower", drive.lower, free.lower),
+        ("upper", drive.upper, free.upper),
+        ("velocity", drive.velocity, free.velocity),
+        ("effort", drive.effort, free.effort),
+    ];
+    let given = fields
+        .into_iter()
+        .filter(|(_, x, default)| x != default)
+        .map(|(name, x, _)| {
+            let name = Ident::new(name, Span::call_site());
+            let x = if x == f64::INFINITY {
+                quote!(f64::INFINITY)
+            } else if x == f64::NEG_INFINITY {
+                quote!(f64::NEG_INFINITY)
+            } else {
+                // The shortest digits that read back exactly (`-1.5`, `1e-3`): an `f64` field.
+                format!("{x:?}")
+                    .parse()
+                    .unwrap_or_else(|_| quote!(compile_error!("articulated: bad literal")))
+            };
+            quote!(#name: #x)
+        })
+        .collect::<Vec<_>>();
+    if given.is_empty() {
+        quote!(::articulated::Drive::FREE)
+    } else if given.len() == fields.len() {
+        quote!(::articulated::Drive { #(#given,)* })
+    } else {
+        quote!(::articulated::Drive { #(#given,)* ..::articulated::Drive::FREE })
+    }
+}
+
 fn coordinates_tokens(kind: JointKind) -> Option<TokenStream> {
     Some(match kind {
         JointKind::Fixed => return None,

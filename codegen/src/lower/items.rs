@@ -2,7 +2,7 @@
 //! `outputs`, each once), the fields of a block (known, each once, the required ones present),
 //! bodies (`mass`, `com`, `inertia` as `diag(…)` or a 3×3 matrix; names unique, never `world`)
 //! and joints (unique names, a parent that is `world` or a body, a child that is a body, the
-//! placement). The joint kinds are in [`kinds`](super::kinds).
+//! placement, the drive: rotor inertia, losses and limits). The joint kinds are in [`kinds`](super::kinds).
 
 use std::collections::hash_map::Entry;
 use std::collections::{HashMap, HashSet};
@@ -14,7 +14,7 @@ use syn::{Lit, Token};
 
 use super::numbers::NumCtx;
 use super::{visibility, BodyDecl, InertiaDecl, JointDecl, Lower, Parent};
-use crate::model::{Placement, Value, DEFAULT_GRAVITY};
+use crate::model::{Drive, JointKind, Placement, Value, DEFAULT_GRAVITY};
 use crate::options::{
     one_of, unknown_accuracy, unknown_output, unknown_scalar, Accuracy, Options, Output, ScalarKind,
 };
@@ -413,7 +413,7 @@ impl Lower {
     ) -> JointDecl<'a> {
         let owner = format!("joint `{}`", j.name);
         let kind = self.kind(&j.kind, &owner);
-        let f = self.fields(&j.fields, &["parent", "child", "xyz", "rpy"], &owner);
+        let f = self.fields(&j.fields, &JOINT_FIELDS, &owner);
         let (parent, parent_expr) = match f[0] {
             None => {
                 self.missing(&j.name, &owner, "parent");
@@ -438,6 +438,7 @@ impl Lower {
         let rpy = f[3]
             .and_then(|f| self.vec3(&f.value, "`rpy`", ""))
             .unwrap_or(zero);
+        let drive = self.drive(&f[4..], kind.as_ref(), &owner);
         JointDecl {
             def: j,
             kind,
@@ -445,8 +446,38 @@ impl Lower {
             parent_expr,
             child,
             placement: Placement { xyz, rpy },
+            drive,
             duplicate: false,
         }
+    }
+
+    /// A joint's drive from its fields `armature`, `damping`, `friction`, `lower`, `upper`,
+    /// `velocity`, `effort` (in [`JOINT_FIELDS`]' order; each optional, constants only), checked
+    /// by [`Drive::problem`] at the field the problem is about (the other bound if that one is
+    /// not given).
+    fn drive(&mut self, f: &[Option<&Field>], kind: Option<&JointKind>, owner: &str) -> Drive {
+        let mut read = |i: usize| {
+            let field = f[i]?;
+            let name = JOINT_FIELDS[4 + i];
+            self.constant(&field.value, NumCtx::Drive(name))
+        };
+        let given = |x: Option<f64>, default: f64| x.unwrap_or(default);
+        let drive = Drive {
+            armature: given(read(0), 0.0),
+            damping: given(read(1), 0.0),
+            friction: given(read(2), 0.0),
+            lower: given(read(3), f64::NEG_INFINITY),
+            upper: given(read(4), f64::INFINITY),
+            velocity: given(read(5), f64::INFINITY),
+            effort: given(read(6), f64::INFINITY),
+        };
+        if let Some((about, problem)) = kind.and_then(|kind| drive.problem(kind)) {
+            let at = |name: &str| f.iter().flatten().find(|field| field.key == name);
+            if let Some(field) = at(about).or_else(|| at("upper")).or_else(|| at("lower")) {
+                self.cx.error(&field.key, format!("{owner}: {problem}"));
+            }
+        }
+        drive
     }
 
     /// The parent `e` of the joint `owner`: `world` or a declared body.
@@ -528,6 +559,12 @@ impl Lower {
         }
     }
 }
+
+/// The fields of a joint: where it is, then its drive ([`Drive`]).
+const JOINT_FIELDS: [&str; 11] = [
+    "parent", "child", "xyz", "rpy", "armature", "damping", "friction", "lower", "upper",
+    "velocity", "effort",
+];
 
 /// The declared bodies, for messages: "a body (`a`, `b`)" or "a body (none is declared)".
 fn body_list(bodies: &[BodyDecl]) -> String {

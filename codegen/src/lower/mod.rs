@@ -27,7 +27,7 @@ use std::collections::HashMap;
 
 use quote::ToTokens;
 
-use crate::model::{Body, Joint, JointKind, Model, Param, Placement, Value};
+use crate::model::{Body, Drive, Joint, JointKind, Model, Param, Placement, Value};
 use crate::options::{Description, Visibility};
 use crate::parse::{BodyDef, ChainDef, Expr, JointDef};
 use articulated_dynamics::prune::PruneError;
@@ -90,6 +90,7 @@ struct JointDecl<'a> {
     parent_expr: Option<&'a Expr>,
     child: Option<usize>,
     placement: Placement,
+    drive: Drive,
     /// Another joint of the same name came first (reported once, not again as two parents).
     duplicate: bool,
 }
@@ -182,6 +183,7 @@ fn renumber(
                 Parent::Bad => return None,
             },
             placement: decl.placement,
+            drive: decl.drive,
         });
     }
     Some((model_bodies, model_joints))

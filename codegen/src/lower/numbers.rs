@@ -22,6 +22,8 @@ pub(super) enum NumCtx<'a> {
     Axis,
     /// The default of the named parameter: constants only.
     Default(&'a Ident),
+    /// The named drive field of a joint (`armature`, `lower`, …): constants only.
+    Drive(&'a str),
 }
 
 impl Lower {
@@ -160,6 +162,9 @@ impl Lower {
             (true, NumCtx::Axis) => {
                 format!("parameter `{n}` cannot be used in a joint axis: expected a constant")
             }
+            (true, NumCtx::Drive(field)) => format!(
+                "parameter `{n}` cannot be used in a joint's `{field}`: expected a constant"
+            ),
             (true, NumCtx::Default(p)) => format!(
                 "parameter `{n}` cannot be used in the default of parameter `{p}`: \
                      expected a constant"

@@ -165,6 +165,7 @@ pub fn crba_in_root_frame<T: Scalar>(
                 }
             }
         }
+        node.add_armature_to_diagonal(&mut m, nv);
     }
     m
 }

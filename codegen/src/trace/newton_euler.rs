@@ -48,7 +48,11 @@ pub fn classical_rnea<T: Scalar>(
     a: &[T],
     with_gravity: bool,
 ) -> Vec<T> {
-    project(tree, &classical_node_forces(tree, q, v, a, with_gravity))
+    let mut tau = project(tree, &classical_node_forces(tree, q, v, a, with_gravity));
+    for node in &tree.nodes {
+        node.add_armature(a, &mut tau);
+    }
+    tau
 }
 
 /// The forces each node's joint transmits, as [`articulated_dynamics::reference::node_forces`]

@@ -2,7 +2,8 @@
 //! that keeps every node's position): the line of each `<link>` and `<joint>` element, for the
 //! importer's errors ([`ElementLines`]), and the line a parse error comes from
 //! ([`parse_error_line`]): the first bad tag of malformed XML, else the first `<link>` or
-//! `<joint>` element that urdf-rs refuses on its own.
+//! `<joint>` element that urdf-rs refuses on its own. Also the one attribute the importer reads
+//! that urdf-rs does not: a joint's `<dynamics armature="…">` ([`ElementLines::armature`]).
 
 use roxmltree::{Document, Error, Node, ParsingOptions, TextPos};
 
@@ -36,6 +37,9 @@ fn robot_elements<'a, 'input>(
 pub(super) struct ElementLines {
     /// Element (`link` or `joint`), `name` attribute and line, in document order.
     elements: Vec<(&'static str, String, usize)>,
+    /// Per `<joint>` element, in document order: its name and the text of its
+    /// `<dynamics armature="…">`, if any.
+    armatures: Vec<(String, Option<String>)>,
 }
 
 impl ElementLines {
@@ -43,15 +47,38 @@ impl ElementLines {
     /// (the importer's errors then name no line).
     pub(super) fn new(text: &str) -> Self {
         let mut elements = Vec::new();
+        let mut armatures = Vec::new();
         if let Ok(doc) = parse(text) {
             for element in ["link", "joint"] {
                 for node in robot_elements(&doc, element) {
                     let name = node.attribute("name").unwrap_or_default().to_string();
-                    elements.push((element, name, line_of(node)));
+                    elements.push((element, name.clone(), line_of(node)));
+                    if element == "joint" {
+                        let armature = node
+                            .children()
+                            .filter(|n| n.is_element() && n.tag_name().name() == "dynamics")
+                            .find_map(|n| n.attribute("armature"))
+                            .map(str::to_string);
+                        armatures.push((name, armature));
+                    }
                 }
             }
         }
-        ElementLines { elements }
+        ElementLines {
+            elements,
+            armatures,
+        }
+    }
+
+    /// The `armature` attribute of the `n`-th (0-based) `<joint>` named `name`'s `<dynamics>`:
+    /// not in URDF 1.0, but what MuJoCo and Pinocchio call the rotor inertia, and what some
+    /// exporters write there.
+    pub(super) fn armature(&self, name: &str, n: usize) -> Option<&str> {
+        self.armatures
+            .iter()
+            .filter(|(na, _)| na == name)
+            .nth(n)
+            .and_then(|(_, a)| a.as_deref())
     }
 
     /// The line of the `n`-th (0-based) `<element>` (`link` or `joint`) named `name`.

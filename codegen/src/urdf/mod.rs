@@ -4,8 +4,12 @@
 //! - `revolute` and `continuous` joints become [`JointKind::Revolute`] (one angle; a `continuous`
 //!   joint is not stored as cos/sin as Pinocchio does), `prismatic` becomes
 //!   [`JointKind::Prismatic`]. The axis is normalized; URDF's default axis is `[1, 0, 0]`; a zero
-//!   axis is an error. Limits, dynamics and safety tags are ignored; a `<mimic>` joint is an
-//!   error naming it (importing it as an independent coordinate would change the dynamics).
+//!   axis is an error. A `<mimic>` joint is an error naming it (importing it as an independent
+//!   coordinate would change the dynamics). Safety tags are ignored.
+//! - A joint's `<dynamics damping friction>` and `<limit lower upper effort velocity>` become its
+//!   [`Drive`], and so does `<dynamics armature>` (not URDF 1.0; MuJoCo's and Pinocchio's name
+//!   for the rotor inertia, added to `M`'s diagonal). Absent limit attributes are no limits;
+//!   a negative damping or `lower > upper` is an error at the joint's line.
 //! - `<visual>` and `<collision>` (meshes, materials) are never read: an element there that
 //!   urdf-rs would refuse does not stop the import.
 //! - A link's inertia may not have a negative principal moment or break the triangle inequality
@@ -48,7 +52,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use articulated_dynamics::model::{
-    Body, EulerSeq, Joint, JointKind, Model, Placement, Value, DEFAULT_GRAVITY,
+    Body, Drive, EulerSeq, Joint, JointKind, Model, Placement, Value, DEFAULT_GRAVITY,
 };
 use articulated_dynamics::spatial::{Mat3, Vec3};
 
@@ -409,6 +413,54 @@ impl Importer {
         })
     }
 
+    /// The joint's drive: `<dynamics damping friction>`, the non-standard `<dynamics armature>`,
+    /// and `<limit>`. urdf-rs reads absent limit attributes as 0: a revolute or prismatic
+    /// joint with `lower = upper = 0` has no position limits, and a zero `effort` or `velocity`
+    /// is no limit (a motor that gives no force would stop every such joint). A continuous
+    /// joint has no position limits.
+    fn drive(&self, joint: usize, kind: &JointKind) -> Result<Drive, UrdfError> {
+        use urdf_rs::JointType as T;
+        let j = &self.robot.joints[joint];
+        let mut drive = Drive::FREE;
+        if let Some(d) = &j.dynamics {
+            drive.damping = d.damping;
+            drive.friction = d.friction;
+        }
+        let n = self.robot.joints[..joint]
+            .iter()
+            .filter(|other| other.name == j.name)
+            .count();
+        if let Some(text) = self.lines.armature(&j.name, n) {
+            drive.armature = text.trim().parse().map_err(|_| {
+                self.joint_error(
+                    joint,
+                    format!(
+                        "joint `{}`: `<dynamics armature=\"{text}\">` is not a number",
+                        j.name
+                    ),
+                )
+            })?;
+        }
+        let l = &j.limit;
+        if matches!(j.joint_type, T::Revolute | T::Prismatic) && !(l.lower == 0.0 && l.upper == 0.0)
+        {
+            drive.lower = l.lower;
+            drive.upper = l.upper;
+        }
+        if l.effort != 0.0 {
+            drive.effort = l.effort;
+        }
+        if l.velocity != 0.0 {
+            drive.velocity = l.velocity;
+        }
+        match drive.problem(kind) {
+            None => Ok(drive),
+            Some((_, problem)) => {
+                Err(self.joint_error(joint, format!("joint `{}`: {problem}", j.name)))
+            }
+        }
+    }
+
     /// The model: names checked, the tree checked, then walked from the root.
     fn build(&self, floating: FloatingBase) -> Result<Description, UrdfError> {
         if self.robot.links.is_empty() {
@@ -571,6 +623,7 @@ impl Importer {
                 },
                 parent: None,
                 placement: Placement::IDENTITY,
+                drive: Drive::FREE,
             });
             Some(0)
         } else {
@@ -611,6 +664,7 @@ impl Importer {
                         kind,
                         parent: body,
                         placement,
+                        drive: self.drive(j, &kind)?,
                     });
                     push_children(&mut stack, child, Some(b), Transform::IDENTITY);
                 }

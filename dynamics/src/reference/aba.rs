@@ -100,7 +100,8 @@ fn handed_on<T: Scalar>(
 }
 
 /// Forward dynamics by the articulated-body algorithm (RBDA Table 7.1, with multi-DOF joints as
-/// in RBDA §7.3: `U_i = I_i^A·S_i`, `D_i = S_iᵀ·U_i`, `u_i = τ_i − S_iᵀ·p_i^A`).
+/// in RBDA §7.3: `U_i = I_i^A·S_i`, `D_i = S_iᵀ·U_i + armature·1`, `u_i = τ_i − S_iᵀ·p_i^A`;
+/// the rotor's inertia is felt by its joint alone, so it enters `D_i` and nothing else).
 ///
 /// Labels ([`Scalar::label`]), per node `n`: velocity `n_w_x, …`, `n_v_x, …`, bias acceleration
 /// `n_cw_x, …`, `n_cv_x, …`, `U`'s columns `n_u{k}_n_x, …`, `u` as `n_tu{k}`, `D` as `n_d{k}{l}`
@@ -161,10 +162,11 @@ pub fn aba<T: Scalar>(
         }
         for k in 0..n {
             for l in 0..n {
-                d[k][l] = node
-                    .s_col(k)
-                    .dot(u_cols[i][l])
-                    .label(format_args!("{name}_d{k}{l}"));
+                let mut x = node.s_col(k).dot(u_cols[i][l]);
+                if k == l && node.armature != 0.0 {
+                    x = x + T::from_f64(node.armature);
+                }
+                d[k][l] = x.label(format_args!("{name}_d{k}{l}"));
             }
             diag[node.v_at + k] = d[k][k];
         }

@@ -231,7 +231,8 @@ pub fn centroidal_momentum_matrix<T: Scalar>(tree: &Tree<T>, q: &[T]) -> Vec<T> 
     centroidal_momentum_matrix_with(tree, q, |ic, _, x| ic.to_parent(x))
 }
 
-/// The kinetic energy `½·Σ v_iᵀ·I_i·v_i`.
+/// The kinetic energy `½·Σ v_iᵀ·I_i·v_i`, plus the rotors' `½·Σ armature·v_k²` (so that it is
+/// `½·vᵀ·M·v` with the `M` of [`crba`](super::crba()), the energy a simulation conserves).
 pub fn kinetic_energy<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T]) -> T {
     let x_up = tree.x_up(q);
     let vel = velocities(tree, &x_up, v);
@@ -241,6 +242,14 @@ pub fn kinetic_energy<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T]) -> T {
         .zip(&vel)
         .fold(T::zero(), |sum, (n, &v_i)| {
             sum + v_i.dot(n.inertia.mul_motion(v_i))
+        });
+    let twice = tree
+        .nodes
+        .iter()
+        .filter(|n| n.armature != 0.0)
+        .fold(twice, |sum, n| {
+            let armature = T::from_f64(n.armature);
+            (n.v_at..n.v_at + n.nv()).fold(sum, |s, k| s + armature * v[k] * v[k])
         });
     twice * T::from_f64(0.5)
 }

@@ -7,7 +7,7 @@ use super::tree::Tree;
 use crate::scalar::Scalar;
 use crate::spatial::{Inertia, Transform};
 
-/// `M(q)`, row-major `nv × nv`.
+/// `M(q)`, row-major `nv × nv`, the joints' armatures on its diagonal.
 ///
 /// Composite inertias `I_c[λ] += X_upᵀ·I_c[i]·X_up` from the leaves in, then for each node
 /// `F = I_c[i]·S_i`, `M_ii = S_iᵀ·F`, and `F` is carried to each ancestor `j` (`F = X_upᵀ·F`)
@@ -54,6 +54,7 @@ pub fn crba_with<T: Scalar>(
                 }
             }
         }
+        node.add_armature_to_diagonal(&mut m, nv);
     }
     m
 }

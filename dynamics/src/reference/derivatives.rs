@@ -207,6 +207,7 @@ pub fn map_tree<S: Scalar, T: Scalar>(tree: &Tree<S>, f: impl Fn(S) -> T) -> Tre
                     h: map3(n.inertia.h, f),
                     i: map33(n.inertia.i, f),
                 },
+                armature: n.armature,
             })
             .collect(),
         body_node: tree.body_node.clone(),

@@ -124,9 +124,14 @@ pub fn project<T: Scalar>(tree: &Tree<T>, f: &[Force<T>]) -> Vec<T> {
 
 /// Inverse dynamics by RNEA: `τ_i = Sᵢᵀ·f_i` (RBDA Table 5.1, line 14). With `with_gravity` this
 /// is `M·a + N·q̇ + g`; without, `M·a + N·q̇`. So `bias = rnea(q, v, 0, false)` and
-/// `gravity = rnea(q, 0, 0, true)`.
+/// `gravity = rnea(q, 0, 0, true)`. The joints' rotors add `armature·a` (the armature is part
+/// of `M`).
 pub fn rnea<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T], a: &[T], with_gravity: bool) -> Vec<T> {
-    project(tree, &node_forces(tree, q, v, a, with_gravity))
+    let mut tau = project(tree, &node_forces(tree, q, v, a, with_gravity));
+    for node in &tree.nodes {
+        node.add_armature(a, &mut tau);
+    }
+    tau
 }
 
 /// The spatial force each **model** joint transmits (the parent on the child), in the child body

@@ -53,6 +53,11 @@ pub struct Node<T> {
     pub v_at: usize,
     /// Spatial inertia about the node's origin, in its frame (zero for massless frames).
     pub inertia: Inertia<T>,
+    /// The rotor inertia on each of the joint's velocities (the model joint's
+    /// [`Drive::armature`](crate::model::Drive::armature), on every node it expands into): it
+    /// adds to `M`'s diagonal and `armature·q̈` to `τ`, and is a constant so that a chain
+    /// without it traces no extra operation.
+    pub armature: f64,
 }
 
 impl<T: Scalar> Node<T> {
@@ -113,6 +118,27 @@ impl<T: Scalar> Node<T> {
         m
     }
 
+    /// Adds `armature·x` to this joint's slice of `out` (`out[v_at..][..nv]`): the rotor's part
+    /// of `τ = (M + diag(armature))·a + …` for `x = a`. Nothing without a rotor.
+    pub fn add_armature(&self, x: &[T], out: &mut [T]) {
+        if self.armature != 0.0 {
+            let armature = T::from_f64(self.armature);
+            for k in self.v_at..self.v_at + self.nv() {
+                out[k] = out[k] + armature * x[k];
+            }
+        }
+    }
+
+    /// Adds the armature to this joint's diagonal entries of the row-major `nv × nv` `m`.
+    pub fn add_armature_to_diagonal(&self, m: &mut [T], nv: usize) {
+        if self.armature != 0.0 {
+            let armature = T::from_f64(self.armature);
+            for k in self.v_at..self.v_at + self.nv() {
+                m[k * nv + k] = m[k * nv + k] + armature;
+            }
+        }
+    }
+
     /// `Sᵀ·f`, written into `out[v_at..][..nv]`.
     pub fn s_tr_mul(&self, f: Force<T>, out: &mut [T]) {
         for j in 0..self.nv() {
@@ -155,6 +181,7 @@ impl<T: Scalar> Tree<T> {
             let x_tree = Transform::from_pose(Mat3::rpy(roll, pitch, yaw), xyz);
             let mut parent = joint.parent.map(|b| body_node[b]);
             let mut x_tree = Some(x_tree);
+            let armature = joint.drive.armature;
             // Pushes one node; only the first of an expansion gets the placement.
             let mut push = |name: String,
                             joint: NodeJoint<T>,
@@ -169,6 +196,7 @@ impl<T: Scalar> Tree<T> {
                     q_at,
                     v_at,
                     inertia: Inertia::zero(),
+                    armature,
                 });
                 parent = Some(nodes.len() - 1);
                 q_at += nq;

@@ -15,7 +15,7 @@ pub fn rel_err_vec(a: &DVector<f64>, b: &DVector<f64>, floor: f64) -> f64 {
     (a - b).amax() / scale
 }
 
-use articulated_dynamics::model::{Body, Joint, JointKind, Model, Placement, Value};
+use articulated_dynamics::model::{Body, Drive, Joint, JointKind, Model, Placement, Value};
 
 /// A body with constant mass properties.
 pub fn body(name: &str, mass: f64, com: [f64; 3], inertia: [[f64; 3]; 3]) -> Body {
@@ -43,6 +43,7 @@ pub fn joint(
             xyz: xyz.map(Value::Const),
             rpy: rpy.map(Value::Const),
         },
+        drive: Drive::FREE,
     }
 }
 

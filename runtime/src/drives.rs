@@ -1,0 +1,212 @@
+//! What a chain's drives do in a simulation beyond the commanded force: the actuator's effort
+//! limit, viscous damping, dry friction and the position limits, from the description's
+//! [`Drive`]s ([`Chain::DRIVES`]: URDF's `<dynamics>` and `<limit>`, the `.chain` joint fields
+//! `damping`, `friction`, `lower`, `upper`, `effort`).
+//!
+//! The armature is not here: it is inertia, already in the generated `M`, `τ` and `q̈`.
+//!
+//! Per velocity coordinate `k`, with `τ_k` the controller's command:
+//!
+//! ```text
+//! τ_k ← clamp(τ_k, −effort, effort) − damping·v_k − friction·tanh(v_k / friction_speed) + stop_k
+//! ```
+//!
+//! - **Dry friction** is regularized: exact Coulomb friction (sticking while `|τ| < friction`)
+//!   needs a complementarity solver, which this runtime does not have. Below `friction_speed`
+//!   the friction acts as a stiff damper of coefficient `friction / friction_speed`: an explicit
+//!   integrator needs `dt < 2·I·friction_speed / friction` there (`I` the joint's inertia).
+//! - **Position limits** are stops, a one-sided spring and damper that only push back into the
+//!   range (as MuJoCo's soft limits and most real-time simulators do): past `upper` by `p > 0`,
+//!   `stop = min(0, −stop_stiffness·p − stop_damping·v)`; below `lower` the mirror image. The
+//!   penetration is then about `|v|·√(I / stop_stiffness)` at impact speed `v`: stiffer stops
+//!   penetrate less and need smaller steps (`√(stop_stiffness / I)·dt ≪ 1`).
+//! - **Speed limits** are reported by [`Drives::over_speed`], not enforced: no physical
+//!   mechanism enforces them in a motor.
+//!
+//! ```
+//! # use articulated::nalgebra::SVector;
+//! # use articulated::drives::Drives;
+//! # use articulated::integrate::{ControlledChain, Integrator, Rk4, State};
+//! articulated::chain! {
+//!     chain Pendulum {
+//!         body bob { mass: 1.0, com: [0.0, 0.0, -1.0], inertia: diag(0.01, 0.01, 0.01) }
+//!         joint pivot: revolute(y) { parent: world, child: bob, damping: 0.5, lower: -0.2, upper: 0.2 }
+//!     }
+//! }
+//! let drives = Drives::<f64, 1, 1>::of::<Pendulum>().unwrap();
+//! let unforced = |_t: f64, _q: &SVector<f64, 1>, _v: &SVector<f64, 1>| SVector::<f64, 1>::zeros();
+//! let mut system = ControlledChain::<f64, Pendulum, _>::new(drives.around(unforced));
+//! let mut state = State::new(0.0, SVector::<f64, 1>::new(0.1), SVector::<f64, 1>::new(3.0));
+//! for k in 0..2000 {
+//!     Rk4.advance(&mut system, &mut state, (k + 1) as f64 * 1e-3, k).unwrap();
+//! }
+//! // Thrown at 3 rad/s toward the stop at 0.2 rad: held near it, damped.
+//! assert!(state.q[0] < 0.25);
+//! ```
+
+use core::fmt;
+
+use nalgebra::{RealField, SVector};
+
+use crate::generated::{Chain, Coordinates};
+use crate::Drive;
+
+/// The drives of a chain with `NQ` positions and `NV` velocities, as forces (see the
+/// [module docs](self)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Drives<T, const NQ: usize, const NV: usize> {
+    damping: SVector<T, NV>,
+    friction: SVector<T, NV>,
+    effort: SVector<T, NV>,
+    speed: SVector<T, NV>,
+    /// Per velocity coordinate of a revolute or prismatic joint with limits: its position's
+    /// index and the range.
+    limits: [Option<(usize, T, T)>; NV],
+    /// Stiffness of the limit stops (N·m/rad or N/m); `1e4` unless set.
+    pub stop_stiffness: T,
+    /// Damping of the limit stops (N·m·s/rad or N·s/m); `1e2` unless set.
+    pub stop_damping: T,
+    /// The speed below which dry friction fades out (rad/s or m/s); `1e-2` unless set.
+    pub friction_speed: T,
+}
+
+/// [`Drives::of`] was asked for a chain whose coordinates do not add up to `NQ` and `NV`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DrivesMismatch {
+    /// The chain's `Σ nq`.
+    pub nq: usize,
+    /// The chain's `Σ nv`.
+    pub nv: usize,
+}
+
+impl fmt::Display for DrivesMismatch {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "the chain has {} positions and {} velocities, not the sizes asked for",
+            self.nq, self.nv
+        )
+    }
+}
+
+impl core::error::Error for DrivesMismatch {}
+
+impl<T: RealField + Copy, const NQ: usize, const NV: usize> Drives<T, NQ, NV> {
+    /// The drives `C::DRIVES` of the chain `C`, with the default stops and friction speed.
+    ///
+    /// # Errors
+    /// [`DrivesMismatch`] if `C`'s coordinates are not `NQ` positions and `NV` velocities.
+    pub fn of<C: Chain<T>>() -> Result<Self, DrivesMismatch> {
+        Self::from_drives(C::COORDINATES, C::DRIVES)
+    }
+
+    /// The drives of joints with the coordinates `coordinates` (one drive per joint).
+    ///
+    /// # Errors
+    /// [`DrivesMismatch`] if the coordinates are not `NQ` positions and `NV` velocities, or
+    /// the two lists differ in length.
+    pub fn from_drives(
+        coordinates: &[Coordinates],
+        drives: &[Drive],
+    ) -> Result<Self, DrivesMismatch> {
+        let nq: usize = coordinates.iter().map(|c| c.nq()).sum();
+        let nv: usize = coordinates.iter().map(|c| c.nv()).sum();
+        if nq != NQ || nv != NV || coordinates.len() != drives.len() {
+            return Err(DrivesMismatch { nq, nv });
+        }
+        let t = |x: f64| nalgebra::convert::<f64, T>(x);
+        let mut out = Drives {
+            damping: SVector::zeros(),
+            friction: SVector::zeros(),
+            effort: SVector::zeros(),
+            speed: SVector::zeros(),
+            limits: [None; NV],
+            stop_stiffness: t(1e4),
+            stop_damping: t(1e2),
+            friction_speed: t(1e-2),
+        };
+        let (mut q_at, mut v_at) = (0, 0);
+        for (c, d) in coordinates.iter().zip(drives) {
+            for k in v_at..v_at + c.nv() {
+                out.damping[k] = t(d.damping);
+                out.friction[k] = t(d.friction);
+                out.effort[k] = t(d.effort);
+                out.speed[k] = t(d.velocity);
+            }
+            let bounded = d.lower > f64::NEG_INFINITY || d.upper < f64::INFINITY;
+            if bounded && c.nq() == 1 && c.nv() == 1 {
+                if let Some(limit) = out.limits.get_mut(v_at) {
+                    *limit = Some((q_at, t(d.lower), t(d.upper)));
+                }
+            }
+            q_at += c.nq();
+            v_at += c.nv();
+        }
+        Ok(out)
+    }
+
+    /// The force the joints feel at `(q, v)` when the controller commands `commanded`: saturated,
+    /// damped, with friction and the stops (see the [module docs](self)).
+    pub fn force(
+        &self,
+        q: &SVector<T, NQ>,
+        v: &SVector<T, NV>,
+        commanded: &SVector<T, NV>,
+    ) -> SVector<T, NV> {
+        let zero = T::zero();
+        let mut tau = SVector::<T, NV>::zeros();
+        for k in 0..NV {
+            let effort = self.effort[k];
+            let mut f = commanded[k].clamp(-effort, effort) - self.damping[k] * v[k];
+            if self.friction[k] != zero {
+                f -= self.friction[k] * (v[k] / self.friction_speed).tanh();
+            }
+            if let Some((i, lower, upper)) = self.limits[k] {
+                let x = q[i];
+                let spring = |past: T| -self.stop_stiffness * past - self.stop_damping * v[k];
+                if x > upper {
+                    f += spring(x - upper).min(zero);
+                } else if x < lower {
+                    f += spring(x - lower).max(zero);
+                }
+            }
+            tau[k] = f;
+        }
+        tau
+    }
+
+    /// The controller `controller` with the drives applied to its command: pass it to
+    /// [`ControlledChain`](crate::integrate::ControlledChain).
+    pub fn around<F>(
+        self,
+        mut controller: F,
+    ) -> impl FnMut(T, &SVector<T, NQ>, &SVector<T, NV>) -> SVector<T, NV>
+    where
+        F: FnMut(T, &SVector<T, NQ>, &SVector<T, NV>) -> SVector<T, NV>,
+    {
+        move |t, q, v| {
+            let commanded = controller(t, q, v);
+            self.force(q, v, &commanded)
+        }
+    }
+
+    /// The first velocity coordinate faster than its joint's speed limit, if any.
+    pub fn over_speed(&self, v: &SVector<T, NV>) -> Option<usize> {
+        (0..NV).find(|&k| v[k].abs() > self.speed[k])
+    }
+
+    /// The first position coordinate outside its joint's limits, with how far (positive above
+    /// `upper`, negative below `lower`), if any.
+    pub fn outside_limits(&self, q: &SVector<T, NQ>) -> Option<(usize, T)> {
+        self.limits.iter().flatten().find_map(|&(i, lower, upper)| {
+            let x = q[i];
+            if x > upper {
+                Some((i, x - upper))
+            } else if x < lower {
+                Some((i, x - lower))
+            } else {
+                None
+            }
+        })
+    }
+}
