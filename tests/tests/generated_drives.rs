@@ -3,7 +3,9 @@
 //! kinetic energy of the rigid bodies, and nalgebra solves `(M + diag)·q̈ = τ − h`, so nothing
 //! the armature changed is checked against itself. The drives' forces in simulation against
 //! closed forms (dry friction's constant deceleration, an elastic stop's penetration
-//! `v·√(m/k)`, a saturated push) and an energy balance (damping dissipates `∫ d·v² dt`).
+//! `v·√(m/k)`, a saturated push) and an energy balance (damping dissipates `∫ d·v² dt`). And
+//! against Pinocchio with `model.armature` set, on the arm with a rotor on every joint
+//! (`data/pinocchio-armature.json`, made by `data/make_armature_reference.py`).
 
 mod common;
 
@@ -18,7 +20,7 @@ use articulated::{Coordinates, Drive};
 use articulated_codegen::load::load_model;
 use articulated_dynamics::model::Model;
 use articulated_dynamics::random::random_state;
-use common::rel_err;
+use common::{read_json, rel_err, rows_of, vec_of};
 
 /// Every joint kind with a rotor; FD by CRBA and `LᵀDL` (the fastest).
 #[derive(Chain)]
@@ -35,6 +37,14 @@ struct Driven;
 #[derive(Chain)]
 #[chain(file = "data/driven.chain", accuracy = robust, outputs = [forward_dynamics])]
 struct DrivenRobust;
+
+/// The arm with a rotor, damping and friction on every joint, from URDF.
+#[derive(Chain)]
+#[chain(
+    urdf = "data/arm7_armature.urdf",
+    outputs = [mass_matrix, inverse_dynamics, forward_dynamics, forward_dynamics_derivatives]
+)]
+struct Arm7Armature;
 
 const NQ: usize = 9;
 const NV: usize = 8;
@@ -188,6 +198,44 @@ fn armature_in_forward_dynamics_by_ltdl_and_by_aba_and_in_its_derivatives() {
             rel_err(&rows(&dv), &dense_rows(&differences)) < 1e-6,
             "∂q̈/∂v, seed {seed}: {dv} vs {differences}"
         );
+    }
+}
+
+#[test]
+fn armature_from_urdf_agrees_with_pinocchio() {
+    let data = read_json("data/pinocchio-armature.json");
+    let armature = vec_of(&data["armature"]);
+    let from_urdf: Vec<f64> = Arm7Armature::DRIVES.iter().map(|d| d.armature).collect();
+    assert_eq!(from_urdf, armature);
+    assert!(Arm7Armature::DRIVES
+        .iter()
+        .all(|d| (d.damping, d.friction, d.upper, d.effort) == (0.5, 0.1, 2.96, 176.0)));
+    let states = data["states"].as_array().unwrap();
+    for (k, s) in states.iter().enumerate() {
+        let q = SVector::<f64, 7>::from_row_slice(&vec_of(&s["q"]));
+        let v = SVector::<f64, 7>::from_row_slice(&vec_of(&s["v"]));
+        let a = SVector::<f64, 7>::from_row_slice(&vec_of(&s["a"]));
+        let tau = SVector::<f64, 7>::from_row_slice(&vec_of(&s["tau"]));
+        let m = Arm7Armature::mass_matrix(&q);
+        assert!(
+            rel_err(&rows(&m), &rows_of(&s["mass_matrix"])) < 1e-12,
+            "M, state {k}"
+        );
+        let ours = Arm7Armature::inverse_dynamics(&q, &v, &a);
+        assert!(
+            rel_err(ours.as_slice(), &vec_of(&s["tau_out"])) < 1e-12,
+            "τ, state {k}"
+        );
+        let ours = Arm7Armature::forward_dynamics(&q, &v, &tau).unwrap();
+        assert!(
+            rel_err(ours.as_slice(), &vec_of(&s["qdd"])) < 1e-11,
+            "q̈, state {k}"
+        );
+        let (dq, dv, minv) = Arm7Armature::forward_dynamics_derivatives(&q, &v, &tau).unwrap();
+        for (name, ours) in [("ddq_dq", dq), ("ddq_dv", dv), ("minv", minv)] {
+            let err = rel_err(&rows(&ours), &rows_of(&s[name]));
+            assert!(err < 1e-10, "{name}, state {k}: {err:e}");
+        }
     }
 }
 
