@@ -34,17 +34,19 @@ struct State {
 }
 
 impl State {
-    /// The value of one input of an expression graph.
+    /// The value of one input of an expression graph (NaN for an index the state does not
+    /// have, which the graph's sizes rule out: a NaN result is then reported, not a panic).
     fn input(&self, var: Var) -> f64 {
-        match var {
-            Var::Q(i) => self.q[i],
-            Var::V(i) => self.v[i],
-            Var::A(i) => self.a[i],
-            Var::Tau(i) => self.tau[i],
-            Var::Param(i) => self.params[i],
+        let (values, i) = match var {
+            Var::Q(i) => (&self.q, i),
+            Var::V(i) => (&self.v, i),
+            Var::A(i) => (&self.a, i),
+            Var::Tau(i) => (&self.tau, i),
+            Var::Param(i) => (&self.params, i),
             // Only joint wrenches bottom-up read a base wrench, and `eval` does not print them.
-            Var::Base(_) => 0.0,
-        }
+            Var::Base(_) => return 0.0,
+        };
+        values.get(i).copied().unwrap_or(f64::NAN)
     }
 }
 
@@ -202,10 +204,12 @@ fn by_graph(model: &Model, s: &State) -> Fields {
             // unreduced value (NaN worst of all).
             let pairs = traced.pivots.iter().flat_map(|p| &p.pairs);
             let pd: Vec<(f64, f64)> = pairs
-                .map(|&(p, d)| {
-                    let x = traced.graph.eval(&[p, d], |var| s.input(var));
-                    (x[0], x[1])
-                })
+                .map(
+                    |&(p, d)| match traced.graph.eval(&[p, d], |var| s.input(var))[..] {
+                        [p, d] => (p, d),
+                        _ => (f64::NAN, f64::NAN),
+                    },
+                )
                 .collect();
             let ratio = |&(p, d): &(f64, f64)| {
                 let r = p / d.abs();
@@ -215,10 +219,12 @@ fn by_graph(model: &Model, s: &State) -> Fields {
                     r
                 }
             };
-            let k = (0..pd.len())
-                .min_by(|&i, &j| ratio(&pd[i]).total_cmp(&ratio(&pd[j])))
-                .unwrap_or(0);
-            let (p, d) = pd.get(k).copied().unwrap_or((f64::NAN, f64::NAN));
+            let (k, (p, d)) = pd
+                .iter()
+                .copied()
+                .enumerate()
+                .min_by(|(_, a), (_, b)| ratio(a).total_cmp(&ratio(b)))
+                .unwrap_or((0, (f64::NAN, f64::NAN)));
             return Err(Error::Singular(Singularity::Pivot {
                 joint: joint_of_v(model, k),
                 velocity: k,

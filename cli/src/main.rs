@@ -8,6 +8,13 @@
 //!     --q0 0.1,0,0,0,0,0 --out swing.csv --plot swing.svg
 //! articulated invert models/two_link.chain swing.csv --out couples.csv
 //! ```
+// No panic reachable from the command line (issue 14), without exception.
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing
+)]
 
 use std::io::Write;
 use std::path::PathBuf;

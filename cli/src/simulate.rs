@@ -113,7 +113,9 @@ fn figure(
     for i in 0..reference.nq() {
         positions = positions.with(
             &format!("q{i}"),
-            kept.iter().map(|s| (s.t, s.q[i])).collect(),
+            kept.iter()
+                .filter_map(|s| s.q.get(i).map(|&q| (s.t, q)))
+                .collect(),
         );
     }
     let energy = |s: &State<f64, Dyn, Dyn>| -> Result<(f64, f64), String> {

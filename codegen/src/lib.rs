@@ -25,24 +25,48 @@
 //!
 //! The modules of stages 3–6 and 8 are internals, public for the CLI, the tests and the
 //! benchmarks, and hidden from these docs.
+//!
+//! No panic is reachable from a description (issue 14): `unwrap`, `expect`, `panic!` and
+//! indexing are denied. What reads the user's text and tokens (`parse`, `load`, `expand`,
+//! `build`, `options`) holds to that without exception. The stages after it index vectors they
+//! sized themselves from the checked model (bodies, joints, velocity coordinates, graph nodes),
+//! never by a number read from the input: those modules carry the one exception, and the
+//! fuzzers (`fuzz/`) drive them with arbitrary descriptions.
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing
+)]
 
 pub mod build;
 #[doc(hidden)]
+#[allow(clippy::indexing_slicing)] // Variables indexed by the graph's own numbering.
 pub mod emit;
 #[doc(hidden)]
 pub mod expand;
+#[allow(clippy::indexing_slicing)] // Outputs by velocity coordinates of the checked model.
 pub mod generate;
 pub mod load;
 #[doc(hidden)]
+// Declarations by the positions the lowering gave them (a name's index from a map built over
+// the same vector), 3×3 inertias by counters below 3.
+#[allow(clippy::indexing_slicing)]
 pub mod lower;
 #[doc(hidden)]
+#[allow(clippy::indexing_slicing)] // Terms and nodes by the graph's own numbering.
 pub mod optimize;
 pub mod options;
 pub mod parse;
 #[doc(hidden)]
+#[allow(clippy::indexing_slicing)] // Nodes by the graph's own numbering.
 pub mod sym;
 #[doc(hidden)]
+#[allow(clippy::indexing_slicing)] // Tree nodes and coordinates of the checked model.
 pub mod trace;
+// Links and joints by the positions of urdf-rs's vectors (found by name in maps built over
+// them), 3×3 inertias by counters below 3.
+#[allow(clippy::indexing_slicing)]
 pub mod urdf;
 
 pub use articulated_dynamics::model;

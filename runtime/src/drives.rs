@@ -55,19 +55,25 @@ use crate::Drive;
 /// [module docs](self)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Drives<T, const NQ: usize, const NV: usize> {
-    damping: SVector<T, NV>,
-    friction: SVector<T, NV>,
-    effort: SVector<T, NV>,
-    speed: SVector<T, NV>,
-    /// Per velocity coordinate of a revolute or prismatic joint with limits: its position's
-    /// index and the range.
-    limits: [Option<(usize, T, T)>; NV],
+    /// Per velocity coordinate.
+    axes: [Axis<T>; NV],
     /// Stiffness of the limit stops (N·m/rad or N/m); `1e4` unless set.
     pub stop_stiffness: T,
     /// Damping of the limit stops (N·m·s/rad or N·s/m); `1e2` unless set.
     pub stop_damping: T,
     /// The speed below which dry friction fades out (rad/s or m/s); `1e-2` unless set.
     pub friction_speed: T,
+}
+
+/// One velocity coordinate's drive, in `T`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Axis<T> {
+    damping: T,
+    friction: T,
+    effort: T,
+    speed: T,
+    /// For a revolute or prismatic joint with limits: its position's index and the range.
+    limits: Option<(usize, T, T)>,
 }
 
 /// [`Drives::of`] was asked for a chain whose coordinates do not add up to `NQ` and `NV`.
@@ -115,34 +121,37 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Drives<T, NQ, NV> {
             return Err(DrivesMismatch { nq, nv });
         }
         let t = |x: f64| nalgebra::convert::<f64, T>(x);
-        let mut out = Drives {
-            damping: SVector::zeros(),
-            friction: SVector::zeros(),
-            effort: SVector::zeros(),
-            speed: SVector::zeros(),
-            limits: [None; NV],
+        let free = Axis {
+            damping: T::zero(),
+            friction: T::zero(),
+            effort: t(f64::INFINITY),
+            speed: t(f64::INFINITY),
+            limits: None,
+        };
+        let mut axes = [free; NV];
+        let mut slots = axes.iter_mut();
+        let mut q_at = 0;
+        for (c, d) in coordinates.iter().zip(drives) {
+            let bounded = d.lower > f64::NEG_INFINITY || d.upper < f64::INFINITY;
+            let limits =
+                (bounded && c.nq() == 1 && c.nv() == 1).then(|| (q_at, t(d.lower), t(d.upper)));
+            for slot in slots.by_ref().take(c.nv()) {
+                *slot = Axis {
+                    damping: t(d.damping),
+                    friction: t(d.friction),
+                    effort: t(d.effort),
+                    speed: t(d.velocity),
+                    limits,
+                };
+            }
+            q_at += c.nq();
+        }
+        Ok(Drives {
+            axes,
             stop_stiffness: t(1e4),
             stop_damping: t(1e2),
             friction_speed: t(1e-2),
-        };
-        let (mut q_at, mut v_at) = (0, 0);
-        for (c, d) in coordinates.iter().zip(drives) {
-            for k in v_at..v_at + c.nv() {
-                out.damping[k] = t(d.damping);
-                out.friction[k] = t(d.friction);
-                out.effort[k] = t(d.effort);
-                out.speed[k] = t(d.velocity);
-            }
-            let bounded = d.lower > f64::NEG_INFINITY || d.upper < f64::INFINITY;
-            if bounded && c.nq() == 1 && c.nv() == 1 {
-                if let Some(limit) = out.limits.get_mut(v_at) {
-                    *limit = Some((q_at, t(d.lower), t(d.upper)));
-                }
-            }
-            q_at += c.nq();
-            v_at += c.nv();
-        }
-        Ok(out)
+        })
     }
 
     /// The force the joints feel at `(q, v)` when the controller commands `commanded`: saturated,
@@ -154,23 +163,24 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Drives<T, NQ, NV> {
         commanded: &SVector<T, NV>,
     ) -> SVector<T, NV> {
         let zero = T::zero();
-        let mut tau = SVector::<T, NV>::zeros();
-        for k in 0..NV {
-            let effort = self.effort[k];
-            let mut f = commanded[k].clamp(-effort, effort) - self.damping[k] * v[k];
-            if self.friction[k] != zero {
-                f -= self.friction[k] * (v[k] / self.friction_speed).tanh();
+        let mut tau = *commanded;
+        for ((f, &v), axis) in tau.iter_mut().zip(v.iter()).zip(&self.axes) {
+            *f = f.clamp(-axis.effort, axis.effort) - axis.damping * v;
+            if axis.friction != zero {
+                *f -= axis.friction * (v / self.friction_speed).tanh();
             }
-            if let Some((i, lower, upper)) = self.limits[k] {
-                let x = q[i];
-                let spring = |past: T| -self.stop_stiffness * past - self.stop_damping * v[k];
-                if x > upper {
-                    f += spring(x - upper).min(zero);
-                } else if x < lower {
-                    f += spring(x - lower).max(zero);
-                }
+            let Some((i, lower, upper)) = axis.limits else {
+                continue;
+            };
+            let Some(&x) = q.get(i) else {
+                continue;
+            };
+            let spring = |past: T| -self.stop_stiffness * past - self.stop_damping * v;
+            if x > upper {
+                *f += spring(x - upper).min(zero);
+            } else if x < lower {
+                *f += spring(x - lower).max(zero);
             }
-            tau[k] = f;
         }
         tau
     }
@@ -192,14 +202,17 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Drives<T, NQ, NV> {
 
     /// The first velocity coordinate faster than its joint's speed limit, if any.
     pub fn over_speed(&self, v: &SVector<T, NV>) -> Option<usize> {
-        (0..NV).find(|&k| v[k].abs() > self.speed[k])
+        v.iter()
+            .zip(&self.axes)
+            .position(|(v, axis)| v.abs() > axis.speed)
     }
 
     /// The first position coordinate outside its joint's limits, with how far (positive above
     /// `upper`, negative below `lower`), if any.
     pub fn outside_limits(&self, q: &SVector<T, NQ>) -> Option<(usize, T)> {
-        self.limits.iter().flatten().find_map(|&(i, lower, upper)| {
-            let x = q[i];
+        let mut limits = self.axes.iter().filter_map(|axis| axis.limits);
+        limits.find_map(|(i, lower, upper)| {
+            let x = *q.get(i)?;
             if x > upper {
                 Some((i, x - upper))
             } else if x < lower {

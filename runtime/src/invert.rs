@@ -85,7 +85,7 @@ impl<E: fmt::Display> fmt::Display for InvertError<E> {
 impl<E: fmt::Debug + fmt::Display> core::error::Error for InvertError<E> {}
 
 /// Checks the sizes and the whole signal (so that a fault comes before any couple), then hands
-/// `(i, q̂_i, v_i, v̇_i)` to `each` for every sample `i` with a full window, in order. The sizes
+/// `(i, t_i, q̂_i, v_i, v̇_i)` to `each` for every sample `i` with a full window, in order. The sizes
 /// `(nq, nv)` are `Const` (nothing allocated) or `Dyn`.
 fn each_state<Q: Dim, V: Dim, E, F>(
     coordinates: &[Coordinates],
@@ -98,6 +98,7 @@ fn each_state<Q: Dim, V: Dim, E, F>(
 where
     F: FnMut(
         usize,
+        f64,
         &OVector<f64, Q>,
         &OVector<f64, V>,
         &OVector<f64, V>,
@@ -111,7 +112,8 @@ where
     let (mut value, mut first, mut second, mut q_hat) =
         (zeros_q(), zeros_q(), zeros_q(), zeros_q());
     let (mut v, mut a) = (zeros_v(), zeros_v());
-    for i in sg.centres(t.len()) {
+    let centres = sg.centres(t.len());
+    for (i, &time) in t.iter().enumerate().skip(centres.start).take(centres.len()) {
         sg.derivatives_at(
             t,
             q,
@@ -130,7 +132,7 @@ where
             v.as_mut_slice(),
             a.as_mut_slice(),
         )?;
-        each(i, &q_hat, &v, &a)?;
+        each(i, time, &q_hat, &v, &a)?;
     }
     Ok(())
 }
@@ -174,10 +176,10 @@ where
         t,
         q,
         sg,
-        |i, q, v, a| {
+        |i, time, q, v, a| {
             let tau = inverse_dynamics(q, v, a);
             finite(i, tau.as_slice())?;
-            sink(i, t[i], &tau);
+            sink(i, time, &tau);
             Ok(())
         },
     )
@@ -281,15 +283,22 @@ where
         // Sized row by row: `nv` is checked first.
         tau: alloc::vec::Vec::new(),
     };
-    each_state(coordinates, (Dyn(nq), Dyn(nv)), t, q, sg, |i, q, v, a| {
-        let row = out.tau.len();
-        out.tau.resize(row + nv, 0.0);
-        let tau = &mut out.tau[row..];
-        inverse_dynamics(q.as_slice(), v.as_slice(), a.as_slice(), tau)
-            .map_err(|error| InvertError::Dynamics { index: i, error })?;
-        finite(i, tau)?;
-        out.t.push(t[i]);
-        Ok(())
-    })?;
+    each_state(
+        coordinates,
+        (Dyn(nq), Dyn(nv)),
+        t,
+        q,
+        sg,
+        |i, time, q, v, a| {
+            let row = out.tau.len();
+            out.tau.resize(row + nv, 0.0);
+            let tau = out.tau.get_mut(row..).unwrap_or_default();
+            inverse_dynamics(q.as_slice(), v.as_slice(), a.as_slice(), tau)
+                .map_err(|error| InvertError::Dynamics { index: i, error })?;
+            finite(i, tau)?;
+            out.t.push(time);
+            Ok(())
+        },
+    )?;
     Ok(out)
 }

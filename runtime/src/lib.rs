@@ -116,12 +116,28 @@
 //! assert!(g[0] == 0.0 && g[1] != 0.0 && g[2] != 0.0); // b, through a, loads ja and jb
 //! ```
 #![cfg_attr(not(feature = "std"), no_std)]
+// No panic reachable from user input (issue 14): the exceptions to the indexing rule are on the
+// modules below that carry them, each saying why its indices are in bounds; `unwrap` and
+// `expect` appear only in tests (clippy.toml).
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing
+)]
 
 #[cfg(feature = "alloc")]
 extern crate alloc;
 
 pub mod configuration;
+// Exceptions to the panics audit (the crate denies indexing below): dense linear algebra on
+// matrices whose sizes the types fix (`SMatrix<_, N, N>`, or `n × n` built here), indexed by
+// loop counters below them.
+#[allow(clippy::indexing_slicing)]
 pub mod control;
+// Savitzky–Golay windows: every index is a sample within `half_window` of a centre that
+// `centres(len)` yields, and `check` has verified `q.len() = t.len()·nq` before any is read.
+#[allow(clippy::indexing_slicing)]
 pub mod differentiate;
 pub mod drives;
 #[cfg(feature = "std")]
@@ -134,6 +150,9 @@ pub mod invert;
 /// Sine and cosine together for generated code, branch-free and inlinable, with libm's kernels
 /// and accuracy: [`math::sincos_array`] (several angles, faster than [`libm::sincos`]),
 /// [`math::sincos`] and [`math::sincosf`] (one angle, slower than libm).
+// Fixed lanes (`[f64; N]` by counters below `N`) and libm's table lookups, whose index is
+// masked to the table's size.
+#[allow(clippy::indexing_slicing)]
 pub mod math;
 #[cfg(feature = "plot")]
 pub mod plot;

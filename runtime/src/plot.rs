@@ -132,8 +132,7 @@ fn draw_panel<DB: DrawingBackend>(
         .y_desc(panel.y_label.as_str())
         .draw()
         .map_err(|e| text(&e))?;
-    for (k, s) in panel.series.iter().enumerate() {
-        let colour = PALETTE[k % PALETTE.len()];
+    for (s, &colour) in panel.series.iter().zip(PALETTE.iter().cycle()) {
         chart
             .draw_series(LineSeries::new(
                 s.points.iter().copied(),

@@ -39,6 +39,9 @@ impl Samples {
                 found: q.len(),
             });
         }
+        let mut previous: Option<f64> = None;
+        // `nq = 0` has no positions per row: each row's slice of `q` is then empty.
+        let mut rows = q.chunks(nq.max(1));
         for (row, &time) in t.iter().enumerate() {
             let line = row + 2;
             if !time.is_finite() {
@@ -47,7 +50,12 @@ impl Samples {
                     column: "t".to_string(),
                 });
             }
-            for (c, x) in q[row * nq..(row + 1) * nq].iter().enumerate() {
+            let positions = if nq == 0 {
+                &[][..]
+            } else {
+                rows.next().unwrap_or(&[])
+            };
+            for (c, x) in positions.iter().enumerate() {
                 if !x.is_finite() {
                     return Err(CsvError::NotFinite {
                         line,
@@ -55,9 +63,10 @@ impl Samples {
                     });
                 }
             }
-            if row > 0 && time <= t[row - 1] {
+            if previous.is_some_and(|before| time <= before) {
                 return Err(CsvError::TimesNotIncreasing { line });
             }
+            previous = Some(time);
         }
         Ok(Samples { t, q, nq })
     }
@@ -117,7 +126,7 @@ impl Samples {
         let (header_line, header) = lines.next().ok_or(CsvError::MissingHeader)?;
         let names: Vec<&str> = header.split(',').map(str::trim).collect();
         for (i, name) in names.iter().enumerate() {
-            if names[..i].contains(name) {
+            if names.iter().take(i).any(|n| n == name) {
                 return Err(CsvError::DuplicateColumn {
                     line: header_line,
                     column: name.to_string(),
@@ -150,18 +159,23 @@ impl Samples {
                     found: fields.len(),
                 });
             }
+            // `at` is a column of the header, and this row has as many fields as it.
             let number = |at: usize| -> Result<f64, CsvError> {
-                let x: f64 = fields[at].parse().map_err(|_| CsvError::NotANumber {
+                let (field, name) = (
+                    fields.get(at).copied().unwrap_or_default(),
+                    names.get(at).copied().unwrap_or_default(),
+                );
+                let x: f64 = field.parse().map_err(|_| CsvError::NotANumber {
                     line,
-                    column: names[at].to_string(),
-                    field: fields[at].to_string(),
+                    column: name.to_string(),
+                    field: field.to_string(),
                 })?;
                 if x.is_finite() {
                     Ok(x)
                 } else {
                     Err(CsvError::NotFinite {
                         line,
-                        column: names[at].to_string(),
+                        column: name.to_string(),
                     })
                 }
             };
@@ -304,9 +318,16 @@ pub fn write_csv<W: Write>(
         write!(out, ",{prefix}{c}")?;
     }
     writeln!(out)?;
-    for (row, time) in t.iter().enumerate() {
+    // `columns = 0`: every row is the time alone.
+    let mut rows = values.chunks(columns.max(1));
+    for time in t {
         write!(out, "{time:?}")?;
-        for x in &values[row * columns..(row + 1) * columns] {
+        let row = if columns == 0 {
+            &[][..]
+        } else {
+            rows.next().unwrap_or(&[])
+        };
+        for x in row {
             write!(out, ",{x:?}")?;
         }
         writeln!(out)?;

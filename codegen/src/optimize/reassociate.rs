@@ -156,6 +156,9 @@ fn rebuild_sum(terms: Vec<(Sym, bool, u32)>, time: &mut HashMap<Sym, u32>) -> (S
         items.push((sym, negative));
     }
     loop {
+        // `rebuild_sum` is only called on a sum (two terms or more), and each round takes two
+        // and gives back one.
+        #[allow(clippy::expect_used)]
         let Reverse((t1, _, i)) = heap.pop().expect("a sum has at least one term");
         let Some(Reverse((t2, _, j))) = heap.pop() else {
             let (sym, negative) = items[i];

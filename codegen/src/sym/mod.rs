@@ -207,6 +207,9 @@ fn with_graph<R>(f: impl FnOnce(&mut Graph) -> R) -> R {
         let mut t = t.borrow_mut();
         match t.stack.last_mut() {
             Some(g) => f(g),
+            // A misuse of this crate's internals, not of a description: every `Sym` the
+            // generator makes is made inside `trace`.
+            #[allow(clippy::panic)]
             None => panic!(
                 "a symbolic scalar (`Sym`) was used outside `sym::trace`: \
                  create and combine `Sym`s only inside the closure given to `trace`"

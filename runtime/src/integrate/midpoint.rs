@@ -1,5 +1,9 @@
 //! The implicit midpoint rule on the manifold, solved by Newton's method.
 
+// The Newton solve's LU of the `NV × NV` Jacobian, indexed by loop counters below `NV`: an
+// exception to the crate's indexing rule.
+#![allow(clippy::indexing_slicing)]
+
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OMatrix, OVector, RealField, Scalar, U1};
 
