@@ -157,6 +157,11 @@ pub struct SimulateArgs {
     /// `dopri5`: absolute tolerance per component.
     #[arg(long, default_value_t = 1e-9)]
     pub atol: f64,
+    /// Apply the joints' drives (`articulated::drives`): damping, dry friction and the position
+    /// stops the description gives (`.chain` joint fields, URDF `<dynamics>` and `<limit>`).
+    /// Without it the chain moves freely (the rotor inertia is always in the dynamics).
+    #[arg(long)]
+    pub drives: bool,
     /// The trajectory CSV to write (whole or not at all).
     #[arg(long)]
     pub out: PathBuf,

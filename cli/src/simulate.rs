@@ -1,9 +1,10 @@
-//! `articulated simulate`: a chain read from a file, left to itself (`τ = 0`) from an initial
-//! state, stepped by one of the runtime's integrators on the interpreted reference dynamics (the
+//! `articulated simulate`: a chain read from a file, left to itself (`τ = 0`, with its joints'
+//! damping, friction and stops under `--drives`) from an initial state, stepped by one of the runtime's integrators on the interpreted reference dynamics (the
 //! CLI cannot compile a chain); the trajectory written as CSV and, if asked, plotted.
 
 use std::path::Path;
 
+use articulated::drives::ModelDrives;
 use articulated::files::write_atomically;
 use articulated::integrate::{Method, State, Stepper};
 use articulated::interpreted::Interpreted;
@@ -44,7 +45,15 @@ pub fn run(args: &SimulateArgs) -> Result<String, String> {
             args.t_end, args.dt
         )
     })?;
-    let mut system = Interpreted::unforced(reference);
+    // τ = 0, through the drives if asked.
+    let drives = args.drives.then(|| ModelDrives::of(&model));
+    let mut system = Interpreted::new(reference, move |_, q, v| {
+        let zero = DVector::zeros(v.len());
+        match &drives {
+            Some(drives) => drives.force(q, v, &zero),
+            None => zero,
+        }
+    });
     let mut stepper = Stepper::new(method, args.rtol, args.atol);
     let mut trajectory = Trajectory::new();
     let bar = progress_bar(steps);

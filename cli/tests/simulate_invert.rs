@@ -125,6 +125,81 @@ fn simulate_writes_the_trajectory_and_rk4_keeps_the_energy() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// `--drives`: a damped pendulum released against its stop loses energy as `∫ d·v² dt` says
+/// (checked step by step on the written trajectory) and stays at its stop; without the flag it
+/// keeps its energy and swings through.
+#[test]
+fn simulate_with_drives_damps_and_stops() {
+    let dir = scratch("drives");
+    let chain = dir.join("pendulum.chain");
+    std::fs::write(
+        &chain,
+        "chain Pendulum {\n\
+         body bob { mass: 1.0, com: [0.0, 0.0, -1.0], inertia: diag(0.01, 0.01, 0.01) }\n\
+         joint pivot: revolute(y) { parent: world, child: bob, damping: 0.2, lower: -0.5, upper: 0.5 }\n\
+         }\n",
+    )
+    .unwrap();
+    let model = load_model(&chain, false).unwrap();
+    let r = Reference::new(&model).unwrap();
+    let energy = |row: &[f64]| {
+        r.kinetic_energy(&row[1..2], &row[2..3]).unwrap() + r.potential_energy(&row[1..2]).unwrap()
+    };
+    let simulate = |drives: bool, out: &Path| {
+        let mut args = vec![
+            chain.to_str().unwrap(),
+            "--t-end",
+            "3",
+            "--dt",
+            "0.0005",
+            "--q0",
+            "0.4",
+            "--v0",
+            "2.0",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if drives {
+            args.push("--drives");
+        }
+        let (ok, _, stderr) = run("simulate", &args);
+        assert!(ok, "{stderr}");
+        read_csv(out).1
+    };
+    let free = simulate(false, &dir.join("free.csv"));
+    let e0 = energy(&free[0]);
+    assert!(free.iter().all(|row| (energy(row) - e0).abs() < 1e-6));
+    assert!(
+        free.iter().any(|row| row[1] > 0.6),
+        "without stops it swings past 0.5 rad"
+    );
+
+    let held = simulate(true, &dir.join("held.csv"));
+    // Never deeper into the stop than the kinetic energy it can have there allows against
+    // 1e4 N·m/rad: at most the initial one plus gravity's work over the full drop, 2·m·g·l.
+    let kinetic = r.kinetic_energy(&[0.4], &[2.0]).unwrap() + 2.0 * 9.81;
+    let deepest = held.iter().map(|row| row[1]).fold(f64::MIN, f64::max);
+    assert!(
+        deepest > 0.5 && deepest < 0.5 + (2.0 * kinetic / 1e4).sqrt(),
+        "{deepest}"
+    );
+    // Inside the range only the damper works: the energy lost over each step is d·v²·dt.
+    for pair in held.windows(2) {
+        let (a, b) = (&pair[0], &pair[1]);
+        if a[1].abs() < 0.5 && b[1].abs() < 0.5 {
+            let lost = energy(a) - energy(b);
+            let damper = 0.2 * 0.5 * (a[2] * a[2] + b[2] * b[2]) * (b[0] - a[0]);
+            assert!(
+                (lost - damper).abs() < 1e-6,
+                "{lost:e} vs {damper:e} at t = {}",
+                a[0]
+            );
+        }
+    }
+    assert!(energy(held.last().unwrap()) < e0 - 0.5);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// Runs a command that must fail; its stderr, after checking that `out` was not written.
 fn fails(subcommand: &str, args: &[&str], out: &Path) -> String {
     let (ok, stdout, stderr) = run(subcommand, args);

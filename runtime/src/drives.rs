@@ -121,36 +121,15 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Drives<T, NQ, NV> {
             return Err(DrivesMismatch { nq, nv });
         }
         let t = |x: f64| nalgebra::convert::<f64, T>(x);
-        let free = Axis {
-            damping: T::zero(),
-            friction: T::zero(),
-            effort: t(f64::INFINITY),
-            speed: t(f64::INFINITY),
-            limits: None,
-        };
-        let mut axes = [free; NV];
-        let mut slots = axes.iter_mut();
-        let mut q_at = 0;
-        for (c, d) in coordinates.iter().zip(drives) {
-            let bounded = d.lower > f64::NEG_INFINITY || d.upper < f64::INFINITY;
-            let limits =
-                (bounded && c.nq() == 1 && c.nv() == 1).then(|| (q_at, t(d.lower), t(d.upper)));
-            for slot in slots.by_ref().take(c.nv()) {
-                *slot = Axis {
-                    damping: t(d.damping),
-                    friction: t(d.friction),
-                    effort: t(d.effort),
-                    speed: t(d.velocity),
-                    limits,
-                };
-            }
-            q_at += c.nq();
+        let mut axes = [Axis::from_drive(&Drive::FREE, None); NV];
+        for (slot, axis) in axes.iter_mut().zip(per_velocity(coordinates, drives)) {
+            *slot = axis;
         }
         Ok(Drives {
             axes,
-            stop_stiffness: t(1e4),
-            stop_damping: t(1e2),
-            friction_speed: t(1e-2),
+            stop_stiffness: t(STOP_STIFFNESS),
+            stop_damping: t(STOP_DAMPING),
+            friction_speed: t(FRICTION_SPEED),
         })
     }
 
@@ -162,26 +141,15 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Drives<T, NQ, NV> {
         v: &SVector<T, NV>,
         commanded: &SVector<T, NV>,
     ) -> SVector<T, NV> {
-        let zero = T::zero();
         let mut tau = *commanded;
-        for ((f, &v), axis) in tau.iter_mut().zip(v.iter()).zip(&self.axes) {
-            *f = f.clamp(-axis.effort, axis.effort) - axis.damping * v;
-            if axis.friction != zero {
-                *f -= axis.friction * (v / self.friction_speed).tanh();
-            }
-            let Some((i, lower, upper)) = axis.limits else {
-                continue;
-            };
-            let Some(&x) = q.get(i) else {
-                continue;
-            };
-            let spring = |past: T| -self.stop_stiffness * past - self.stop_damping * v;
-            if x > upper {
-                *f += spring(x - upper).min(zero);
-            } else if x < lower {
-                *f += spring(x - lower).max(zero);
-            }
-        }
+        let stops = (self.stop_stiffness, self.stop_damping, self.friction_speed);
+        apply(
+            &self.axes,
+            stops,
+            q.as_slice(),
+            v.as_slice(),
+            tau.as_mut_slice(),
+        );
         tau
     }
 
@@ -202,24 +170,156 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Drives<T, NQ, NV> {
 
     /// The first velocity coordinate faster than its joint's speed limit, if any.
     pub fn over_speed(&self, v: &SVector<T, NV>) -> Option<usize> {
-        v.iter()
-            .zip(&self.axes)
-            .position(|(v, axis)| v.abs() > axis.speed)
+        over_speed(&self.axes, v.as_slice())
     }
 
     /// The first position coordinate outside its joint's limits, with how far (positive above
     /// `upper`, negative below `lower`), if any.
     pub fn outside_limits(&self, q: &SVector<T, NQ>) -> Option<(usize, T)> {
-        let mut limits = self.axes.iter().filter_map(|axis| axis.limits);
-        limits.find_map(|(i, lower, upper)| {
-            let x = *q.get(i)?;
-            if x > upper {
-                Some((i, x - upper))
-            } else if x < lower {
-                Some((i, x - lower))
-            } else {
-                None
-            }
-        })
+        outside_limits(&self.axes, q.as_slice())
+    }
+}
+
+/// The stops' stiffness unless set (N·m/rad or N/m).
+const STOP_STIFFNESS: f64 = 1e4;
+/// The stops' damping unless set (N·m·s/rad or N·s/m).
+const STOP_DAMPING: f64 = 1e2;
+/// The speed below which dry friction fades out unless set (rad/s or m/s).
+const FRICTION_SPEED: f64 = 1e-2;
+
+impl<T: RealField + Copy> Axis<T> {
+    /// The drive `d` on one velocity coordinate, with the limits of its position if any.
+    fn from_drive(d: &Drive, limits: Option<(usize, f64, f64)>) -> Self {
+        let t = |x: f64| nalgebra::convert::<f64, T>(x);
+        Axis {
+            damping: t(d.damping),
+            friction: t(d.friction),
+            effort: t(d.effort),
+            speed: t(d.velocity),
+            limits: limits.map(|(i, lower, upper)| (i, t(lower), t(upper))),
+        }
+    }
+}
+
+/// The drives per velocity coordinate of joints with `coordinates` (one drive per joint); the
+/// position limits kept for joints of one position and one velocity.
+fn per_velocity<'a, T: RealField + Copy>(
+    coordinates: &'a [Coordinates],
+    drives: &'a [Drive],
+) -> impl Iterator<Item = Axis<T>> + 'a {
+    let mut q_at = 0;
+    coordinates.iter().zip(drives).flat_map(move |(c, d)| {
+        let bounded = d.lower > f64::NEG_INFINITY || d.upper < f64::INFINITY;
+        let limits = (bounded && c.nq() == 1 && c.nv() == 1).then_some((q_at, d.lower, d.upper));
+        q_at += c.nq();
+        core::iter::repeat_n(Axis::from_drive(d, limits), c.nv())
+    })
+}
+
+/// Applies the drives `axes` at `(q, v)` to the command in `tau`, with the stops' stiffness and
+/// damping and the friction speed `stops`.
+fn apply<T: RealField + Copy>(axes: &[Axis<T>], stops: (T, T, T), q: &[T], v: &[T], tau: &mut [T]) {
+    let (stiffness, damping, friction_speed) = stops;
+    let zero = T::zero();
+    for ((f, &v), axis) in tau.iter_mut().zip(v).zip(axes) {
+        *f = f.clamp(-axis.effort, axis.effort) - axis.damping * v;
+        if axis.friction != zero {
+            *f -= axis.friction * (v / friction_speed).tanh();
+        }
+        let Some((i, lower, upper)) = axis.limits else {
+            continue;
+        };
+        let Some(&x) = q.get(i) else {
+            continue;
+        };
+        let spring = |past: T| -stiffness * past - damping * v;
+        if x > upper {
+            *f += spring(x - upper).min(zero);
+        } else if x < lower {
+            *f += spring(x - lower).max(zero);
+        }
+    }
+}
+
+fn over_speed<T: RealField + Copy>(axes: &[Axis<T>], v: &[T]) -> Option<usize> {
+    v.iter()
+        .zip(axes)
+        .position(|(v, axis)| v.abs() > axis.speed)
+}
+
+fn outside_limits<T: RealField + Copy>(axes: &[Axis<T>], q: &[T]) -> Option<(usize, T)> {
+    let mut limits = axes.iter().filter_map(|axis| axis.limits);
+    limits.find_map(|(i, lower, upper)| {
+        let x = *q.get(i)?;
+        if x > upper {
+            Some((i, x - upper))
+        } else if x < lower {
+            Some((i, x - lower))
+        } else {
+            None
+        }
+    })
+}
+
+/// The drives of a [`Model`](crate::model::Model) read at run time (the CLI's `simulate
+/// --drives`), on vectors of run-time size: the same forces as [`Drives`].
+#[cfg(feature = "alloc")]
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelDrives {
+    axes: alloc::vec::Vec<Axis<f64>>,
+    /// Stiffness of the limit stops (N·m/rad or N/m); `1e4` unless set.
+    pub stop_stiffness: f64,
+    /// Damping of the limit stops (N·m·s/rad or N·s/m); `1e2` unless set.
+    pub stop_damping: f64,
+    /// The speed below which dry friction fades out (rad/s or m/s); `1e-2` unless set.
+    pub friction_speed: f64,
+}
+
+#[cfg(feature = "alloc")]
+impl ModelDrives {
+    /// The drives of `model`'s joints, with the default stops and friction speed.
+    pub fn of(model: &crate::model::Model) -> Self {
+        let coordinates = crate::interpreted::coordinates_of(model);
+        let drives: alloc::vec::Vec<Drive> = model
+            .joints
+            .iter()
+            .filter(|j| j.kind != crate::model::JointKind::Fixed)
+            .map(|j| j.drive)
+            .collect();
+        ModelDrives {
+            axes: per_velocity(&coordinates, &drives).collect(),
+            stop_stiffness: STOP_STIFFNESS,
+            stop_damping: STOP_DAMPING,
+            friction_speed: FRICTION_SPEED,
+        }
+    }
+
+    /// The force the joints feel at `(q, v)` under the command `commanded` (see [`Drives::force`]).
+    pub fn force(
+        &self,
+        q: &nalgebra::DVector<f64>,
+        v: &nalgebra::DVector<f64>,
+        commanded: &nalgebra::DVector<f64>,
+    ) -> nalgebra::DVector<f64> {
+        let mut tau = commanded.clone();
+        let stops = (self.stop_stiffness, self.stop_damping, self.friction_speed);
+        apply(
+            &self.axes,
+            stops,
+            q.as_slice(),
+            v.as_slice(),
+            tau.as_mut_slice(),
+        );
+        tau
+    }
+
+    /// The first velocity coordinate faster than its joint's speed limit, if any.
+    pub fn over_speed(&self, v: &nalgebra::DVector<f64>) -> Option<usize> {
+        over_speed(&self.axes, v.as_slice())
+    }
+
+    /// The first position coordinate outside its joint's limits, with how far, if any.
+    pub fn outside_limits(&self, q: &nalgebra::DVector<f64>) -> Option<(usize, f64)> {
+        outside_limits(&self.axes, q.as_slice())
     }
 }
