@@ -57,12 +57,30 @@ use crate::Drive;
 pub struct Drives<T, const NQ: usize, const NV: usize> {
     /// Per velocity coordinate.
     axes: [Axis<T>; NV],
+    /// The stops' spring and damper and the friction's fade-out speed.
+    pub smoothing: Smoothing<T>,
+}
+
+/// How the drives' non-smooth parts are made smooth (see the [module docs](self)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Smoothing<T> {
     /// Stiffness of the limit stops (N·m/rad or N/m); `1e4` unless set.
     pub stop_stiffness: T,
     /// Damping of the limit stops (N·m·s/rad or N·s/m); `1e2` unless set.
     pub stop_damping: T,
     /// The speed below which dry friction fades out (rad/s or m/s); `1e-2` unless set.
     pub friction_speed: T,
+}
+
+impl<T: RealField + Copy> Default for Smoothing<T> {
+    fn default() -> Self {
+        let t = |x: f64| nalgebra::convert::<f64, T>(x);
+        Smoothing {
+            stop_stiffness: t(1e4),
+            stop_damping: t(1e2),
+            friction_speed: t(1e-2),
+        }
+    }
 }
 
 /// One velocity coordinate's drive, in `T`.
@@ -120,16 +138,13 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Drives<T, NQ, NV> {
         if nq != NQ || nv != NV || coordinates.len() != drives.len() {
             return Err(DrivesMismatch { nq, nv });
         }
-        let t = |x: f64| nalgebra::convert::<f64, T>(x);
         let mut axes = [Axis::from_drive(&Drive::FREE, None); NV];
         for (slot, axis) in axes.iter_mut().zip(per_velocity(coordinates, drives)) {
             *slot = axis;
         }
         Ok(Drives {
             axes,
-            stop_stiffness: t(STOP_STIFFNESS),
-            stop_damping: t(STOP_DAMPING),
-            friction_speed: t(FRICTION_SPEED),
+            smoothing: Smoothing::default(),
         })
     }
 
@@ -142,15 +157,16 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Drives<T, NQ, NV> {
         commanded: &SVector<T, NV>,
     ) -> SVector<T, NV> {
         let mut tau = *commanded;
-        let stops = (self.stop_stiffness, self.stop_damping, self.friction_speed);
-        apply(
-            &self.axes,
-            stops,
-            q.as_slice(),
-            v.as_slice(),
-            tau.as_mut_slice(),
-        );
+        self.law()
+            .apply(q.as_slice(), v.as_slice(), tau.as_mut_slice());
         tau
+    }
+
+    fn law(&self) -> Law<'_, T> {
+        Law {
+            axes: &self.axes,
+            smoothing: &self.smoothing,
+        }
     }
 
     /// The controller `controller` with the drives applied to its command: pass it to
@@ -170,22 +186,15 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Drives<T, NQ, NV> {
 
     /// The first velocity coordinate faster than its joint's speed limit, if any.
     pub fn over_speed(&self, v: &SVector<T, NV>) -> Option<usize> {
-        over_speed(&self.axes, v.as_slice())
+        self.law().over_speed(v.as_slice())
     }
 
     /// The first position coordinate outside its joint's limits, with how far (positive above
     /// `upper`, negative below `lower`), if any.
     pub fn outside_limits(&self, q: &SVector<T, NQ>) -> Option<(usize, T)> {
-        outside_limits(&self.axes, q.as_slice())
+        self.law().outside_limits(q.as_slice())
     }
 }
-
-/// The stops' stiffness unless set (N·m/rad or N/m).
-const STOP_STIFFNESS: f64 = 1e4;
-/// The stops' damping unless set (N·m·s/rad or N·s/m).
-const STOP_DAMPING: f64 = 1e2;
-/// The speed below which dry friction fades out unless set (rad/s or m/s).
-const FRICTION_SPEED: f64 = 1e-2;
 
 impl<T: RealField + Copy> Axis<T> {
     /// The drive `d` on one velocity coordinate, with the limits of its position if any.
@@ -216,49 +225,61 @@ fn per_velocity<'a, T: RealField + Copy>(
     })
 }
 
-/// Applies the drives `axes` at `(q, v)` to the command in `tau`, with the stops' stiffness and
-/// damping and the friction speed `stops`.
-fn apply<T: RealField + Copy>(axes: &[Axis<T>], stops: (T, T, T), q: &[T], v: &[T], tau: &mut [T]) {
-    let (stiffness, damping, friction_speed) = stops;
-    let zero = T::zero();
-    for ((f, &v), axis) in tau.iter_mut().zip(v).zip(axes) {
-        *f = f.clamp(-axis.effort, axis.effort) - axis.damping * v;
-        if axis.friction != zero {
-            *f -= axis.friction * (v / friction_speed).tanh();
-        }
-        let Some((i, lower, upper)) = axis.limits else {
-            continue;
-        };
-        let Some(&x) = q.get(i) else {
-            continue;
-        };
-        let spring = |past: T| -stiffness * past - damping * v;
-        if x > upper {
-            *f += spring(x - upper).min(zero);
-        } else if x < lower {
-            *f += spring(x - lower).max(zero);
+/// The force law of some drives: their axes, the stops' stiffness and damping, the friction
+/// speed.
+struct Law<'a, T> {
+    axes: &'a [Axis<T>],
+    smoothing: &'a Smoothing<T>,
+}
+
+impl<T: RealField + Copy> Law<'_, T> {
+    /// Applies the drives at `(q, v)` to the command in `tau`.
+    fn apply(&self, q: &[T], v: &[T], tau: &mut [T]) {
+        let zero = T::zero();
+        let Smoothing {
+            stop_stiffness,
+            stop_damping,
+            friction_speed,
+        } = *self.smoothing;
+        for ((f, &v), axis) in tau.iter_mut().zip(v).zip(self.axes) {
+            *f = f.clamp(-axis.effort, axis.effort) - axis.damping * v;
+            if axis.friction != zero {
+                *f -= axis.friction * (v / friction_speed).tanh();
+            }
+            let Some((i, lower, upper)) = axis.limits else {
+                continue;
+            };
+            let Some(&x) = q.get(i) else {
+                continue;
+            };
+            let spring = |past: T| -stop_stiffness * past - stop_damping * v;
+            if x > upper {
+                *f += spring(x - upper).min(zero);
+            } else if x < lower {
+                *f += spring(x - lower).max(zero);
+            }
         }
     }
-}
 
-fn over_speed<T: RealField + Copy>(axes: &[Axis<T>], v: &[T]) -> Option<usize> {
-    v.iter()
-        .zip(axes)
-        .position(|(v, axis)| v.abs() > axis.speed)
-}
+    fn over_speed(&self, v: &[T]) -> Option<usize> {
+        v.iter()
+            .zip(self.axes)
+            .position(|(v, axis)| v.abs() > axis.speed)
+    }
 
-fn outside_limits<T: RealField + Copy>(axes: &[Axis<T>], q: &[T]) -> Option<(usize, T)> {
-    let mut limits = axes.iter().filter_map(|axis| axis.limits);
-    limits.find_map(|(i, lower, upper)| {
-        let x = *q.get(i)?;
-        if x > upper {
-            Some((i, x - upper))
-        } else if x < lower {
-            Some((i, x - lower))
-        } else {
-            None
-        }
-    })
+    fn outside_limits(&self, q: &[T]) -> Option<(usize, T)> {
+        let mut limits = self.axes.iter().filter_map(|axis| axis.limits);
+        limits.find_map(|(i, lower, upper)| {
+            let x = *q.get(i)?;
+            if x > upper {
+                Some((i, x - upper))
+            } else if x < lower {
+                Some((i, x - lower))
+            } else {
+                None
+            }
+        })
+    }
 }
 
 /// The drives of a [`Model`](crate::model::Model) read at run time (the CLI's `simulate
@@ -267,12 +288,8 @@ fn outside_limits<T: RealField + Copy>(axes: &[Axis<T>], q: &[T]) -> Option<(usi
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModelDrives {
     axes: alloc::vec::Vec<Axis<f64>>,
-    /// Stiffness of the limit stops (N·m/rad or N/m); `1e4` unless set.
-    pub stop_stiffness: f64,
-    /// Damping of the limit stops (N·m·s/rad or N·s/m); `1e2` unless set.
-    pub stop_damping: f64,
-    /// The speed below which dry friction fades out (rad/s or m/s); `1e-2` unless set.
-    pub friction_speed: f64,
+    /// The stops' spring and damper and the friction's fade-out speed.
+    pub smoothing: Smoothing<f64>,
 }
 
 #[cfg(feature = "alloc")]
@@ -288,9 +305,14 @@ impl ModelDrives {
             .collect();
         ModelDrives {
             axes: per_velocity(&coordinates, &drives).collect(),
-            stop_stiffness: STOP_STIFFNESS,
-            stop_damping: STOP_DAMPING,
-            friction_speed: FRICTION_SPEED,
+            smoothing: Smoothing::default(),
+        }
+    }
+
+    fn law(&self) -> Law<'_, f64> {
+        Law {
+            axes: &self.axes,
+            smoothing: &self.smoothing,
         }
     }
 
@@ -302,24 +324,18 @@ impl ModelDrives {
         commanded: &nalgebra::DVector<f64>,
     ) -> nalgebra::DVector<f64> {
         let mut tau = commanded.clone();
-        let stops = (self.stop_stiffness, self.stop_damping, self.friction_speed);
-        apply(
-            &self.axes,
-            stops,
-            q.as_slice(),
-            v.as_slice(),
-            tau.as_mut_slice(),
-        );
+        self.law()
+            .apply(q.as_slice(), v.as_slice(), tau.as_mut_slice());
         tau
     }
 
     /// The first velocity coordinate faster than its joint's speed limit, if any.
     pub fn over_speed(&self, v: &nalgebra::DVector<f64>) -> Option<usize> {
-        over_speed(&self.axes, v.as_slice())
+        self.law().over_speed(v.as_slice())
     }
 
     /// The first position coordinate outside its joint's limits, with how far, if any.
     pub fn outside_limits(&self, q: &nalgebra::DVector<f64>) -> Option<(usize, f64)> {
-        outside_limits(&self.axes, q.as_slice())
+        self.law().outside_limits(q.as_slice())
     }
 }

@@ -300,8 +300,8 @@ fn an_elastic_stop_turns_the_cart_back_after_v_times_sqrt_m_over_k() {
         upper: 0.5,
         ..Drive::FREE
     });
-    drives.stop_damping = 0.0;
-    let k = drives.stop_stiffness;
+    drives.smoothing.stop_damping = 0.0;
+    let k = drives.smoothing.stop_stiffness;
     let mut system = ControlledChain::<f64, Cart, _>::new(drives.around(unforced));
     // At 1 m/s from 5 cm before the stop: in at 0.05 s, out after π·√(m/k) ≈ 0.063 s.
     let mut state = State::new(0.0, V1::new(0.45), V1::new(1.0));
