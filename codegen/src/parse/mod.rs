@@ -92,6 +92,16 @@
 //! | `child` | a body | yes |
 //! | `xyz` | `[x, y, z]`: the joint frame's origin in the parent frame (m) | no, zero |
 //! | `rpy` | `[roll, pitch, yaw]` (rad): the joint frame's rotation, `R = Rz(yaw)·Ry(pitch)·Rx(roll)` | no, zero |
+//! | `armature` | rotor inertia on each of the joint's velocities (kg·m² or kg), `≥ 0`: added to `M`'s diagonal | no, zero |
+//! | `damping` | viscous damping (N·m·s/rad or N·s/m), `≥ 0` | no, zero |
+//! | `friction` | dry friction (N·m or N), `≥ 0` | no, zero |
+//! | `lower`, `upper` | position limits (rad or m), `lower ≤ upper`; revolute and prismatic joints only | no, none |
+//! | `velocity` | speed limit (rad/s or m/s), `> 0` | no, none |
+//! | `effort` | the actuator's largest force (N·m or N), `> 0` | no, none |
+//!
+//! The drive fields (the last six rows, constants only) become the joint's
+//! [`Drive`](crate::model::Drive): the armature is part of the generated dynamics; damping,
+//! friction and limits are forces the runtime's `articulated::drives` applies in a simulation.
 //!
 //! Every body is the child of exactly one joint, and every body must be reachable from
 //! `world`. In the [`Model`](crate::model::Model), bodies and joints are stored depth-first from
