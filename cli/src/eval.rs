@@ -98,7 +98,11 @@ pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
         Engine::Reference => by_reference(&reference, &state),
         Engine::Symbolic => by_graph(&model, &state),
     };
-    let mut fields = vec![("nq", Ok(Value::from(nq))), ("nv", Ok(Value::from(nv)))];
+    let mut fields = vec![
+        ("nq", Ok(Value::from(nq))),
+        ("nv", Ok(Value::from(nv))),
+        ("drives", Ok(drives(&model))),
+    ];
     fields.extend(computed);
     let mut errors = Vec::new();
     let values: Vec<(&str, Value)> = fields
@@ -114,6 +118,37 @@ pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
         })
         .collect();
     Ok((to_json(&values), errors))
+}
+
+/// The joints whose description gives a drive, in joint order: `{"joint": name, "armature": …,
+/// "damping": …, "friction": …, "lower": …, "upper": …, "velocity": …, "effort": …}`, `null`
+/// for a limit not given.
+fn drives(model: &Model) -> Value {
+    let number = |x: f64| {
+        if x.is_finite() {
+            Value::from(x)
+        } else {
+            Value::Null
+        }
+    };
+    let joints = model.joints.iter().filter(|j| !j.drive.is_free()).map(|j| {
+        let d = j.drive;
+        let mut object = serde_json::Map::new();
+        object.insert("joint".into(), Value::from(j.name.as_str()));
+        for (key, x) in [
+            ("armature", d.armature),
+            ("damping", d.damping),
+            ("friction", d.friction),
+            ("lower", d.lower),
+            ("upper", d.upper),
+            ("velocity", d.velocity),
+            ("effort", d.effort),
+        ] {
+            object.insert(key.into(), number(x));
+        }
+        Value::Object(object)
+    });
+    Value::Array(joints.collect())
 }
 
 fn by_reference(r: &Reference, s: &State) -> Fields {

@@ -119,6 +119,48 @@ fn two_spherical_joints_urdf_agrees_with_pinocchio() {
     agree_with_pinocchio(urdf, data, "two_link_xyz", "floating");
 }
 
+/// The drives read from URDF are printed as read (the file's numbers), and the armature is in
+/// `M`: its diagonal exceeds that of the same arm without rotors by exactly the armature.
+#[test]
+fn drives_are_printed_and_armature_is_in_the_mass_matrix() {
+    let q = "0.3,-0.4,0.5,1.1,-0.2,0.7,0.1";
+    let (ok, with, stderr) = eval(&["tests/data/arm7_armature.urdf", "--q", q]);
+    assert!(ok, "{stderr}");
+    let (ok, without, stderr) = eval(&["models/arm7.urdf", "--q", q]);
+    assert!(ok, "{stderr}");
+    let (with, without): (Value, Value) = (
+        serde_json::from_str(&with).unwrap(),
+        serde_json::from_str(&without).unwrap(),
+    );
+    let drives = with["drives"].as_array().unwrap();
+    assert_eq!(drives.len(), 7);
+    assert_eq!(drives[0]["joint"], "j1");
+    assert_eq!(drives[0]["armature"], 0.4);
+    assert_eq!(drives[6]["armature"], 0.05);
+    assert_eq!(
+        (&drives[3]["damping"], &drives[3]["friction"]),
+        (&0.5.into(), &0.1.into())
+    );
+    assert_eq!(
+        (&drives[3]["lower"], &drives[3]["effort"]),
+        (&(-2.96).into(), &176.0.into())
+    );
+    // The plain arm: limits only, no rotor.
+    let plain = without["drives"].as_array().unwrap();
+    assert!(plain
+        .iter()
+        .all(|d| d["armature"] == 0.0 && d["velocity"] == 1.7));
+    let armature = [0.40, 0.40, 0.25, 0.25, 0.12, 0.08, 0.05];
+    let (m, m0) = (flat(&with["mass_matrix"]), flat(&without["mass_matrix"]));
+    for r in 0..7 {
+        for c in 0..7 {
+            let extra = if r == c { armature[r] } else { 0.0 };
+            let d = m[r * 7 + c] - m0[r * 7 + c];
+            assert!((d - extra).abs() < 1e-14, "M[{r}][{c}]: {d} vs {extra}");
+        }
+    }
+}
+
 #[test]
 fn defaults_are_neutral_and_zero() {
     let (ok, stdout, stderr) = eval(&["models/double_pendulum.chain"]);
