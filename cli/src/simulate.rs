@@ -1,6 +1,7 @@
 //! `articulated simulate`: a chain read from a file, left to itself (`τ = 0`, with its joints'
-//! damping, friction and stops under `--drives`) from an initial state, stepped by one of the runtime's integrators on the interpreted reference dynamics (the
-//! CLI cannot compile a chain); the trajectory written as CSV and, if asked, plotted.
+//! damping, friction and stops under `--drives`) from an initial state, stepped by one of the
+//! runtime's integrators on the interpreted reference dynamics (the CLI cannot compile a
+//! chain); the trajectory written as CSV and, if asked, plotted.
 
 use std::path::Path;
 

@@ -30,7 +30,9 @@
 //! articulated::chain! {
 //!     chain Pendulum {
 //!         body bob { mass: 1.0, com: [0.0, 0.0, -1.0], inertia: diag(0.01, 0.01, 0.01) }
-//!         joint pivot: revolute(y) { parent: world, child: bob, damping: 0.5, lower: -0.2, upper: 0.2 }
+//!         joint pivot: revolute(y) {
+//!             parent: world, child: bob, damping: 0.5, lower: -0.2, upper: 0.2
+//!         }
 //!     }
 //! }
 //! let drives = Drives::<f64, 1, 1>::of::<Pendulum>().unwrap();

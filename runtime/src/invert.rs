@@ -85,8 +85,8 @@ impl<E: fmt::Display> fmt::Display for InvertError<E> {
 impl<E: fmt::Debug + fmt::Display> core::error::Error for InvertError<E> {}
 
 /// Checks the sizes and the whole signal (so that a fault comes before any couple), then hands
-/// `(i, t_i, q̂_i, v_i, v̇_i)` to `each` for every sample `i` with a full window, in order. The sizes
-/// `(nq, nv)` are `Const` (nothing allocated) or `Dyn`.
+/// `(i, t_i, q̂_i, v_i, v̇_i)` to `each` for every sample `i` with a full window, in order. The
+/// sizes `(nq, nv)` are `Const` (nothing allocated) or `Dyn`.
 fn each_state<Q: Dim, V: Dim, E, F>(
     coordinates: &[Coordinates],
     (nq, nv): (Q, V),

@@ -421,7 +421,6 @@ fn ops_const(output: Output, ops: &OpCounts) -> TokenStream {
     }
 }
 
-/// The runtime's `Coordinates` of a joint kind; `None` for a fixed joint.
 /// A joint's drive as a constant: `Drive::FREE`, or the fields the description gives over it.
 fn drive_tokens(drive: &Drive) -> TokenStream {
     let free = Drive::FREE;
@@ -461,6 +460,7 @@ fn drive_tokens(drive: &Drive) -> TokenStream {
     }
 }
 
+/// The runtime's `Coordinates` of a joint kind; `None` for a fixed joint.
 fn coordinates_tokens(kind: JointKind) -> Option<TokenStream> {
     Some(match kind {
         JointKind::Fixed => return None,

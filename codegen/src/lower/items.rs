@@ -2,7 +2,8 @@
 //! `outputs`, each once), the fields of a block (known, each once, the required ones present),
 //! bodies (`mass`, `com`, `inertia` as `diag(…)` or a 3×3 matrix; names unique, never `world`)
 //! and joints (unique names, a parent that is `world` or a body, a child that is a body, the
-//! placement, the drive: rotor inertia, losses and limits). The joint kinds are in [`kinds`](super::kinds).
+//! placement, the drive: rotor inertia, losses and limits). The joint kinds are in
+//! [`kinds`](super::kinds).
 
 use std::collections::hash_map::Entry;
 use std::collections::{HashMap, HashSet};
@@ -461,15 +462,15 @@ impl Lower {
             let name = JOINT_FIELDS[4 + i];
             self.constant(&field.value, NumCtx::Drive(name))
         };
-        let given = |x: Option<f64>, default: f64| x.unwrap_or(default);
+        let free = Drive::FREE;
         let drive = Drive {
-            armature: given(read(0), 0.0),
-            damping: given(read(1), 0.0),
-            friction: given(read(2), 0.0),
-            lower: given(read(3), f64::NEG_INFINITY),
-            upper: given(read(4), f64::INFINITY),
-            velocity: given(read(5), f64::INFINITY),
-            effort: given(read(6), f64::INFINITY),
+            armature: read(0).unwrap_or(free.armature),
+            damping: read(1).unwrap_or(free.damping),
+            friction: read(2).unwrap_or(free.friction),
+            lower: read(3).unwrap_or(free.lower),
+            upper: read(4).unwrap_or(free.upper),
+            velocity: read(5).unwrap_or(free.velocity),
+            effort: read(6).unwrap_or(free.effort),
         };
         if let Some((about, problem)) = kind.and_then(|kind| drive.problem(kind)) {
             let at = |name: &str| f.iter().flatten().find(|field| field.key == name);

@@ -250,11 +250,15 @@ impl Importer {
     /// The line of the `joint`-th joint's element.
     fn joint_line(&self, joint: usize) -> Option<usize> {
         let name = &self.robot.joints[joint].name;
-        let n = self.robot.joints[..joint]
+        self.lines.line("joint", name, self.same_name_before(joint))
+    }
+    /// How many joints before the `joint`-th share its name (which of that name's elements it is).
+    fn same_name_before(&self, joint: usize) -> usize {
+        let name = &self.robot.joints[joint].name;
+        self.robot.joints[..joint]
             .iter()
             .filter(|j| j.name == *name)
-            .count();
-        self.lines.line("joint", name, n)
+            .count()
     }
     /// The error `msg` at the `link`-th link's line.
     fn link_error(&self, link: usize, msg: String) -> UrdfError {
@@ -426,11 +430,7 @@ impl Importer {
             drive.damping = d.damping;
             drive.friction = d.friction;
         }
-        let n = self.robot.joints[..joint]
-            .iter()
-            .filter(|other| other.name == j.name)
-            .count();
-        if let Some(text) = self.lines.armature(&j.name, n) {
+        if let Some(text) = self.lines.armature(&j.name, self.same_name_before(joint)) {
             drive.armature = text.trim().parse().map_err(|_| {
                 self.joint_error(
                     joint,
