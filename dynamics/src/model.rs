@@ -255,6 +255,142 @@ pub struct Joint {
     pub placement: Placement,
     /// What lies between the joint and its actuator: rotor inertia, losses, limits.
     pub drive: Drive,
+    /// `Some` when the joint follows another (URDF's `<mimic>`): it then has no coordinate of its
+    /// own (see [`Mimic`]).
+    pub mimic: Option<Mimic>,
+}
+
+impl Joint {
+    /// Number of position coordinates the joint owns in `q`: its kind's, none for a mimic joint.
+    pub fn nq(&self) -> usize {
+        if self.mimic.is_some() {
+            0
+        } else {
+            self.kind.nq()
+        }
+    }
+    /// Number of velocity coordinates the joint owns in `v`: its kind's, none for a mimic joint.
+    pub fn nv(&self) -> usize {
+        if self.mimic.is_some() {
+            0
+        } else {
+            self.kind.nv()
+        }
+    }
+}
+
+/// A joint that follows another: its coordinate is `multiplier·q_j + offset`, where `q_j` is the
+/// coordinate of the joint it follows (URDF's `<mimic joint multiplier offset>`, a gripper's
+/// second finger, gears, a parallelogram linkage). As in Pinocchio 3, the mimic joint leaves `q`
+/// and `v`: the model has one coordinate fewer, its velocity is `multiplier·v_j`, and the
+/// dynamics are those of the tree with the coupling built in, `M = Gᵀ·M_tree·G` and
+/// `τ = Gᵀ·τ_tree`, where `G` maps the model's velocities to the tree's ([`Coupling`]). Both
+/// joints are revolute or prismatic (of either kind), and the followed joint is not itself a
+/// mimic joint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mimic {
+    /// Index of the joint it follows in [`Model::joints`].
+    pub joint: usize,
+    /// The factor on the followed joint's coordinate (URDF's default 1).
+    pub multiplier: f64,
+    /// The constant added (rad or m; URDF's default 0).
+    pub offset: f64,
+}
+
+/// Where one coordinate of the tree (every joint with its own coordinates, mimic joints too)
+/// comes from in the model's coordinates: `tree[k] = multiplier·model[index] + offset`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Source {
+    /// The model coordinate.
+    pub index: usize,
+    /// Its factor (1 but for a mimic joint's coordinate).
+    pub multiplier: f64,
+    /// The constant added (0 but for a mimic joint's position).
+    pub offset: f64,
+}
+
+/// The linear map `G` from a model's coordinates to those of its tree, where every mimic joint has
+/// a coordinate of its own ([`Mimic`]): `q_tree = G·q + o`, `v_tree = G·v`, and back, by the
+/// principle of virtual work, `τ = Gᵀ·τ_tree`, `M = Gᵀ·M_tree·G`. The identity for a model
+/// without mimic joints. Its maps never multiply by one nor add zero, so that a symbolic scalar
+/// traced through them records nothing for the joints that do not mimic.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coupling {
+    /// Per position coordinate of the tree.
+    pub q: Vec<Source>,
+    /// Per velocity coordinate of the tree.
+    pub v: Vec<Source>,
+    /// Number of the model's position coordinates.
+    pub nq: usize,
+    /// Number of the model's velocity coordinates.
+    pub nv: usize,
+}
+
+impl Coupling {
+    /// Whether the model has no mimic joint (`G = I`).
+    pub fn is_identity(&self) -> bool {
+        self.q.len() == self.nq && self.v.len() == self.nv
+    }
+
+    fn apply<T: Scalar>(s: &Source, x: &[T], offset: bool) -> T {
+        let mut y = x[s.index];
+        if s.multiplier != 1.0 {
+            y = y * T::from_f64(s.multiplier);
+        }
+        if offset && s.offset != 0.0 {
+            y = y + T::from_f64(s.offset);
+        }
+        y
+    }
+
+    /// The tree's positions `G·q + o`.
+    pub fn expand_q<T: Scalar>(&self, q: &[T]) -> Vec<T> {
+        self.q.iter().map(|s| Self::apply(s, q, true)).collect()
+    }
+
+    /// The tree's velocities (or accelerations) `G·v`.
+    pub fn expand_v<T: Scalar>(&self, v: &[T]) -> Vec<T> {
+        self.v.iter().map(|s| Self::apply(s, v, false)).collect()
+    }
+
+    /// The model's generalized force `Gᵀ·f` for the tree's `f` (one per tree velocity).
+    pub fn reduce<T: Scalar>(&self, f: &[T]) -> Vec<T> {
+        let mut out: Vec<Option<T>> = alloc::vec![None; self.nv];
+        for (s, &x) in self.v.iter().zip(f) {
+            let x = if s.multiplier != 1.0 {
+                x * T::from_f64(s.multiplier)
+            } else {
+                x
+            };
+            let slot = &mut out[s.index];
+            *slot = Some(match *slot {
+                Some(y) => y + x,
+                None => x,
+            });
+        }
+        out.into_iter().map(|x| x.unwrap_or_else(T::zero)).collect()
+    }
+
+    /// `J·G` for the tree's `J`, `rows × nv_tree` row-major: `rows × nv`, row-major.
+    pub fn reduce_columns<T: Scalar>(&self, j: &[T], rows: usize) -> Vec<T> {
+        let n = self.v.len();
+        (0..rows)
+            .flat_map(|r| self.reduce(&j[r * n..(r + 1) * n]))
+            .collect()
+    }
+
+    /// `Gᵀ·M·G` for the tree's square `M` (`nv_tree × nv_tree`, row-major): `nv × nv`, row-major.
+    pub fn reduce_matrix<T: Scalar>(&self, m: &[T]) -> Vec<T> {
+        let n = self.v.len();
+        // `M·G`, then `Gᵀ·(M·G)` by reducing its columns.
+        let mg = self.reduce_columns(m, n);
+        let nv = self.nv;
+        let column = |c: usize| -> Vec<T> { (0..n).map(|r| mg[r * nv + c]).collect() };
+        let reduced_columns: Vec<Vec<T>> = (0..nv).map(|c| self.reduce(&column(c))).collect();
+        (0..nv * nv)
+            .map(|k| reduced_columns[k % nv][k / nv])
+            .collect()
+    }
 }
 
 /// A whole chain or tree of rigid bodies: what every front end produces.
@@ -292,25 +428,73 @@ impl Model {
     pub fn nb(&self) -> usize {
         self.bodies.len()
     }
-    /// Number of position coordinates.
+    /// Number of position coordinates (mimic joints have none).
     pub fn nq(&self) -> usize {
-        self.joints.iter().map(|j| j.kind.nq()).sum()
+        self.joints.iter().map(Joint::nq).sum()
     }
-    /// Number of velocity coordinates.
+    /// Number of velocity coordinates (mimic joints have none).
     pub fn nv(&self) -> usize {
-        self.joints.iter().map(|j| j.kind.nv()).sum()
+        self.joints.iter().map(Joint::nv).sum()
     }
     /// Index of joint `i`'s first position coordinate.
     pub fn q_offset(&self, i: usize) -> usize {
-        self.joints[..i].iter().map(|j| j.kind.nq()).sum()
+        self.joints[..i].iter().map(Joint::nq).sum()
     }
     /// Index of joint `i`'s first velocity coordinate.
     pub fn v_offset(&self, i: usize) -> usize {
-        self.joints[..i].iter().map(|j| j.kind.nv()).sum()
+        self.joints[..i].iter().map(Joint::nv).sum()
+    }
+    /// Whether a joint follows another ([`Mimic`]).
+    pub fn has_mimic(&self) -> bool {
+        self.joints.iter().any(|j| j.mimic.is_some())
+    }
+    /// The map from the model's coordinates to its tree's, where mimic joints have coordinates
+    /// of their own (the order of `reference::Tree`). Call it on a checked model
+    /// ([`Model::check`]): a mimic joint naming a joint out of range panics.
+    pub fn coupling(&self) -> Coupling {
+        let (mut q, mut v) = (Vec::new(), Vec::new());
+        for (i, j) in self.joints.iter().enumerate() {
+            match j.mimic {
+                Some(m) => {
+                    let followed = Source {
+                        index: self.q_offset(m.joint),
+                        multiplier: m.multiplier,
+                        offset: m.offset,
+                    };
+                    q.push(followed);
+                    v.push(Source {
+                        index: self.v_offset(m.joint),
+                        offset: 0.0,
+                        ..followed
+                    });
+                }
+                None => {
+                    let own = |index, n: usize| {
+                        (index..index + n).map(|index| Source {
+                            index,
+                            multiplier: 1.0,
+                            offset: 0.0,
+                        })
+                    };
+                    q.extend(own(self.q_offset(i), j.kind.nq()));
+                    v.extend(own(self.v_offset(i), j.kind.nv()));
+                }
+            }
+        }
+        Coupling {
+            q,
+            v,
+            nq: self.nq(),
+            nv: self.nv(),
+        }
     }
     /// The neutral configuration (zeros, identity quaternions).
     pub fn neutral(&self) -> Vec<f64> {
-        self.joints.iter().flat_map(|j| j.kind.neutral()).collect()
+        self.joints
+            .iter()
+            .filter(|j| j.mimic.is_none())
+            .flat_map(|j| j.kind.neutral())
+            .collect()
     }
     /// The parameters' default values.
     pub fn param_defaults(&self) -> Vec<f64> {
@@ -320,7 +504,7 @@ impl Model {
     pub fn joint_of_velocity(&self, k: usize) -> Option<&Joint> {
         let mut at = 0;
         self.joints.iter().find(|j| {
-            at += j.kind.nv();
+            at += j.nv();
             k < at
         })
     }
@@ -341,6 +525,49 @@ impl Model {
     pub fn body_index(&self, name: &str) -> Option<usize> {
         self.bodies.iter().position(|b| b.name == name)
     }
+    /// What is wrong with joint `j`'s [`Mimic`], if anything.
+    fn mimic_problem(&self, j: &Joint) -> Option<String> {
+        use alloc::format;
+        let m = j.mimic?;
+        let one_axis =
+            |k: &JointKind| matches!(k, JointKind::Revolute { .. } | JointKind::Prismatic { .. });
+        let Some(followed) = self.joints.get(m.joint) else {
+            return Some(format!(
+                "it mimics joint #{}, which does not exist",
+                m.joint
+            ));
+        };
+        Some(if core::ptr::eq(followed, j) {
+            String::from("it mimics itself")
+        } else if followed.mimic.is_some() {
+            format!(
+                "it mimics `{}`, which is a mimic joint itself: mimic the joint that one follows",
+                followed.name
+            )
+        } else if !one_axis(&j.kind) || !one_axis(&followed.kind) {
+            format!(
+                "it mimics `{}`: only revolute and prismatic joints mimic and are mimicked",
+                followed.name
+            )
+        } else if !(m.multiplier.is_finite() && m.offset.is_finite()) {
+            format!(
+                "its multiplier {} and offset {} must be finite",
+                m.multiplier, m.offset
+            )
+        } else if (Drive {
+            armature: 0.0,
+            ..j.drive
+        }) != Drive::FREE
+        {
+            String::from(
+                "a mimic joint has no coordinate, so no damping, friction or limits of its own \
+                 (its armature is allowed: it is inertia)",
+            )
+        } else {
+            return None;
+        })
+    }
+
     /// Checks the structural invariants the back ends rely on (lengths, parent order, depth-first
     /// order, parameter indices, finite constants, unit axes). Front ends report user errors
     /// themselves, at the user's token; this is the last line of defence, for models built by hand.
@@ -394,6 +621,12 @@ impl Model {
             }
             for v in j.placement.xyz.iter().chain(&j.placement.rpy) {
                 check_value(v, Place::Placement(joint()))?;
+            }
+            if let Some(problem) = self.mimic_problem(j) {
+                return Err(ModelError::Mimic {
+                    joint: joint(),
+                    problem,
+                });
             }
             if let Some((_, problem)) = j.drive.problem(&j.kind) {
                 return Err(ModelError::Drive {
@@ -478,6 +711,13 @@ pub enum ModelError {
         /// What is wrong.
         problem: String,
     },
+    /// A joint's [`Mimic`] is not valid.
+    Mimic {
+        /// The joint.
+        joint: String,
+        /// What is wrong.
+        problem: String,
+    },
     /// A [`Value::Param`] names a parameter the model does not have.
     UnknownParam {
         /// Where it stands.
@@ -509,7 +749,9 @@ impl fmt::Display for ModelError {
             ModelError::NonFinite { place, value } => {
                 write!(f, "a number in {place} is not finite ({value})")
             }
-            ModelError::Drive { joint, problem } => write!(f, "joint `{joint}`: {problem}"),
+            ModelError::Drive { joint, problem } | ModelError::Mimic { joint, problem } => {
+                write!(f, "joint `{joint}`: {problem}")
+            }
             ModelError::UnknownParam { place, index } => write!(
                 f,
                 "a number in {place} names parameter #{index}, which does not exist"

@@ -44,6 +44,12 @@ pub enum PruneError {
         /// The joint.
         joint: String,
     },
+    /// The model has mimic joints ([`crate::model::Mimic`]), which scenes do not prune yet: a
+    /// locked joint would have to fix the joints that follow it too.
+    Mimic {
+        /// The first mimic joint.
+        joint: String,
+    },
     /// A body kept in a sub-tree whose parent is not kept.
     NotConnected {
         /// The body.
@@ -57,6 +63,11 @@ impl fmt::Display for PruneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             PruneError::UnknownJoint(j) => write!(f, "cannot lock `{j}`: no joint of that name"),
+            PruneError::Mimic { joint } => write!(
+                f,
+                "joint `{joint}` mimics another: chains with mimic joints cannot lock or keep \
+                 joints yet"
+            ),
             PruneError::UnknownBody(b) => write!(f, "cannot keep `{b}`: no body of that name"),
             PruneError::Coordinates {
                 joint,
@@ -148,6 +159,16 @@ fn placement(r: &Mat3<f64>, p: Vec3<f64>) -> Placement {
     }
 }
 
+/// [`PruneError::Mimic`] for a model with mimic joints.
+fn refuse_mimic(model: &Model) -> Result<(), PruneError> {
+    match model.joints.iter().find(|j| j.mimic.is_some()) {
+        Some(j) => Err(PruneError::Mimic {
+            joint: j.name.clone(),
+        }),
+        None => Ok(()),
+    }
+}
+
 /// `model` with `joint` locked at the position coordinates `q`: a fixed joint whose placement is
 /// the joint's placement followed by the joint's motion at `q`.
 ///
@@ -155,6 +176,7 @@ fn placement(r: &Mat3<f64>, p: Vec3<f64>) -> Placement {
 /// An unknown joint, the wrong number of values, a non-finite value or a zero quaternion, or a
 /// placement that is a runtime parameter.
 pub fn lock(model: &Model, joint: &str, q: &[f64]) -> Result<Model, PruneError> {
+    refuse_mimic(model)?;
     let i = model
         .joints
         .iter()
@@ -191,6 +213,7 @@ pub fn lock(model: &Model, joint: &str, q: &[f64]) -> Result<Model, PruneError> 
         placement: placement(&r0.mul_mat(&rj), vadd(x0, r0.mul_vec(pj))),
         // A locked joint has no coordinate left for its rotor or limits to act on.
         drive: Drive::FREE,
+        mimic: None,
     };
     Ok(out)
 }
@@ -203,6 +226,7 @@ pub fn lock(model: &Model, joint: &str, q: &[f64]) -> Result<Model, PruneError> 
 /// # Errors
 /// An unknown body or a kept body whose parent is not kept, or what [`lock`] refuses.
 pub fn keep(model: &Model, keep: &[&str], locks: &[(&str, &[f64])]) -> Result<Model, PruneError> {
+    refuse_mimic(model)?;
     for name in keep {
         let b = model
             .body_index(name)
@@ -349,6 +373,7 @@ pub fn merge_fixed(model: &Model) -> Model {
             parent: parent.and_then(|p| index[p]),
             placement: placement_of,
             drive: joint.drive,
+            mimic: None,
         });
     }
     Model {

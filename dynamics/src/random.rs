@@ -186,6 +186,7 @@ pub fn random_model(seed: u64, n_bodies: usize) -> Model {
             parent,
             placement,
             drive: Drive::FREE,
+            mimic: None,
         });
     }
     Model::new("Random", bodies, joints)

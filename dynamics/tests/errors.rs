@@ -296,6 +296,7 @@ fn one_body(
         parent: None,
         placement: Placement::IDENTITY,
         drive: Drive::FREE,
+        mimic: None,
     };
     Model::new("One", vec![body], vec![joint])
 }

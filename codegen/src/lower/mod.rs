@@ -184,6 +184,7 @@ fn renumber(
             },
             placement: decl.placement,
             drive: decl.drive,
+            mimic: None,
         });
     }
     Some((model_bodies, model_joints))

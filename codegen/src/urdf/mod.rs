@@ -624,6 +624,7 @@ impl Importer {
                 parent: None,
                 placement: Placement::IDENTITY,
                 drive: Drive::FREE,
+                mimic: None,
             });
             Some(0)
         } else {
@@ -665,6 +666,7 @@ impl Importer {
                         parent: body,
                         placement,
                         drive: self.drive(j, &kind)?,
+                        mimic: None,
                     });
                     push_children(&mut stack, child, Some(b), Transform::IDENTITY);
                 }

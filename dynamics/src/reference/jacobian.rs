@@ -115,11 +115,24 @@ pub fn body_jacobians(
     let (mut qa, mut va) = (0, 0);
     for (joint, body) in model.joints.iter().zip(&model.bodies) {
         let parent = joint.parent.map_or(&world, |b| &frames[b]);
-        let qj = &q[qa..qa + joint.kind.nq()];
-        let vj = &v[va..va + joint.kind.nv()];
-        let frame = joint_frame(parent, &joint.placement, params).moved(joint.kind, qj, vj, va);
-        qa += joint.kind.nq();
-        va += joint.kind.nv();
+        let frame = joint_frame(parent, &joint.placement, params);
+        let frame = match joint.mimic {
+            // A mimic joint turns by `m·q_j + o` at `m·v_j`, and its column, `m` times the
+            // column of its own motion, adds to the followed joint's column `j`.
+            Some(m) => {
+                let (qj, vj) = (model.q_offset(m.joint), model.v_offset(m.joint));
+                let angle = m.multiplier * q[qj] + m.offset;
+                let rate = m.multiplier * v[vj];
+                frame.moved(joint.kind, &[angle], &[rate], vj, m.multiplier)
+            }
+            None => {
+                let qj = &q[qa..qa + joint.kind.nq()];
+                let vj = &v[va..va + joint.kind.nv()];
+                frame.moved(joint.kind, qj, vj, va, 1.0)
+            }
+        };
+        qa += joint.nq();
+        va += joint.nv();
         out.push(frame.jacobians(body, model.nv(), params));
         frames.push(frame);
     }
@@ -190,19 +203,20 @@ impl Frame {
     }
 
     /// The joint frame moved by joint `kind` through `(qj, vj)` (its velocities from index
-    /// `va`): the child's frame, its columns added.
-    fn moved(mut self, kind: JointKind, qj: &[f64], vj: &[f64], va: usize) -> Frame {
+    /// `va`): the child's frame, its columns added, scaled by `scale` (a mimic joint's
+    /// multiplier: the rate of its coordinate per unit of the coordinate `va`).
+    fn moved(mut self, kind: JointKind, qj: &[f64], vj: &[f64], va: usize, scale: f64) -> Frame {
         let parent_w = self.w;
         match kind {
             JointKind::Revolute { axis } => {
                 let u = self.r * Vector3::from(axis);
-                self.push(va, u, parent_w, true);
+                self.push(va, u * scale, parent_w, true);
                 self.r *= rot(Vector3::from(axis), qj[0]);
                 self.w += u * vj[0];
             }
             JointKind::Prismatic { axis } => {
                 let u = self.r * Vector3::from(axis);
-                self.push(va, u, parent_w, false);
+                self.push(va, u * scale, parent_w, false);
                 self.translate(u * qj[0], u * vj[0]);
             }
             JointKind::SphericalEuler { seq } => self.euler(seq.0, qj, vj, va),
@@ -259,10 +273,16 @@ impl Frame {
                 ),
                 None => (col.u, col.u_dot, Vector3::zeros(), Vector3::zeros()),
             };
-            jt.set_column(col.index, &t);
-            jt_dot.set_column(col.index, &t_dot);
-            jr.set_column(col.index, &a);
-            jr_dot.set_column(col.index, &a_dot);
+            // Added, not set: a mimic joint's column adds to the one of the joint it follows.
+            for (j, x) in [
+                (&mut jt, t),
+                (&mut jt_dot, t_dot),
+                (&mut jr, a),
+                (&mut jr_dot, a_dot),
+            ] {
+                let mut column = j.column_mut(col.index);
+                column += x;
+            }
         }
         BodyJacobians {
             jt,

@@ -42,7 +42,7 @@ pub use ltdl::{ltdl_factor, ltdl_solve, Ltdl};
 pub use rnea::{bottom_up, inertial_forces, joint_forces, node_forces, project, rnea, transmit};
 pub use tree::{Node, NodeJoint, Tree};
 
-use crate::model::{JointKind, Model, ModelError};
+use crate::model::{Coupling, JointKind, Model, ModelError};
 use crate::spatial::{Force, Vec3};
 
 /// What can go wrong in the reference dynamics. No function of [`Reference`] panics.
@@ -225,6 +225,7 @@ pub struct Reference {
     model: Model,
     params: Vec<f64>,
     tree: Tree<f64>,
+    coupling: Coupling,
 }
 
 /// Checks a model and a parameter vector for it.
@@ -284,7 +285,7 @@ pub fn check_q(model: &Model, q: &[f64]) -> Result<(), Error> {
                 });
             }
         }
-        at += j.kind.nq();
+        at += j.nq();
     }
     Ok(())
 }
@@ -341,6 +342,7 @@ impl Reference {
             model: model.clone(),
             params: params.to_vec(),
             tree: Tree::new(model, params),
+            coupling: model.coupling(),
         })
     }
 
@@ -354,25 +356,53 @@ impl Reference {
         &self.params
     }
 
-    /// The numeric tree the recursions run on (Euler joints expanded).
+    /// The numeric tree the recursions run on (Euler joints expanded, and mimic joints with
+    /// coordinates of their own: see [`Reference::coupling`]).
     pub fn tree(&self) -> &Tree<f64> {
         &self.tree
     }
 
+    /// The map from the model's coordinates to the tree's (the identity without mimic joints).
+    pub fn coupling(&self) -> &Coupling {
+        &self.coupling
+    }
+
     /// Number of position coordinates.
     pub fn nq(&self) -> usize {
-        self.tree.nq
+        self.coupling.nq
     }
 
     /// Number of velocity coordinates.
     pub fn nv(&self) -> usize {
-        self.tree.nv
+        self.coupling.nv
+    }
+
+    /// The tree's `q`.
+    fn q(&self, q: &[f64]) -> Vec<f64> {
+        self.coupling.expand_q(q)
+    }
+
+    /// The tree's `v` (or `a`).
+    fn v(&self, v: &[f64]) -> Vec<f64> {
+        self.coupling.expand_v(v)
+    }
+
+    /// `M(q)`, `nv × nv` row-major, unchecked.
+    fn m(&self, q: &[f64]) -> Vec<f64> {
+        self.coupling.reduce_matrix(&crba(&self.tree, &self.q(q)))
+    }
+
+    /// RNEA, unchecked.
+    fn rnea(&self, q: &[f64], v: &[f64], a: &[f64], with_gravity: bool) -> Vec<f64> {
+        let (q, v, a) = (self.q(q), self.v(v), self.v(a));
+        self.coupling
+            .reduce(&rnea(&self.tree, &q, &v, &a, with_gravity))
     }
 
     /// The joint-space inertia matrix `M(q)` by CRBA (Featherstone 2008, RBDA §6.2).
     pub fn mass_matrix(&self, q: &[f64]) -> Result<DMatrix<f64>, Error> {
         check_q(&self.model, q)?;
-        let m = finite("mass_matrix", crba(&self.tree, q))?;
+        let m = finite("mass_matrix", self.m(q))?;
         Ok(DMatrix::from_row_slice(self.nv(), self.nv(), &m))
     }
 
@@ -382,7 +412,7 @@ impl Reference {
         check_q(&self.model, q)?;
         check_vector("v", v, self.nv())?;
         let zero = alloc::vec![0.0; self.nv()];
-        let b = finite("bias", rnea(&self.tree, q, v, &zero, false))?;
+        let b = finite("bias", self.rnea(q, v, &zero, false))?;
         Ok(DVector::from_vec(b))
     }
 
@@ -391,7 +421,7 @@ impl Reference {
     pub fn gravity(&self, q: &[f64]) -> Result<DVector<f64>, Error> {
         check_q(&self.model, q)?;
         let zero = alloc::vec![0.0; self.nv()];
-        let g = finite("gravity", rnea(&self.tree, q, &zero, &zero, true))?;
+        let g = finite("gravity", self.rnea(q, &zero, &zero, true))?;
         Ok(DVector::from_vec(g))
     }
 
@@ -400,7 +430,7 @@ impl Reference {
         check_q(&self.model, q)?;
         check_vector("v", v, self.nv())?;
         check_vector("a", a, self.nv())?;
-        let tau = finite("inverse_dynamics", rnea(&self.tree, q, v, a, true))?;
+        let tau = finite("inverse_dynamics", self.rnea(q, v, a, true))?;
         Ok(DVector::from_vec(tau))
     }
 
@@ -416,6 +446,9 @@ impl Reference {
         check_q(&self.model, q)?;
         check_vector("v", v, self.nv())?;
         check_vector("tau", tau, self.nv())?;
+        if !self.coupling.is_identity() {
+            return self.coupled_forward_dynamics(q, v, tau);
+        }
         let out = aba(&self.tree, q, v, tau, true);
         let scale = out.diag.iter().fold(0.0f64, |s, d| s.max(d.abs()));
         // Leaves first, as ABA eliminates them: a singular joint poisons its ancestors with NaN,
@@ -444,8 +477,14 @@ impl Reference {
             // Nothing moves (only fixed joints); nalgebra's eigen-solver refuses an empty matrix.
             return Ok(DVector::from_vec(out.qdd));
         }
-        let m = DMatrix::from_vec(self.nv(), self.nv(), crba(&self.tree, q));
-        let eig = m.symmetric_eigenvalues();
+        let m = DMatrix::from_vec(self.nv(), self.nv(), self.m(q));
+        self.check_eigenvalues(&m)?;
+        Ok(DVector::from_vec(out.qdd))
+    }
+
+    /// Refuses an `M` that is not positive definite or is past [`M_CONDITION_LIMIT`].
+    fn check_eigenvalues(&self, m: &DMatrix<f64>) -> Result<(), Error> {
+        let eig = m.clone().symmetric_eigenvalues();
         let (lo, hi) = eig.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| {
             (lo.min(x), hi.max(x.abs()))
         });
@@ -455,7 +494,41 @@ impl Reference {
                 max: hi,
             }));
         }
-        Ok(DVector::from_vec(out.qdd))
+        Ok(())
+    }
+
+    /// Forward dynamics of a model with mimic joints, which ABA cannot run (a coupled coordinate
+    /// moves bodies on two branches): `M·q̈ = τ − h` with `M = Gᵀ·M_tree·G` and
+    /// `h = Gᵀ·h_tree`, solved by Cholesky once the eigenvalues of `M` pass.
+    fn coupled_forward_dynamics(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        tau: &[f64],
+    ) -> Result<DVector<f64>, Error> {
+        let n = self.nv();
+        let m = DMatrix::from_row_slice(n, n, &self.m(q));
+        if n == 0 {
+            return Ok(DVector::zeros(0));
+        }
+        self.check_eigenvalues(&m)?;
+        let zero = alloc::vec![0.0; n];
+        let h = DVector::from_vec(self.rnea(q, v, &zero, true));
+        let b = DVector::from_column_slice(tau) - h;
+        let qdd =
+            m.cholesky()
+                .map(|c| c.solve(&b))
+                .ok_or(Error::Singular(Singularity::Eigenvalues {
+                    min: 0.0,
+                    max: 0.0,
+                }))?;
+        if let Some(k) = qdd.iter().position(|x| !x.is_finite()) {
+            return Err(Error::Singular(Singularity::NonFiniteAcceleration {
+                joint: self.joint_of_v(k),
+                velocity: k,
+            }));
+        }
+        Ok(qdd)
     }
 
     /// The kinetic energy `½·Σ v_iᵀ·I_i·v_i` over the bodies (`= ½·vᵀ·M(q)·v`).
@@ -465,7 +538,7 @@ impl Reference {
     pub fn kinetic_energy(&self, q: &[f64], v: &[f64]) -> Result<f64, Error> {
         check_q(&self.model, q)?;
         check_vector("v", v, self.nv())?;
-        let e = centroidal::kinetic_energy(&self.tree, q, v);
+        let e = centroidal::kinetic_energy(&self.tree, &self.q(q), &self.v(v));
         finite("kinetic_energy", alloc::vec![e]).map(|_| e)
     }
 
@@ -477,7 +550,9 @@ impl Reference {
         check_q(&self.model, q)?;
         let c = finite(
             "center_of_mass",
-            centroidal::center_of_mass(&self.tree, q).0.to_vec(),
+            centroidal::center_of_mass(&self.tree, &self.q(q))
+                .0
+                .to_vec(),
         )?;
         Ok(Vector3::from_column_slice(&c))
     }
@@ -491,7 +566,7 @@ impl Reference {
         check_vector("v", v, self.nv())?;
         let c = finite(
             "center_of_mass_velocity",
-            centroidal::center_of_mass_velocity(&self.tree, q, v)
+            centroidal::center_of_mass_velocity(&self.tree, &self.q(q), &self.v(v))
                 .0
                 .to_vec(),
         )?;
@@ -506,7 +581,10 @@ impl Reference {
         check_q(&self.model, q)?;
         let j = finite(
             "center_of_mass_jacobian",
-            centroidal::center_of_mass_jacobian(&self.tree, q),
+            self.coupling.reduce_columns(
+                &centroidal::center_of_mass_jacobian(&self.tree, &self.q(q)),
+                3,
+            ),
         )?;
         Ok(DMatrix::from_row_slice(3, self.nv(), &j))
     }
@@ -519,7 +597,7 @@ impl Reference {
     pub fn centroidal_momentum(&self, q: &[f64], v: &[f64]) -> Result<Vector6<f64>, Error> {
         check_q(&self.model, q)?;
         check_vector("v", v, self.nv())?;
-        let h = centroidal::centroidal_momentum(&self.tree, q, v).to_array();
+        let h = centroidal::centroidal_momentum(&self.tree, &self.q(q), &self.v(v)).to_array();
         let h = finite("centroidal_momentum", h.to_vec())?;
         Ok(Vector6::from_column_slice(&h))
     }
@@ -532,7 +610,10 @@ impl Reference {
         check_q(&self.model, q)?;
         let a = finite(
             "centroidal_momentum_matrix",
-            centroidal::centroidal_momentum_matrix(&self.tree, q),
+            self.coupling.reduce_columns(
+                &centroidal::centroidal_momentum_matrix(&self.tree, &self.q(q)),
+                6,
+            ),
         )?;
         Ok(DMatrix::from_row_slice(6, self.nv(), &a))
     }
@@ -547,7 +628,11 @@ impl Reference {
         check_vector("v", v, self.nv())?;
         let n = finite(
             "coriolis_matrix",
-            centroidal::coriolis_matrix(&self.tree, q, v),
+            self.coupling.reduce_matrix(&centroidal::coriolis_matrix(
+                &self.tree,
+                &self.q(q),
+                &self.v(v),
+            )),
         )?;
         Ok(DMatrix::from_row_slice(self.nv(), self.nv(), &n))
     }
@@ -565,7 +650,16 @@ impl Reference {
         a: &[f64],
     ) -> Result<(DMatrix<f64>, DMatrix<f64>), Error> {
         self.inverse_dynamics(q, v, a)?;
-        let (dq, dv) = derivatives::inverse_dynamics_derivatives(&self.tree, q, v, a);
+        let (dq, dv) = derivatives::inverse_dynamics_derivatives(
+            &self.tree,
+            &self.q(q),
+            &self.v(v),
+            &self.v(a),
+        );
+        let (dq, dv) = (
+            self.coupling.reduce_matrix(&dq),
+            self.coupling.reduce_matrix(&dv),
+        );
         let name = "inverse_dynamics_derivatives";
         let (dq, dv) = (finite(name, dq)?, finite(name, dv)?);
         let nv = self.nv();
@@ -586,11 +680,17 @@ impl Reference {
         v: &[f64],
         tau: &[f64],
     ) -> Result<[DMatrix<f64>; 3], Error> {
-        self.forward_dynamics(q, v, tau)?;
-        let d = derivatives::forward_dynamics_derivatives(&self.tree, q, v, tau);
+        let qdd = self.forward_dynamics(q, v, tau)?;
         let name = "forward_dynamics_derivatives";
         let nv = self.nv();
         let matrix = |x: Vec<f64>| finite(name, x).map(|x| DMatrix::from_row_slice(nv, nv, &x));
+        if !self.coupling.is_identity() {
+            // `q̈ = M⁻¹·(τ − h)`: at `τ` fixed, `∂q̈ = −M⁻¹·∂τ_ID(q, v, q̈)`.
+            let (dq, dv) = self.inverse_dynamics_derivatives(q, v, qdd.as_slice())?;
+            let minv = self.mass_matrix_inverse(q)?;
+            return Ok([-&minv * dq, -&minv * dv, minv]);
+        }
+        let d = derivatives::forward_dynamics_derivatives(&self.tree, q, v, tau);
         Ok([matrix(d.dqdd_dq)?, matrix(d.dqdd_dv)?, matrix(d.minv)?])
     }
 
@@ -601,7 +701,7 @@ impl Reference {
     pub fn mass_matrix_inverse(&self, q: &[f64]) -> Result<DMatrix<f64>, Error> {
         let zero = alloc::vec![0.0; self.nv()];
         self.forward_dynamics(q, &zero, &zero)?;
-        let (inv, _) = derivatives::mass_matrix_inverse_from(crba(&self.tree, q), self.nv());
+        let (inv, _) = derivatives::mass_matrix_inverse_from(self.m(q), self.nv());
         let inv = finite("mass_matrix_inverse", inv)?;
         Ok(DMatrix::from_row_slice(self.nv(), self.nv(), &inv))
     }
@@ -613,7 +713,7 @@ impl Reference {
     /// As [`Reference::mass_matrix`].
     pub fn potential_energy(&self, q: &[f64]) -> Result<f64, Error> {
         check_q(&self.model, q)?;
-        let e = centroidal::potential_energy(&self.tree, q);
+        let e = centroidal::potential_energy(&self.tree, &self.q(q));
         finite("potential_energy", alloc::vec![e]).map(|_| e)
     }
 
@@ -624,7 +724,12 @@ impl Reference {
         check_q(&self.model, q)?;
         check_vector("v", v, self.nv())?;
         check_vector("a", a, self.nv())?;
-        wrenches(&joint_forces(&self.tree, q, v, a))
+        wrenches(&joint_forces(
+            &self.tree,
+            &self.q(q),
+            &self.v(v),
+            &self.v(a),
+        ))
     }
 
     /// The wrench each model joint transmits at `(q, v, a)`, computed bottom-up from the wrench
@@ -647,7 +752,7 @@ impl Reference {
         if !self.model.is_serial() {
             return Err(Error::NotSerial);
         }
-        let (x_up, h) = inertial_forces(&self.tree, q, v, a, true);
+        let (x_up, h) = inertial_forces(&self.tree, &self.q(q), &self.v(v), &self.v(a), true);
         let base = Force::new(Vec3(base.couple), Vec3(base.force));
         wrenches(&bottom_up(&self.tree, &x_up, &h, base))
     }

@@ -44,6 +44,7 @@ pub fn joint(
             rpy: rpy.map(Value::Const),
         },
         drive: Drive::FREE,
+        mimic: None,
     }
 }
 
