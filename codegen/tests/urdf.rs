@@ -612,16 +612,76 @@ fn a_quaternion_base_is_a_free_flyer() {
     assert_eq!(FloatingBase::from_name("quaternions"), None);
 }
 
-/// A mimic joint is refused, naming it, the joint it mimics and its line; never imported as an
-/// independent coordinate.
+/// A mimic joint follows the joint it names: no coordinate of its own, its multiplier and offset
+/// (URDF's defaults 1 and 0) kept, its limits and losses dropped, its armature kept.
 #[test]
-fn a_mimic_joint_is_refused_with_its_name_and_line() {
-    let e = err(&chain_with(
+fn a_mimic_joint_follows_the_joint_it_names() {
+    let xml = chain_with(
         r#"<link name="b"/>
-<joint name="finger2" type="revolute"><parent link="a"/><child link="b"/><mimic joint="ja" multiplier="-1"/></joint>"#,
-    ));
-    assert_eq!(e.line(), Some(7), "{e}");
-    assert!(e.message().contains("joint `finger2` mimics `ja`"), "{e}");
+<joint name="finger2" type="prismatic"><parent link="a"/><child link="b"/><limit lower="0" upper="0.04" effort="5" velocity="1"/><dynamics damping="0.5" armature="0.01"/><mimic joint="ja" multiplier="-0.5" offset="0.1"/></joint>
+<link name="c"/>
+<joint name="jc" type="revolute"><parent link="b"/><child link="c"/><mimic joint="ja"/></joint>"#,
+    );
+    let m = from_urdf_str(&xml, false)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model;
+    assert_eq!((m.nb(), m.nq(), m.nv()), (3, 1, 1));
+    let f2 = m.joints[1].mimic.expect("finger2 mimics");
+    assert_eq!((f2.joint, f2.multiplier, f2.offset), (0, -0.5, 0.1));
+    let jc = m.joints[2].mimic.expect("jc mimics");
+    assert_eq!((jc.joint, jc.multiplier, jc.offset), (0, 1.0, 0.0));
+    assert_eq!(
+        m.joints[1].drive,
+        Drive {
+            armature: 0.01,
+            ..Drive::FREE
+        }
+    );
+}
+
+/// What a mimic joint may not follow is an error at its line, naming both joints.
+#[test]
+fn a_mimic_of_a_fixed_unknown_or_mimic_joint_is_an_error_at_its_line() {
+    let cases: &[(&str, &str)] = &[
+        (
+            r#"<joint name="m" type="revolute"><parent link="a"/><child link="b"/><mimic joint="nobody"/></joint>"#,
+            "joint `m` mimics `nobody`, which is not a joint of this robot",
+        ),
+        (
+            r#"<joint name="m" type="revolute"><parent link="a"/><child link="b"/><mimic joint="m"/></joint>"#,
+            "joint `m` mimics `m`, itself",
+        ),
+        (
+            r#"<joint name="m" type="fixed"><parent link="a"/><child link="b"/><mimic joint="ja"/></joint>"#,
+            "only revolute, continuous and prismatic joints can mimic",
+        ),
+        (
+            r#"<joint name="m" type="revolute"><parent link="a"/><child link="b"/><mimic joint="ja" multiplier="nan"/></joint>"#,
+            "must be finite",
+        ),
+    ];
+    for (joint, message) in cases {
+        let e = err(&chain_with(&format!("<link name=\"b\"/>\n{joint}")));
+        assert_eq!(e.line(), Some(7), "{e}");
+        assert!(e.message().contains(message), "{e}");
+    }
+    let fixed_followed = r#"<link name="b"/>
+<joint name="weld" type="fixed"><parent link="a"/><child link="b"/></joint>
+<link name="c"/>
+<joint name="m" type="revolute"><parent link="b"/><child link="c"/><mimic joint="weld"/></joint>"#;
+    let e = err(&chain_with(fixed_followed));
+    assert_eq!(e.line(), Some(9), "{e}");
+    assert!(e.message().contains("mimics `weld`, which is fixed"), "{e}");
+    let chained = r#"<link name="b"/>
+<joint name="m1" type="revolute"><parent link="a"/><child link="b"/><mimic joint="ja"/></joint>
+<link name="c"/>
+<joint name="m2" type="revolute"><parent link="b"/><child link="c"/><mimic joint="m1"/></joint>"#;
+    let e = err(&chain_with(chained));
+    assert_eq!(e.line(), Some(9), "{e}");
+    assert!(
+        e.message().contains("`m1`, which is a mimic joint itself"),
+        "{e}"
+    );
 }
 
 /// A joint's `<dynamics>` and `<limit>` become its drive, with the non-standard `armature`;

@@ -214,7 +214,8 @@ fn euler_angles(rng: &mut Rng, seq: &EulerSeq) -> [f64; 3] {
 pub fn random_state(model: &Model, seed: u64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     let mut rng = Rng(seed ^ 0x57A7_E000_0000_0001);
     let mut q = Vec::with_capacity(model.nq());
-    for j in &model.joints {
+    // A mimic joint has no coordinate of its own.
+    for j in model.joints.iter().filter(|j| j.mimic.is_none()) {
         match j.kind {
             JointKind::Revolute { .. } => q.push(rng.range(-PI, PI)),
             JointKind::Prismatic { .. } => q.push(rng.range(-1.0, 1.0)),

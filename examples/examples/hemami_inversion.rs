@@ -61,7 +61,6 @@ type Row = (f64, V6, f64);
 /// Replays the sway with RK4 (step `dt`, `steps` steps) and returns a row every `every` steps.
 fn replay(
     drive: Drive,
-    mimic: None,
     dt: f64,
     steps: usize,
     every: usize,

@@ -302,7 +302,7 @@ impl ModelDrives {
         let drives: alloc::vec::Vec<Drive> = model
             .joints
             .iter()
-            .filter(|j| j.kind != crate::model::JointKind::Fixed)
+            .filter(|j| j.kind != crate::model::JointKind::Fixed && j.mimic.is_none())
             .map(|j| j.drive)
             .collect();
         ModelDrives {

@@ -165,7 +165,7 @@ impl Coordinates {
 pub trait Chain<T> {
     /// The chain's name in its description.
     const NAME: &'static str;
-    /// Its joints' coordinates, in joint order, fixed joints left out: `Σ nq = NQ`,
+    /// Its joints' coordinates, in joint order, fixed and mimic joints left out: `Σ nq = NQ`,
     /// `Σ nv = NV`.
     const COORDINATES: &'static [Coordinates];
     /// Its joints' drives, one per entry of [`COORDINATES`](Chain::COORDINATES): the armature

@@ -21,6 +21,8 @@ pub fn coordinates_of(model: &Model) -> Vec<Coordinates> {
     model
         .joints
         .iter()
+        // Mimic joints have no coordinates of their own.
+        .filter(|j| j.mimic.is_none())
         .filter_map(|j| match j.kind {
             JointKind::Fixed => None,
             JointKind::SphericalQuaternion => Some(Coordinates::Quaternion),

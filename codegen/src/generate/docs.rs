@@ -43,6 +43,27 @@ pub(super) fn type_doc(cx: &Context) -> Vec<String> {
         outputs.join(", ")
     );
     lines.extend(wrap(&summary));
+    let mimics: Vec<String> = cx
+        .model
+        .joints
+        .iter()
+        .filter_map(|j| {
+            let m = j.mimic?;
+            let followed = &cx.model.joints.get(m.joint)?.name;
+            Some(format!(
+                "`{}` = {:?}·`{followed}` + {:?}",
+                j.name, m.multiplier, m.offset
+            ))
+        })
+        .collect();
+    if !mimics.is_empty() {
+        lines.push(String::new());
+        lines.extend(wrap(&format!(
+            "Mimic joints, without coordinates of their own (`M = Gᵀ·M_tree·G`, \
+             `τ = Gᵀ·τ_tree`): {}.",
+            mimics.join(", ")
+        )));
+    }
     let mut scene = Vec::new();
     for (joint, q) in &cx.options.locks {
         let values: Vec<String> = q.iter().map(|x| format!("{x:?}")).collect();

@@ -12,7 +12,7 @@ use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::emit;
-use crate::options::{Options, Output, ScalarKind};
+use crate::options::{Accuracy, Options, Output, ScalarKind};
 use crate::sym::{OpCounts, Var};
 use crate::trace::{trace_with, Variant};
 
@@ -234,6 +234,21 @@ impl<'a> Context<'a> {
                 ),
             ));
         }
+        let robust_fd = self.options.accuracy == Accuracy::Robust
+            && self.options.outputs.contains(&Output::ForwardDynamics);
+        if let Some(j) = self.model.joints.iter().find(|j| j.mimic.is_some()) {
+            if robust_fd {
+                return Err(syn::Error::new(
+                    Span::call_site(),
+                    format!(
+                        "`accuracy: robust` keeps forward dynamics to ABA, which cannot run with \
+                         mimic joints (`{}` follows another joint, so one coordinate moves two \
+                         branches); use `accuracy: fastest` (CRBA + LᵀDL of the coupled M)",
+                        j.name
+                    ),
+                ));
+            }
+        }
         if self.nv > MAX_NV {
             return Err(syn::Error::new(
                 Span::call_site(),
@@ -334,12 +349,13 @@ impl<'a> Context<'a> {
             .model
             .joints
             .iter()
+            .filter(|j| j.mimic.is_none())
             .filter_map(|j| coordinates_tokens(j.kind));
         let drives = self
             .model
             .joints
             .iter()
-            .filter(|j| j.kind != JointKind::Fixed)
+            .filter(|j| j.kind != JointKind::Fixed && j.mimic.is_none())
             .map(|j| drive_tokens(&j.drive));
         let params_ty = &self.params_ty;
         // `-> ()` would trip clippy's `unused_unit` in the user's crate.

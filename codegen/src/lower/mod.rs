@@ -137,7 +137,8 @@ impl Lower {
                 PruneError::UnknownJoint(n) | PruneError::UnknownBody(n) => n.clone(),
                 PruneError::Coordinates { joint, .. }
                 | PruneError::Value { joint }
-                | PruneError::Parameter { joint } => joint.clone(),
+                | PruneError::Parameter { joint }
+                | PruneError::Mimic { joint } => joint.clone(),
                 PruneError::NotConnected { body, .. } => body.clone(),
             };
             match self.scene_names.get(&name) {

@@ -23,7 +23,7 @@ use articulated_dynamics::spatial::Mat3;
 use articulated_dynamics::Scalar;
 
 use super::forward::FdMethod;
-use super::{inputs, mass_matrix, newton_euler, rnea, symbolic_tree};
+use super::{mass_matrix, model_inputs, newton_euler, rnea, symbolic_tree, tree_inputs};
 use super::{Formulation, Pivots, Traced, Variant};
 use crate::options::Output;
 use crate::sym::{self, Sym, Var};
@@ -149,24 +149,29 @@ fn labelled(stem: &str, x: Vec<Sym>, n: usize) -> Vec<Sym> {
 pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
     let (graph, (values, pivots)) = sym::trace(|| {
         let tree = symbolic_tree(model, variant.regrouped);
-        let nv = tree.nv;
-        let (q, v) = (inputs(tree.nq, Var::Q), super::velocities(nv, variant));
+        let (c, nv) = (model.coupling(), model.nv());
         let form = variant.formulation;
+        // With mimic joints, `∂τ/∂x = Gᵀ·∂τ_tree/∂x_tree·G` (`G` constant): the tree's
+        // derivatives at the tree's state, reduced like `M`.
+        let derivatives = |q: &[Sym], v: &[Sym], a: &[Sym]| {
+            let (dq, dv) = rnea_derivatives(variant, &tree, q, v, a);
+            (c.reduce_matrix(&dq), c.reduce_matrix(&dv))
+        };
         match output {
             Output::InverseDynamicsDerivatives => {
-                let a = inputs(nv, Var::A);
-                let (dq, dv) = rnea_derivatives(variant, &tree, &q, &v, &a);
+                let (q, v, a) = tree_inputs(model, variant, Var::A);
+                let (dq, dv) = derivatives(&q, &v, &a);
                 let mut values = labelled("dtau_dq", dq, nv);
                 values.extend(labelled("dtau_dv", dv, nv));
                 (values, None)
             }
             Output::ForwardDynamicsDerivatives => {
-                let tau = inputs(nv, Var::Tau);
-                let zero = vec![Sym::zero(); nv];
-                let m = mass_matrix(form, &tree, &q);
-                let h = rnea(form, &tree, &q, &v, &zero, true);
+                let (q, v, tau) = model_inputs(model, variant, Var::Tau);
+                let zero = vec![Sym::zero(); tree.nv];
+                let m = c.reduce_matrix(&mass_matrix(form, &tree, &q));
+                let h = c.reduce(&rnea(form, &tree, &q, &v, &zero, true));
                 let d = forward_dynamics_derivatives_with(&tau, m, &h, |qdd| {
-                    rnea_derivatives(variant, &tree, &q, &v, qdd)
+                    derivatives(&q, &v, &c.expand_v(qdd))
                 });
                 let mut values: Vec<Sym> = d
                     .qdd
@@ -180,7 +185,9 @@ pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> 
                 (values, Some(pivots_with_scale(d.pivots)))
             }
             _ => {
-                let (minv, pairs) = mass_matrix_inverse_from(mass_matrix(form, &tree, &q), nv);
+                let (q, _, _) = model_inputs(model, variant, Var::A);
+                let m = c.reduce_matrix(&mass_matrix(form, &tree, &q));
+                let (minv, pairs) = mass_matrix_inverse_from(m, nv);
                 (labelled("minv", minv, nv), Some(pivots_with_scale(pairs)))
             }
         }

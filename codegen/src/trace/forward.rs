@@ -14,7 +14,7 @@ use articulated_dynamics::reference::{aba, ltdl_solve};
 use articulated_dynamics::Scalar;
 
 use super::derivatives::{pivots_with_exact, pivots_with_scale};
-use super::{inputs, label_outputs, mass_matrix, rnea, symbolic_tree};
+use super::{label_outputs, mass_matrix, model_inputs, rnea, symbolic_tree};
 use super::{Formulation, Traced, Variant};
 use crate::options::Output;
 use crate::sym::{self, Sym, Var};
@@ -39,8 +39,10 @@ impl FdMethod {
 }
 
 /// The variants of forward dynamics: ABA on the tree as described and regrouped, CRBA + `LᵀDL`
-/// with both formulations, each on both trees.
-pub(crate) fn variants() -> impl Iterator<Item = Variant> {
+/// with both formulations, each on both trees. ABA only without mimic joints: a coordinate that
+/// moves joints on two branches has no articulated inertia of its own.
+pub(crate) fn variants(model: &Model) -> impl Iterator<Item = Variant> {
+    let aba_runs = !model.has_mimic();
     let aba = [false, true].map(|regrouped| Variant {
         regrouped,
         formulation: Formulation::Reference,
@@ -64,25 +66,22 @@ pub(crate) fn variants() -> impl Iterator<Item = Variant> {
             quasi_static: false,
         })
     });
-    aba.into_iter().chain(ltdl)
+    aba.into_iter().filter(move |_| aba_runs).chain(ltdl)
 }
 
 /// Forward dynamics traced one way.
 pub(crate) fn trace_variant(model: &Model, variant: Variant) -> Traced {
     let (graph, (values, pivots)) = sym::trace(|| {
         let tree = symbolic_tree(model, variant.regrouped);
-        let (q, v, tau) = (
-            inputs(tree.nq, Var::Q),
-            super::velocities(tree.nv, variant),
-            inputs(tree.nv, Var::Tau),
-        );
+        let (c, nv) = (model.coupling(), model.nv());
+        let (q, v, tau) = model_inputs(model, variant, Var::Tau);
         let (values, pivots) = match variant.method {
             Some(FdMethod::CrbaLtdl) => {
-                let m = mass_matrix(variant.formulation, &tree, &q);
+                let m = c.reduce_matrix(&mass_matrix(variant.formulation, &tree, &q));
                 let zero = vec![Sym::zero(); tree.nv];
-                let h = rnea(variant.formulation, &tree, &q, &v, &zero, true);
+                let h = c.reduce(&rnea(variant.formulation, &tree, &q, &v, &zero, true));
                 let b: Vec<Sym> = tau.iter().zip(&h).map(|(&t, &h)| t - h).collect();
-                let (values, pairs) = ltdl_solve(m, b, tree.nv);
+                let (values, pairs) = ltdl_solve(m, b, nv);
                 // Inside the trace: the sum is recorded in this graph.
                 (values, pivots_with_scale(pairs))
             }
@@ -99,7 +98,7 @@ pub(crate) fn trace_variant(model: &Model, variant: Variant) -> Traced {
                 (out.qdd, pivots_with_exact(pairs, exact, true))
             }
         };
-        let values = label_outputs(Output::ForwardDynamics, values, tree.nv);
+        let values = label_outputs(Output::ForwardDynamics, values, nv);
         (values, pivots)
     });
     Traced {

@@ -273,7 +273,7 @@ pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy, quasi_stati
         _ => &[false, true],
     };
     let traced: Vec<Traced> = match output {
-        Output::ForwardDynamics => forward::variants()
+        Output::ForwardDynamics => forward::variants(model)
             .filter(|v| accuracy == Accuracy::Fastest || v.method == Some(FdMethod::Aba))
             .map(|variant| forward::trace_variant(model, scene(variant)))
             .collect(),
@@ -340,24 +340,22 @@ pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy, quasi_stati
 fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
     let (graph, values) = sym::trace(|| {
         let tree = symbolic_tree(model, variant.regrouped);
-        let (q, v, a) = (
-            inputs(tree.nq, Var::Q),
-            velocities(tree.nv, variant),
-            inputs(tree.nv, Var::A),
-        );
+        let (c, nv) = (model.coupling(), model.nv());
+        let (q, v, a) = tree_inputs(model, variant, Var::A);
         let zero = vec![Sym::zero(); tree.nv];
         let form = variant.formulation;
         let values = match output {
-            Output::MassMatrix => mass_matrix(form, &tree, &q),
-            Output::Bias => rnea(form, &tree, &q, &v, &zero, false),
-            Output::Gravity => rnea(form, &tree, &q, &zero, &zero, true),
-            Output::InverseDynamics => rnea(form, &tree, &q, &v, &a, true),
-            Output::NonlinearEffects => rnea(form, &tree, &q, &v, &zero, true),
+            Output::MassMatrix => c.reduce_matrix(&mass_matrix(form, &tree, &q)),
+            Output::Bias => c.reduce(&rnea(form, &tree, &q, &v, &zero, false)),
+            Output::Gravity => c.reduce(&rnea(form, &tree, &q, &zero, &zero, true)),
+            Output::InverseDynamics => c.reduce(&rnea(form, &tree, &q, &v, &a, true)),
+            Output::NonlinearEffects => c.reduce(&rnea(form, &tree, &q, &v, &zero, true)),
             Output::MassMatrixAndNonlinearEffects => {
-                let m = label_outputs(Output::MassMatrix, mass_matrix(form, &tree, &q), tree.nv);
-                let nle = rnea(form, &tree, &q, &v, &zero, true);
+                let m = c.reduce_matrix(&mass_matrix(form, &tree, &q));
+                let m = label_outputs(Output::MassMatrix, m, nv);
+                let nle = c.reduce(&rnea(form, &tree, &q, &v, &zero, true));
                 m.into_iter()
-                    .chain(label_outputs(Output::NonlinearEffects, nle, tree.nv))
+                    .chain(label_outputs(Output::NonlinearEffects, nle, nv))
                     .collect()
             }
             Output::JointWrenches => wrench_entries(&joint_wrenches(form, &tree, &q, &v, &a)),
@@ -371,26 +369,31 @@ fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
             Output::CenterOfMassVelocity => centroidal::center_of_mass_velocity(&tree, &q, &v)
                 .0
                 .to_vec(),
-            Output::CenterOfMassJacobian => centroidal::center_of_mass_jacobian(&tree, &q),
+            Output::CenterOfMassJacobian => {
+                c.reduce_columns(&centroidal::center_of_mass_jacobian(&tree, &q), 3)
+            }
             Output::CentroidalMomentum => centroidal::centroidal_momentum(&tree, &q, &v)
                 .to_array()
                 .to_vec(),
-            Output::CentroidalMomentumMatrix => match form {
-                Formulation::Reference => centroidal::centroidal_momentum_matrix(&tree, &q),
-                _ => crba::centroidal_momentum_matrix(&tree, &q, regroup::coordinate_axis),
-            },
+            Output::CentroidalMomentumMatrix => c.reduce_columns(
+                &match form {
+                    Formulation::Reference => centroidal::centroidal_momentum_matrix(&tree, &q),
+                    _ => crba::centroidal_momentum_matrix(&tree, &q, regroup::coordinate_axis),
+                },
+                6,
+            ),
             Output::KineticEnergy => vec![centroidal::kinetic_energy(&tree, &q, &v)],
             Output::PotentialEnergy => vec![centroidal::potential_energy(&tree, &q)],
-            Output::CoriolisMatrix => match form {
+            Output::CoriolisMatrix => c.reduce_matrix(&match form {
                 Formulation::Reference => centroidal::coriolis_matrix(&tree, &q, &v),
                 _ => crba::coriolis_matrix(&tree, &q, &v, regroup::coordinate_axis),
-            },
+            }),
             Output::ForwardDynamics => unreachable!("traced by `forward`"),
             Output::InverseDynamicsDerivatives
             | Output::ForwardDynamicsDerivatives
             | Output::MassMatrixInverse => unreachable!("traced by `derivatives`"),
         };
-        label_outputs(output, values, tree.nv)
+        label_outputs(output, values, nv)
     });
     Traced {
         output,
@@ -469,6 +472,34 @@ pub(crate) fn symbolic_tree(model: &Model, regrouped: bool) -> Tree<Sym> {
         regroup::regroup(&mut tree);
     }
     tree
+}
+
+/// The tree's `q`, `v` and a third vector (`a` or `τ`, input `third`) from the model's inputs,
+/// through the model's [`Coupling`](articulated_dynamics::model::Coupling): the inputs
+/// themselves but for mimic joints, whose coordinates are `multiplier·q_j + offset`. The third is
+/// the model's, not expanded: `τ` stays in the model's coordinates, `a` is expanded by the
+/// caller that needs it in the tree's ([`tree_inputs`] does for `a`).
+pub(crate) fn model_inputs(
+    model: &Model,
+    variant: Variant,
+    third: fn(usize) -> Var,
+) -> (Vec<Sym>, Vec<Sym>, Vec<Sym>) {
+    let c = model.coupling();
+    (
+        c.expand_q(&inputs(model.nq(), Var::Q)),
+        c.expand_v(&velocities(model.nv(), variant)),
+        inputs(model.nv(), third),
+    )
+}
+
+/// The tree's `q`, `v` and `a` ([`model_inputs`] with `a` expanded too).
+pub(crate) fn tree_inputs(
+    model: &Model,
+    variant: Variant,
+    a: fn(usize) -> Var,
+) -> (Vec<Sym>, Vec<Sym>, Vec<Sym>) {
+    let (q, v, a) = model_inputs(model, variant, a);
+    (q, v, model.coupling().expand_v(&a))
 }
 
 /// The velocities a variant is traced with: the inputs `v`, or zeros when quasi-static.

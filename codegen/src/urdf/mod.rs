@@ -4,8 +4,14 @@
 //! - `revolute` and `continuous` joints become [`JointKind::Revolute`] (one angle; a `continuous`
 //!   joint is not stored as cos/sin as Pinocchio does), `prismatic` becomes
 //!   [`JointKind::Prismatic`]. The axis is normalized; URDF's default axis is `[1, 0, 0]`; a zero
-//!   axis is an error. A `<mimic>` joint is an error naming it (importing it as an independent
-//!   coordinate would change the dynamics). Safety tags are ignored.
+//!   axis is an error. Safety tags are ignored.
+//! - A `<mimic joint multiplier offset>` joint (revolute, continuous or prismatic, following one
+//!   of those) becomes a [`Mimic`] as in Pinocchio 3: its coordinate is
+//!   `multiplier·q_followed + offset` (defaults 1 and 0), it leaves `q` and `v`, and the dynamics
+//!   are the coupled ones (`M = Gᵀ·M_tree·G`, see [`Mimic`]). Its `<limit>`, damping and
+//!   friction are not used (those of the joint it follows apply); its armature is inertia and
+//!   is kept. Mimicking a fixed joint, a mimic joint, itself or an unknown joint is an error at
+//!   its line.
 //! - A joint's `<dynamics damping friction>` and `<limit lower upper effort velocity>` become its
 //!   [`Drive`], and so does `<dynamics armature>` (not URDF 1.0; MuJoCo's and Pinocchio's name
 //!   for the rotor inertia, added to `M`'s diagonal). Absent limit attributes are no limits;
@@ -52,7 +58,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use articulated_dynamics::model::{
-    Body, Drive, EulerSeq, Joint, JointKind, Model, Placement, Value, DEFAULT_GRAVITY,
+    Body, Drive, EulerSeq, Joint, JointKind, Mimic, Model, Placement, Value, DEFAULT_GRAVITY,
 };
 use articulated_dynamics::spatial::{Mat3, Vec3};
 
@@ -235,6 +241,8 @@ struct Tree {
 struct Built {
     bodies: Vec<(String, MassProps)>,
     joints: Vec<Joint>,
+    /// `(model joint, URDF joint)` of each mimic joint, resolved once every joint is built.
+    mimics: Vec<(usize, usize)>,
 }
 
 impl Importer {
@@ -368,16 +376,23 @@ impl Importer {
             ));
         }
         if let Some(m) = &j.mimic {
-            return Err(self.joint_error(
-                joint,
-                format!(
-                    "joint `{}` mimics `{}` (`<mimic>`): mimic joints are not supported, and \
-                     importing it as an independent coordinate would change the robot's \
-                     dynamics; remove the `<mimic>` element to model it as independent, or make \
-                     the joint `fixed`",
-                    j.name, m.joint
-                ),
-            ));
+            let one_axis = matches!(j.joint_type, T::Revolute | T::Continuous | T::Prismatic);
+            let (multiplier, offset) = (m.multiplier.unwrap_or(1.0), m.offset.unwrap_or(0.0));
+            let problem = if !one_axis {
+                Some("only revolute, continuous and prismatic joints can mimic".to_string())
+            } else if !(multiplier.is_finite() && offset.is_finite()) {
+                Some(format!(
+                    "its multiplier {multiplier} and offset {offset} must be finite"
+                ))
+            } else {
+                None
+            };
+            if let Some(problem) = problem {
+                return Err(self.joint_error(
+                    joint,
+                    format!("joint `{}` mimics `{}`: {problem}", j.name, m.joint),
+                ));
+            }
         }
         let axis = || -> Result<[f64; 3], UrdfError> {
             let a = *j.axis.xyz;
@@ -660,12 +675,22 @@ impl Importer {
                     built
                         .bodies
                         .push((self.robot.links[child].name.clone(), mass));
+                    let mut drive = self.drive(j, &kind)?;
+                    if joints[j].mimic.is_some() {
+                        // It has no coordinate for limits or losses to act on: those of the
+                        // joint it follows apply. Its rotor is inertia and stays.
+                        drive = Drive {
+                            armature: drive.armature,
+                            ..Drive::FREE
+                        };
+                        built.mimics.push((b, j));
+                    }
                     built.joints.push(Joint {
                         name: joints[j].name.clone(),
                         kind,
                         parent: body,
                         placement,
-                        drive: self.drive(j, &kind)?,
+                        drive,
                         mimic: None,
                     });
                     push_children(&mut stack, child, Some(b), Transform::IDENTITY);
@@ -675,7 +700,55 @@ impl Importer {
         if let Some(k) = reached.iter().position(|r| !r) {
             return Err(self.cycle_error(tree, k));
         }
+        self.resolve_mimics(&mut built)?;
         Ok(built)
+    }
+
+    /// Points each mimic joint at the model joint it follows, once every joint has its place.
+    fn resolve_mimics(&self, built: &mut Built) -> Result<(), UrdfError> {
+        for &(b, j) in &built.mimics {
+            let urdf = &self.robot.joints[j];
+            let Some(m) = &urdf.mimic else { continue };
+            let error = |why: &str| {
+                self.joint_error(
+                    j,
+                    format!("joint `{}` mimics `{}`, {why}", urdf.name, m.joint),
+                )
+            };
+            let followed = match built.joints.iter().position(|x| x.name == m.joint) {
+                Some(f) => f,
+                None if self.robot.joints.iter().any(|x| x.name == m.joint) => {
+                    return Err(error(
+                        "which is fixed: only revolute, continuous and prismatic joints can be \
+                         mimicked",
+                    ))
+                }
+                None => return Err(error("which is not a joint of this robot")),
+            };
+            if followed == b {
+                return Err(error("itself"));
+            }
+            if built.mimics.iter().any(|&(other, _)| other == followed) {
+                return Err(error(
+                    "which is a mimic joint itself: mimic the joint that one follows, with the \
+                     multipliers and offsets composed",
+                ));
+            }
+            if !matches!(
+                built.joints[followed].kind,
+                JointKind::Revolute { .. } | JointKind::Prismatic { .. }
+            ) {
+                return Err(error(
+                    "which is not revolute, continuous or prismatic: only those can be mimicked",
+                ));
+            }
+            built.joints[b].mimic = Some(Mimic {
+                joint: followed,
+                multiplier: m.multiplier.unwrap_or(1.0),
+                offset: m.offset.unwrap_or(0.0),
+            });
+        }
+        Ok(())
     }
 }
 
