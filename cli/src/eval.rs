@@ -102,6 +102,7 @@ pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
         ("nq", Ok(Value::from(nq))),
         ("nv", Ok(Value::from(nv))),
         ("drives", Ok(drives(&model))),
+        ("mimic", Ok(mimics(&model))),
     ];
     fields.extend(computed);
     let mut errors = Vec::new();
@@ -147,6 +148,22 @@ fn drives(model: &Model) -> Value {
             object.insert(key.into(), number(x));
         }
         Value::Object(object)
+    });
+    Value::Array(joints.collect())
+}
+
+/// The mimic joints, in joint order: `{"joint": name, "follows": name, "multiplier": …,
+/// "offset": …}`; they have no entries in `q` and `v`.
+fn mimics(model: &Model) -> Value {
+    let joints = model.joints.iter().filter_map(|j| {
+        let m = j.mimic?;
+        let followed = model.joints.get(m.joint)?;
+        Some(serde_json::json!({
+            "joint": j.name,
+            "follows": followed.name,
+            "multiplier": m.multiplier,
+            "offset": m.offset,
+        }))
     });
     Value::Array(joints.collect())
 }

@@ -489,3 +489,44 @@ fn a_quaternion_floating_base() {
         "{stderr}"
     );
 }
+
+/// A URDF with mimic joints: the couplings are printed, both engines agree, and the kinetic
+/// energy is the independent tree's at the coupled state (`q_tree = G·q + o`, `v_tree = G·v`).
+#[test]
+fn mimic_joints_are_printed_and_couple_the_tree() {
+    let (q, v) = ("0.1,0.2,0.3,0.02,0.4", "1,-1,0.5,0.1,2");
+    // Tree order: shoulder, elbow, wrist, finger_left, left_tip = −0.5·elbow + 0.3,
+    // finger_right = finger_left, right_knuckle, thumb = 12·finger_left − 0.2.
+    let (q_tree, v_tree) = (
+        "0.1,0.2,0.3,0.02,0.2,0.02,0.4,0.04",
+        "1,-1,0.5,0.1,0.5,0.1,2,1.2",
+    );
+    let file = "tests/data/gripper_mimic.urdf";
+    let mut outputs = Vec::new();
+    for engine in ["reference", "symbolic"] {
+        let (ok, out, stderr) = eval(&[file, "--q", q, "--v", v, "--engine", engine]);
+        assert!(ok, "{stderr}");
+        outputs.push(serde_json::from_str::<Value>(&out).unwrap());
+    }
+    let mimic = outputs[0]["mimic"].as_array().unwrap();
+    assert_eq!(mimic.len(), 3);
+    assert_eq!(
+        (&mimic[0]["joint"], &mimic[0]["follows"]),
+        (&"left_tip".into(), &"elbow".into())
+    );
+    assert_eq!(
+        (&mimic[2]["multiplier"], &mimic[2]["offset"]),
+        (&12.0.into(), &(-0.2).into())
+    );
+    assert_eq!(outputs[0]["nv"], 5);
+    for key in ["mass_matrix", "tau", "qdd", "kinetic_energy"] {
+        let e = rel_err(&outputs[1][key], &outputs[0][key]);
+        assert!(e < 1e-12, "{key}: symbolic vs reference {e:e}");
+    }
+    let independent = "tests/data/gripper_independent.urdf";
+    let (ok, tree, stderr) = eval(&[independent, "--q", q_tree, "--v", v_tree]);
+    assert!(ok, "{stderr}");
+    let tree: Value = serde_json::from_str(&tree).unwrap();
+    let e = rel_err(&outputs[0]["kinetic_energy"], &tree["kinetic_energy"]);
+    assert!(e < 1e-14, "kinetic energy vs the independent tree: {e:e}");
+}

@@ -659,7 +659,8 @@ fn unknown_joint_field() {
         3,
         49,
         "unknown field `axis` in joint `j`: expected `parent`, `child`, `xyz`, `rpy`, \
-         `armature`, `damping`, `friction`, `lower`, `upper`, `velocity` or `effort`",
+         `armature`, `damping`, `friction`, `lower`, `upper`, `velocity`, `effort`, `mimic`, \
+         `multiplier` or `offset`",
     );
 }
 
@@ -1048,5 +1049,102 @@ fn lower_combines_all_errors_for_the_macro() {
              fixed to the world may be massless)",
             "unknown axis `w`: expected `x`, `y`, `z` (or `-x`, `-y`, `-z`) or a vector `[ax, ay, az]`",
         ]
+    );
+}
+
+/// Two bodies on revolute joints and a third joint `k` mimicking `extra`, for the mimic errors.
+const B2: &str = "body b { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }";
+
+#[test]
+fn mimic_of_an_unknown_joint() {
+    check(
+        &[
+            B,
+            J,
+            B2,
+            "joint k: revolute(z) { parent: a, child: b, mimic: ghost }",
+        ],
+        5,
+        52,
+        "joint `k` mimics `ghost`, which is not a joint: expected one of `j`, `k`",
+    );
+}
+
+#[test]
+fn mimic_of_itself() {
+    check(
+        &[
+            B,
+            J,
+            B2,
+            "joint k: revolute(z) { parent: a, child: b, mimic: k }",
+        ],
+        5,
+        52,
+        "joint `k`: a joint cannot mimic itself",
+    );
+}
+
+#[test]
+fn mimic_of_a_spherical_joint() {
+    check(
+        &[
+            B,
+            "joint j: spherical(xyz) { parent: world, child: a }",
+            B2,
+            "joint k: revolute(z) { parent: a, child: b, mimic: j }",
+        ],
+        5,
+        52,
+        "joint `k`: only revolute and prismatic joints mimic and are mimicked (`j` and joint `k`)",
+    );
+}
+
+#[test]
+fn mimic_of_a_mimic_joint() {
+    check(
+        &[
+            B,
+            J,
+            B2,
+            "joint k: revolute(z) { parent: a, child: b, mimic: j }",
+            "body c { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }",
+            "joint l: revolute(z) { parent: b, child: c, mimic: k }",
+        ],
+        7,
+        52,
+        "joint `l`: `k` mimics a joint itself: mimic the joint it follows, with the multipliers \
+         and offsets composed",
+    );
+}
+
+#[test]
+fn multiplier_without_mimic() {
+    check(
+        &[
+            B,
+            J,
+            B2,
+            "joint k: revolute(z) { parent: a, child: b, multiplier: 2.0 }",
+        ],
+        5,
+        45,
+        "joint `k`: `multiplier` needs `mimic: <joint>`",
+    );
+}
+
+#[test]
+fn limits_on_a_mimic_joint() {
+    check(
+        &[
+            B,
+            J,
+            B2,
+            "joint k: revolute(z) { parent: a, child: b, mimic: j, upper: 1.0 }",
+        ],
+        5,
+        52,
+        "joint `k`: a mimic joint has no coordinate, so no damping, friction or limits of its \
+         own (its armature is allowed: it is inertia)",
     );
 }

@@ -8,7 +8,9 @@
 //!   as an independent 8-coordinate arm, and `G` written out here: `M = Gᵀ·M_tree·G`,
 //!   `τ = Gᵀ·τ_tree(G·q + o, G·v, G·a)`, the whole-body quantities at the tree's state, the
 //!   derivatives `Gᵀ·∂τ_tree·G`;
-//! - the reference on random states, every generated output.
+//! - the reference on random states, every generated output;
+//! - closed forms, on a parallelogram written in the `.chain` grammar
+//!   (`data/parallelogram.chain`).
 
 mod common;
 
@@ -44,6 +46,14 @@ struct Gripper;
     ]
 )]
 struct Independent;
+
+/// The parallelogram: one coordinate, its platform following the bar by `−θ`.
+#[derive(Chain)]
+#[chain(
+    file = "data/parallelogram.chain",
+    outputs = [mass_matrix, gravity, bias, forward_dynamics, kinetic_energy]
+)]
+struct Parallelogram;
 
 const NQ: usize = 5;
 const NT: usize = 8;
@@ -179,4 +189,27 @@ fn a_mimic_joint_has_no_coordinate_or_drive_of_its_own() {
     assert_eq!(Gripper::COORDINATES.len(), NQ);
     assert_eq!(Gripper::DRIVES.len(), NQ);
     assert_eq!(Gripper::DRIVES[3].upper, 0.04);
+}
+
+#[test]
+fn a_parallelogram_from_the_grammar_has_its_closed_forms() {
+    let (m_bar, c, i_bar, m_platform, l, rotor) = (2.0, 0.4, 0.05, 3.0, 0.9, 0.02);
+    // The platform only translates: a point mass at the bar's tip, plus the rotor, which turns
+    // at −θ̇ relative to the bar.
+    let inertia = i_bar + m_bar * c * c + m_platform * l * l + rotor;
+    for theta in [-2.5, -0.4, 0.0, 0.6, 2.0] {
+        let q = SVector::<f64, 1>::new(theta);
+        let v = SVector::<f64, 1>::new(2.0);
+        let m = Parallelogram::mass_matrix(&q)[(0, 0)];
+        assert!((m - inertia).abs() < 1e-14, "M {m} vs {inertia}");
+        let g = Parallelogram::gravity(&q)[0];
+        let closed = -(m_bar * c + m_platform * l) * 9.81 * theta.cos();
+        assert!((g - closed).abs() < 1e-13, "g {g} vs {closed}");
+        assert!(Parallelogram::bias(&q, &v)[0].abs() < 1e-13);
+        let e = Parallelogram::kinetic_energy(&q, &v);
+        assert!((e - 0.5 * inertia * 4.0).abs() < 1e-13);
+        let tau = SVector::<f64, 1>::new(1.0);
+        let qdd = Parallelogram::forward_dynamics(&q, &v, &tau).unwrap()[0];
+        assert!((qdd - (1.0 - closed) / inertia).abs() < 1e-13, "q̈ {qdd}");
+    }
 }

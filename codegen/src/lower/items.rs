@@ -14,7 +14,7 @@ use syn::punctuated::Punctuated;
 use syn::{Lit, Token};
 
 use super::numbers::NumCtx;
-use super::{visibility, BodyDecl, InertiaDecl, JointDecl, Lower, Parent};
+use super::{visibility, BodyDecl, InertiaDecl, JointDecl, Lower, MimicDecl, Parent};
 use crate::model::{Drive, JointKind, Placement, Value, DEFAULT_GRAVITY};
 use crate::options::{
     one_of, unknown_accuracy, unknown_output, unknown_scalar, Accuracy, Options, Output, ScalarKind,
@@ -439,7 +439,8 @@ impl Lower {
         let rpy = f[3]
             .and_then(|f| self.vec3(&f.value, "`rpy`", ""))
             .unwrap_or(zero);
-        let drive = self.drive(&f[4..], kind.as_ref(), &owner);
+        let drive = self.drive(&f[4..11], kind.as_ref(), &owner);
+        let mimic = self.mimic(&f[11..], &owner);
         JointDecl {
             def: j,
             kind,
@@ -448,8 +449,106 @@ impl Lower {
             child,
             placement: Placement { xyz, rpy },
             drive,
+            mimic,
             duplicate: false,
         }
+    }
+
+    /// A joint's `mimic: other` with its `multiplier` (default 1) and `offset` (default 0),
+    /// constants; `multiplier` or `offset` without `mimic` is an error at the field. The joint it
+    /// names is resolved once every joint is declared ([`Lower::resolve_mimics`]).
+    fn mimic<'a>(&mut self, f: &[Option<&'a Field>], owner: &str) -> Option<MimicDecl<'a>> {
+        let mut read = |i: usize, default: f64| match f[i] {
+            Some(field) => self.constant(&field.value, NumCtx::Drive(JOINT_FIELDS[11 + i])),
+            None => Some(default),
+        };
+        let (multiplier, offset) = (read(1, 1.0), read(2, 0.0));
+        let Some(field) = f[0] else {
+            for field in f.iter().flatten() {
+                self.cx.error(
+                    &field.key,
+                    format!("{owner}: `{}` needs `mimic: <joint>`", field.key),
+                );
+            }
+            return None;
+        };
+        let Expr::Name(name) = &field.value else {
+            self.cx.error(
+                &field.value,
+                format!(
+                    "expected the name of the joint {owner} mimics, found `{}`",
+                    field.value
+                ),
+            );
+            return None;
+        };
+        Some(MimicDecl {
+            name,
+            multiplier: multiplier?,
+            offset: offset?,
+        })
+    }
+
+    /// Checks each joint's `mimic` against the declared joints: a joint that exists, is not the
+    /// joint itself, mimics nothing itself, and, like the mimic joint, is revolute or prismatic.
+    /// Returns, per joint, the declaration index of the joint it follows.
+    pub(super) fn resolve_mimics(&mut self, joints: &[JointDecl]) -> Vec<Option<usize>> {
+        let one_axis = |k: &Option<JointKind>| {
+            matches!(
+                k,
+                Some(JointKind::Revolute { .. } | JointKind::Prismatic { .. })
+            )
+        };
+        let mut out = vec![None; joints.len()];
+        for (i, j) in joints.iter().enumerate() {
+            let Some(m) = &j.mimic else { continue };
+            let owner = format!("joint `{}`", j.def.name);
+            let Some(f) = joints.iter().position(|x| x.def.name == *m.name) else {
+                let names: Vec<String> =
+                    joints.iter().map(|x| format!("`{}`", x.def.name)).collect();
+                self.cx.error(
+                    m.name,
+                    format!(
+                        "{owner} mimics `{}`, which is not a joint: expected one of {}",
+                        m.name,
+                        names.join(", ")
+                    ),
+                );
+                continue;
+            };
+            let problem = if f == i {
+                Some("a joint cannot mimic itself".to_string())
+            } else if joints[f].mimic.is_some() {
+                Some(format!(
+                    "`{}` mimics a joint itself: mimic the joint it follows, with the \
+                     multipliers and offsets composed",
+                    m.name
+                ))
+            } else if !one_axis(&j.kind) || !one_axis(&joints[f].kind) {
+                Some(format!(
+                    "only revolute and prismatic joints mimic and are mimicked (`{}` and {owner})",
+                    m.name
+                ))
+            } else if j.drive
+                != (Drive {
+                    armature: j.drive.armature,
+                    ..Drive::FREE
+                })
+            {
+                Some(
+                    "a mimic joint has no coordinate, so no damping, friction or limits of its \
+                     own (its armature is allowed: it is inertia)"
+                        .to_string(),
+                )
+            } else {
+                None
+            };
+            match problem {
+                Some(p) => self.cx.error(m.name, format!("{owner}: {p}")),
+                None => out[i] = Some(f),
+            }
+        }
+        out
     }
 
     /// A joint's drive from its fields `armature`, `damping`, `friction`, `lower`, `upper`,
@@ -562,9 +661,21 @@ impl Lower {
 }
 
 /// The fields of a joint: where it is, then its drive ([`Drive`]).
-const JOINT_FIELDS: [&str; 11] = [
-    "parent", "child", "xyz", "rpy", "armature", "damping", "friction", "lower", "upper",
-    "velocity", "effort",
+const JOINT_FIELDS: [&str; 14] = [
+    "parent",
+    "child",
+    "xyz",
+    "rpy",
+    "armature",
+    "damping",
+    "friction",
+    "lower",
+    "upper",
+    "velocity",
+    "effort",
+    "mimic",
+    "multiplier",
+    "offset",
 ];
 
 /// The declared bodies, for messages: "a body (`a`, `b`)" or "a body (none is declared)".

@@ -27,7 +27,7 @@ use std::collections::HashMap;
 
 use quote::ToTokens;
 
-use crate::model::{Body, Drive, Joint, JointKind, Model, Param, Placement, Value};
+use crate::model::{Body, Drive, Joint, JointKind, Mimic, Model, Param, Placement, Value};
 use crate::options::{Description, Visibility};
 use crate::parse::{BodyDef, ChainDef, Expr, JointDef};
 use articulated_dynamics::prune::PruneError;
@@ -91,8 +91,17 @@ struct JointDecl<'a> {
     child: Option<usize>,
     placement: Placement,
     drive: Drive,
+    /// `mimic: other`, with its multiplier and offset.
+    mimic: Option<MimicDecl<'a>>,
     /// Another joint of the same name came first (reported once, not again as two parents).
     duplicate: bool,
+}
+
+/// A joint's `mimic` as declared: the joint it names, its multiplier and offset.
+struct MimicDecl<'a> {
+    name: &'a Ident,
+    multiplier: f64,
+    offset: f64,
 }
 
 impl Lower {
@@ -118,11 +127,12 @@ impl Lower {
         for (i, b) in bodies.iter().enumerate() {
             self.mass_properties(b, moving[i]);
         }
+        let followed = self.resolve_mimics(&joints);
         if self.cx.has_errors() {
             return None;
         }
 
-        let (bodies, joints) = renumber(&bodies, &joints, &order)?;
+        let (bodies, joints) = renumber(&bodies, &joints, &order, &followed)?;
         let model = Model {
             name: def.name.to_string(),
             gravity,
@@ -152,15 +162,19 @@ impl Lower {
 }
 
 /// The model's bodies and joints, checked: the depth-first `order` of the joints is the order of
-/// their children, and parents are renumbered to match.
+/// their children, and parents and the joints mimic joints follow (`followed`, declaration
+/// indices) are renumbered to match.
 fn renumber(
     bodies: &[BodyDecl],
     joints: &[JointDecl],
     order: &[usize],
+    followed: &[Option<usize>],
 ) -> Option<(Vec<Body>, Vec<Joint>)> {
     let mut new_index = vec![usize::MAX; bodies.len()];
+    let mut new_joint = vec![usize::MAX; joints.len()];
     for (k, &j) in order.iter().enumerate() {
         new_index[joints[j].child?] = k;
+        new_joint[j] = k;
     }
     let mut model_bodies = Vec::with_capacity(order.len());
     let mut model_joints = Vec::with_capacity(order.len());
@@ -185,7 +199,14 @@ fn renumber(
             },
             placement: decl.placement,
             drive: decl.drive,
-            mimic: None,
+            mimic: match (&decl.mimic, followed[j]) {
+                (Some(m), Some(f)) => Some(Mimic {
+                    joint: new_joint[f],
+                    multiplier: m.multiplier,
+                    offset: m.offset,
+                }),
+                _ => None,
+            },
         });
     }
     Some((model_bodies, model_joints))

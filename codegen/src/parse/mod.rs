@@ -98,10 +98,18 @@
 //! | `lower`, `upper` | position limits (rad or m), `lower ≤ upper`; revolute and prismatic joints only | no, none |
 //! | `velocity` | speed limit (rad/s or m/s), `> 0` | no, none |
 //! | `effort` | the actuator's largest force (N·m or N), `> 0` | no, none |
+//! | `mimic` | the joint this one follows (URDF's `<mimic>`) | no |
+//! | `multiplier`, `offset` | with `mimic`: the coordinate is `multiplier·q_followed + offset` | no, 1 and 0 |
 //!
-//! The drive fields (the last six rows, constants only) become the joint's
+//! The drive fields (`armature` to `effort`, constants only) become the joint's
 //! [`Drive`](crate::model::Drive): the armature is part of the generated dynamics; damping,
 //! friction and limits are forces the runtime's `articulated::drives` applies in a simulation.
+//!
+//! A joint with `mimic: other` is a [`Mimic`](crate::model::Mimic) joint: it has no coordinate
+//! of its own (it leaves `q` and `v`, as in Pinocchio 3) and turns or slides by
+//! `multiplier·q_other + offset`; the dynamics are the coupled ones, `M = Gᵀ·M_tree·G`. Both
+//! joints are revolute or prismatic, `other` mimics nothing itself, and the mimic joint may have
+//! an `armature` (reflected onto `other` by `multiplier²`) but no damping, friction or limits.
 //!
 //! Every body is the child of exactly one joint, and every body must be reachable from
 //! `world`. In the [`Model`](crate::model::Model), bodies and joints are stored depth-first from
