@@ -73,8 +73,18 @@ pub fn run(args: &SimulateArgs) -> Result<String, String> {
         )
         .map_err(|fault| {
             bar.abandon();
+            // Where the last good state stood: a state that ran away (|v| in the thousands)
+            // says the step was too long for the chain's stiffest motion.
+            let last = trajectory.states().last().map_or_else(String::new, |s| {
+                format!(
+                    "; the last state reached (t = {}) has max |q| = {:.3e} and max |v| = {:.3e}",
+                    s.t,
+                    s.q.amax(),
+                    s.v.amax()
+                )
+            });
             format!(
-                "error: the simulation stopped: {fault}; nothing was written to {}",
+                "error: the simulation stopped: {fault}{last}; nothing was written to {}",
                 args.out.display()
             )
         })?;

@@ -284,5 +284,25 @@ fn bad_input_is_an_error_and_leaves_no_file() {
         &out,
     );
     assert!(e.contains("t = ") && e.contains("singular"), "{e}");
+    // A light link against stiff stops, stepped far too long: the state runs away, and the
+    // message says where (the acceleration, not a singular M) and how far it got.
+    let light = write(
+        "light.chain",
+        "chain Light {\n\
+         body a { mass: 0.01, com: [0.1, 0.0, 0.0], inertia: diag(1e-6, 1e-6, 1e-6) }\n\
+         joint j: revolute(y) { parent: world, child: a, lower: -0.1, upper: 0.1 }\n}\n",
+    );
+    let e = fails(
+        "simulate",
+        &[
+            &light, "--t-end", "1", "--dt", "0.001", "--drives", "--out", o,
+        ],
+        &out,
+    );
+    assert!(
+        e.contains("acceleration[0] is not finite") && e.contains("max |v| = "),
+        "{e}"
+    );
+    assert!(!e.contains("singular"), "{e}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -109,6 +109,11 @@ fn cause(e: Error) -> Cause<f64> {
         Singularity::Eigenvalues { .. } => 0,
     };
     match e {
+        // `M` passed its checks but `q̈` overflowed (a state that has diverged): not singular.
+        Error::Singular(Singularity::NonFiniteAcceleration { velocity, .. }) => Cause::NonFinite {
+            quantity: Quantity::Acceleration,
+            index: velocity,
+        },
         Error::Singular(s) => Cause::SingularMassMatrix(SingularMassMatrix {
             velocity: velocity(&s),
         }),
