@@ -22,6 +22,8 @@ import os
 import numpy as np
 import pinocchio as pin
 
+from make_derivatives_reference import symmetric
+
 here = os.path.dirname(os.path.abspath(__file__))
 urdf = os.path.join(here, 'gripper_mimic.urdf')
 rng = np.random.default_rng(20261125)
@@ -47,10 +49,6 @@ for row, (col, k) in enumerate([(0, 1), (1, 1), (2, 1), (3, 1), (1, -0.5), (3, 1
                                 (3, 12)]):
     G[row, col] = k
 o = np.array([0, 0, 0, 0, 0.3, 0, 0, -0.2])
-
-
-def symmetric(m):
-    return np.triu(m) + np.triu(m, 1).T
 
 
 states = []
