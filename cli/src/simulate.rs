@@ -18,6 +18,54 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::{load_reference, parse_vector, SimulateArgs};
 
+/// The position stops that a fixed-step explicit integrator cannot step at `dt`: a stop is a
+/// spring and damper on the joint's inertia `I = M_kk(q0)`, whose fastest mode decays at
+/// `|λ| = (c + √(c² − 4ω²))/2` with `c = stop_damping / I`, `ω² = stop_stiffness / I` (`ω`
+/// when the roots are complex); Euler, symplectic Euler and RK4 are stable for
+/// `|λ|·dt ≲ 2`. A light joint (a fingertip) against the default stops needs far smaller steps
+/// than the rest of the chain: said before the run, rather than found as a diverged state.
+fn stiff_stops(
+    model: &articulated::model::Model,
+    reference: &Reference,
+    q0: &[f64],
+    dt: f64,
+    method: Method,
+) -> Vec<String> {
+    let explicit = matches!(
+        method,
+        Method::Euler | Method::SymplecticEuler | Method::Rk4
+    );
+    let Ok(m) = reference.mass_matrix(q0) else {
+        return Vec::new();
+    };
+    let smoothing = articulated::drives::Smoothing::<f64>::default();
+    let mut out = Vec::new();
+    for (i, joint) in model.joints.iter().enumerate() {
+        let limited = joint.drive.lower.is_finite() || joint.drive.upper.is_finite();
+        if !explicit || !limited || joint.nv() != 1 {
+            continue;
+        }
+        let inertia = m[(model.v_offset(i), model.v_offset(i))];
+        let c = smoothing.stop_damping / inertia;
+        let w2 = smoothing.stop_stiffness / inertia;
+        let fastest = match c * c - 4.0 * w2 {
+            d if d > 0.0 => 0.5 * (c + d.sqrt()),
+            _ => w2.sqrt(),
+        };
+        let dt_max = 2.0 / fastest;
+        if dt > dt_max {
+            out.push(format!(
+                "joint `{}`'s position stop is too stiff for --dt {dt}: on its inertia \
+                 {inertia:.2e} at q0 the stop's spring ({:.0e}) and damper ({:.0e}) need steps \
+                 below {dt_max:.1e}, or --integrator dopri5 (adaptive: short steps at the stop only); the state will \
+                 likely run away if it reaches the stop",
+                joint.name, smoothing.stop_stiffness, smoothing.stop_damping
+            ));
+        }
+    }
+    out
+}
+
 /// Points per line in the plot: a longer trajectory is thinned to about this many.
 const PLOT_POINTS: usize = 2000;
 
@@ -46,6 +94,11 @@ pub fn run(args: &SimulateArgs) -> Result<String, String> {
             args.t_end, args.dt
         )
     })?;
+    if args.drives {
+        for warning in stiff_stops(&model, &reference, &q0, args.dt, method) {
+            eprintln!("warning: {warning}");
+        }
+    }
     // τ = 0, through the drives if asked.
     let drives = args.drives.then(|| ModelDrives::of(&model));
     let mut system = Interpreted::new(reference, move |_, q, v| {

@@ -304,5 +304,29 @@ fn bad_input_is_an_error_and_leaves_no_file() {
         "{e}"
     );
     assert!(!e.contains("singular"), "{e}");
+    // Said before the run, with the step that would do and the integrator that copes.
+    assert!(
+        e.contains("warning: joint `j`'s position stop is too stiff for --dt 0.001")
+            && e.contains("--integrator dopri5"),
+        "{e}"
+    );
+    // And the advice holds: the adaptive integrator takes it through the stop.
+    let (ok, stdout, stderr) = run(
+        "simulate",
+        &[
+            &light,
+            "--t-end",
+            "1",
+            "--dt",
+            "0.001",
+            "--drives",
+            "--integrator",
+            "dopri5",
+            "--out",
+            o,
+        ],
+    );
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("1001 states"), "{stdout}");
     std::fs::remove_dir_all(&dir).ok();
 }

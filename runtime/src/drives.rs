@@ -17,9 +17,14 @@
 //!   integrator needs `dt < 2·I·friction_speed / friction` there (`I` the joint's inertia).
 //! - **Position limits** are stops, a one-sided spring and damper that only push back into the
 //!   range (as MuJoCo's soft limits and most real-time simulators do): past `upper` by `p > 0`,
-//!   `stop = min(0, −stop_stiffness·p − stop_damping·v)`; below `lower` the mirror image. The
-//!   penetration is then about `|v|·√(I / stop_stiffness)` at impact speed `v`: stiffer stops
-//!   penetrate less and need smaller steps (`√(stop_stiffness / I)·dt ≪ 1`).
+//!   `stop = min(0, −stop_stiffness·p − stop_damping·min(1, p / stop_depth)·v)`; below `lower`
+//!   the mirror image. The damper comes in over the first `stop_depth` of penetration (as in
+//!   Hunt and Crossley's contact law), so the force is continuous in the state: an adaptive
+//!   integrator (`Dopri5`) resolves a stop by shortening its steps there, where a force that
+//!   jumped to `stop_damping·v` at contact would stall it. The penetration is about
+//!   `|v|·√(I / stop_stiffness)` at impact speed `v`: stiffer stops penetrate less and need
+//!   smaller fixed steps (`√(stop_stiffness / I)·dt ≪ 1` and `stop_damping·dt / I ≪ 1`, `I` the
+//!   joint's inertia: a light fingertip needs far smaller steps than an arm).
 //! - **Speed limits** are reported by [`Drives::over_speed`], not enforced: no physical
 //!   mechanism enforces them in a motor.
 //!
@@ -70,6 +75,10 @@ pub struct Smoothing<T> {
     pub stop_stiffness: T,
     /// Damping of the limit stops (N·m·s/rad or N·s/m); `1e2` unless set.
     pub stop_damping: T,
+    /// The penetration over which the stops' damping comes in, from none at contact to
+    /// `stop_damping` (rad or m); `1e-3` unless set. Zero gives the full damping at contact
+    /// (a force that jumps there).
+    pub stop_depth: T,
     /// The speed below which dry friction fades out (rad/s or m/s); `1e-2` unless set.
     pub friction_speed: T,
 }
@@ -80,6 +89,7 @@ impl<T: RealField + Copy> Default for Smoothing<T> {
         Smoothing {
             stop_stiffness: t(1e4),
             stop_damping: t(1e2),
+            stop_depth: t(1e-3),
             friction_speed: t(1e-2),
         }
     }
@@ -241,6 +251,7 @@ impl<T: RealField + Copy> Law<'_, T> {
         let Smoothing {
             stop_stiffness,
             stop_damping,
+            stop_depth,
             friction_speed,
         } = *self.smoothing;
         for ((f, &v), axis) in tau.iter_mut().zip(v).zip(self.axes) {
@@ -254,7 +265,15 @@ impl<T: RealField + Copy> Law<'_, T> {
             let Some(&x) = q.get(i) else {
                 continue;
             };
-            let spring = |past: T| -stop_stiffness * past - stop_damping * v;
+            let spring = |past: T| {
+                let depth = past.abs();
+                let ramp = if depth < stop_depth {
+                    depth / stop_depth
+                } else {
+                    T::one()
+                };
+                -stop_stiffness * past - stop_damping * ramp * v
+            };
             if x > upper {
                 *f += spring(x - upper).min(zero);
             } else if x < lower {

@@ -12,7 +12,7 @@ mod common;
 use std::path::Path;
 
 use articulated::drives::Drives;
-use articulated::integrate::{ControlledChain, Integrator, Rk4, State};
+use articulated::integrate::{ControlledChain, Dopri5, Integrator, Rk4, State};
 use articulated::nalgebra::{DMatrix, DVector, SMatrix, SVector};
 use articulated::prelude::*;
 use articulated::reference::Reference;
@@ -389,4 +389,58 @@ fn damping_dissipates_the_integral_of_d_v_squared() {
 #[test]
 fn drives_of_a_chain_of_other_sizes_is_an_error() {
     assert!(Drives::<f64, 2, 2>::of::<Pendulum>().is_err());
+}
+
+articulated::chain! {
+    /// A bead of 0.1 g on a rail along x: a fingertip-light joint.
+    chain Bead {
+        outputs: [forward_dynamics];
+        body bead { mass: 1e-4, com: [0.0, 0.0, 0.0], inertia: diag(1e-9, 1e-9, 1e-9) }
+        joint rail: prismatic(x) { parent: world, child: bead }
+    }
+}
+
+/// The stop's force is continuous: its damper comes in over `stop_depth`, so the force is zero
+/// at contact whatever the speed, and the full `stop_damping·v` from `stop_depth` on. An
+/// adaptive integrator then takes a light joint through the stop (a force that jumped at
+/// contact stalled Dormand–Prince at steps of 1e-12 s), and the bead rests at the stop.
+#[test]
+fn a_stop_s_force_is_continuous_so_an_adaptive_step_takes_a_light_joint_through_it() {
+    let drives = cart_drives(Drive {
+        upper: 0.5,
+        ..Drive::FREE
+    });
+    let s = drives.smoothing;
+    let zero = V1::zeros();
+    let force = |x: f64, v: f64| drives.force(&V1::new(x), &V1::new(v), &zero)[0];
+    // At contact, nothing; past the ramp, the spring and the whole damper.
+    assert_eq!(force(0.5, 3.0), 0.0);
+    let just_in = force(0.5 + 1e-12, 3.0);
+    assert!(just_in < 0.0 && just_in > -1e-6, "{just_in}");
+    let past = 2.0 * s.stop_depth;
+    let deep = force(0.5 + past, 3.0);
+    let expected = -s.stop_stiffness * past - s.stop_damping * 3.0;
+    assert!(
+        (deep - expected).abs() < 1e-12 * expected.abs(),
+        "{deep} vs {expected}"
+    );
+    // Half-way along the ramp, half the damper.
+    let half = force(0.5 + 0.5 * s.stop_depth, 3.0);
+    let expected = -s.stop_stiffness * 0.5 * s.stop_depth - 0.5 * s.stop_damping * 3.0;
+    assert!(
+        (half - expected).abs() < 1e-12 * expected.abs(),
+        "{half} vs {expected}"
+    );
+
+    // Pushed at 1 mN into the stop from 1 m/s, the 0.1 g bead (the damper alone would stop it
+    // in 1e-6 s) comes to rest where the spring holds the push, 1 mN / k.
+    let push = |_t: f64, _q: &V1, _v: &V1| V1::new(1e-3);
+    let mut system = ControlledChain::<f64, Bead, _>::new(drives.around(push));
+    let mut state = State::new(0.0, V1::new(0.4), V1::new(1.0));
+    // The CLI's default tolerances.
+    let mut dopri = Dopri5::new(1e-9, 1e-9);
+    dopri.advance(&mut system, &mut state, 1.0, 0).unwrap();
+    let rest = 0.5 + 1e-3 / s.stop_stiffness;
+    assert!((state.q[0] - rest).abs() < 1e-9, "{} vs {rest}", state.q[0]);
+    assert!(state.v[0].abs() < 1e-6, "v = {}", state.v[0]);
 }
