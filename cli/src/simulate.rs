@@ -45,7 +45,10 @@ fn stiff_stops(
         if !explicit || !limited || joint.nv() != 1 {
             continue;
         }
-        let inertia = m[(model.v_offset(i), model.v_offset(i))];
+        let k = model.v_offset(i);
+        let Some(&inertia) = m.get((k, k)) else {
+            continue;
+        };
         let c = smoothing.stop_damping / inertia;
         let w2 = smoothing.stop_stiffness / inertia;
         let fastest = match c * c - 4.0 * w2 {
