@@ -1148,3 +1148,20 @@ fn limits_on_a_mimic_joint() {
          own (its armature is allowed: it is inertia)",
     );
 }
+
+#[test]
+fn lock_of_a_mimic_joint() {
+    check(
+        &[
+            "lock: [k(0.3)];",
+            B,
+            J,
+            B2,
+            "joint k: revolute(z) { parent: a, child: b, mimic: j }",
+        ],
+        2,
+        8,
+        "joint `k` mimics another joint, which moves: a mimic joint is locked with the joint it \
+         follows (lock or drop that one) and moves with it",
+    );
+}

@@ -6,6 +6,9 @@
 //! model's dynamics are the full model's with the locked coordinates held at their values and
 //! their velocities and accelerations zero (`tests/prune.rs` holds them to that).
 //!
+//! A locked joint takes the [`Mimic`] joints that follow it along, each locked at
+//! `multiplier·q + offset` (`tests/mimic.rs`); a mimic joint cannot be locked on its own.
+//!
 //! Locking and merging need the numbers they move to be constants: a placement or mass property
 //! that is a runtime parameter is refused ([`PruneError::Parameter`]) or, for merging, the fixed
 //! joint is kept as it is.
@@ -14,7 +17,7 @@ use alloc::string::{String, ToString};
 use alloc::vec::Vec;
 use core::fmt;
 
-use crate::model::{Body, Drive, Joint, JointKind, Model, Placement, Value};
+use crate::model::{Body, Drive, Joint, JointKind, Mimic, Model, Placement, Value};
 use crate::spatial::{Mat3, Vec3};
 
 /// Why a model could not be pruned as asked.
@@ -44,10 +47,11 @@ pub enum PruneError {
         /// The joint.
         joint: String,
     },
-    /// The model has mimic joints ([`crate::model::Mimic`]), which scenes do not prune yet: a
-    /// locked joint would have to fix the joints that follow it too.
+    /// A mimic joint ([`crate::model::Mimic`]) asked to be locked on its own (lock the joint
+    /// it follows, which locks it too), or dropped from a sub-tree while the joint it follows
+    /// is kept.
     Mimic {
-        /// The first mimic joint.
+        /// The mimic joint.
         joint: String,
     },
     /// A body kept in a sub-tree whose parent is not kept.
@@ -65,8 +69,8 @@ impl fmt::Display for PruneError {
             PruneError::UnknownJoint(j) => write!(f, "cannot lock `{j}`: no joint of that name"),
             PruneError::Mimic { joint } => write!(
                 f,
-                "joint `{joint}` mimics another: chains with mimic joints cannot lock or keep \
-                 joints yet"
+                "joint `{joint}` mimics another joint, which moves: a mimic joint is locked with \
+                 the joint it follows (lock or drop that one) and moves with it"
             ),
             PruneError::UnknownBody(b) => write!(f, "cannot keep `{b}`: no body of that name"),
             PruneError::Coordinates {
@@ -159,16 +163,6 @@ fn placement(r: &Mat3<f64>, p: Vec3<f64>) -> Placement {
     }
 }
 
-/// [`PruneError::Mimic`] for a model with mimic joints.
-fn refuse_mimic(model: &Model) -> Result<(), PruneError> {
-    match model.joints.iter().find(|j| j.mimic.is_some()) {
-        Some(j) => Err(PruneError::Mimic {
-            joint: j.name.clone(),
-        }),
-        None => Ok(()),
-    }
-}
-
 /// `model` with `joint` locked at the position coordinates `q`: a fixed joint whose placement is
 /// the joint's placement followed by the joint's motion at `q`.
 ///
@@ -176,13 +170,17 @@ fn refuse_mimic(model: &Model) -> Result<(), PruneError> {
 /// An unknown joint, the wrong number of values, a non-finite value or a zero quaternion, or a
 /// placement that is a runtime parameter.
 pub fn lock(model: &Model, joint: &str, q: &[f64]) -> Result<Model, PruneError> {
-    refuse_mimic(model)?;
     let i = model
         .joints
         .iter()
         .position(|j| j.name == joint)
         .ok_or_else(|| PruneError::UnknownJoint(joint.to_string()))?;
     let j = &model.joints[i];
+    if j.mimic.is_some() {
+        return Err(PruneError::Mimic {
+            joint: joint.to_string(),
+        });
+    }
     if q.len() != j.kind.nq() {
         return Err(PruneError::Coordinates {
             joint: joint.to_string(),
@@ -215,6 +213,24 @@ pub fn lock(model: &Model, joint: &str, q: &[f64]) -> Result<Model, PruneError> 
         drive: Drive::FREE,
         mimic: None,
     };
+    // The joints that follow it are locked where they follow it to.
+    for (k, follower) in model.joints.iter().enumerate() {
+        if let Some(m) = follower.mimic.filter(|m| m.joint == i) {
+            let at = [m.multiplier * q[0] + m.offset];
+            let (rj, pj) = joint_pose(follower.kind, &at);
+            let (r0, x0) = pose_of(&follower.placement).ok_or_else(|| PruneError::Parameter {
+                joint: follower.name.clone(),
+            })?;
+            out.joints[k] = Joint {
+                name: follower.name.clone(),
+                kind: JointKind::Fixed,
+                parent: follower.parent,
+                placement: placement(&r0.mul_mat(&rj), vadd(x0, r0.mul_vec(pj))),
+                drive: Drive::FREE,
+                mimic: None,
+            };
+        }
+    }
     Ok(out)
 }
 
@@ -226,7 +242,6 @@ pub fn lock(model: &Model, joint: &str, q: &[f64]) -> Result<Model, PruneError> 
 /// # Errors
 /// An unknown body or a kept body whose parent is not kept, or what [`lock`] refuses.
 pub fn keep(model: &Model, keep: &[&str], locks: &[(&str, &[f64])]) -> Result<Model, PruneError> {
-    refuse_mimic(model)?;
     for name in keep {
         let b = model
             .body_index(name)
@@ -246,6 +261,15 @@ pub fn keep(model: &Model, keep: &[&str], locks: &[(&str, &[f64])]) -> Result<Mo
             continue;
         }
         let joint = &model.joints[b];
+        if let Some(m) = joint.mimic {
+            // Locked with the joint it follows, below; if that one moves, so must this body.
+            if keep.contains(&model.bodies[m.joint].name.as_str()) {
+                return Err(PruneError::Mimic {
+                    joint: joint.name.clone(),
+                });
+            }
+            continue;
+        }
         let q = match locks.iter().find(|(name, _)| *name == joint.name) {
             Some((_, q)) => q.to_vec(),
             None => joint.kind.neutral(),
@@ -342,15 +366,22 @@ pub fn merge_fixed(model: &Model) -> Model {
             pose[b] = (r, x);
         }
     }
-    // Keep the bodies that stay, in order, their joints re-attached to the hosts.
+    // Keep the bodies that stay, in order, their joints re-attached to the hosts (and mimic
+    // joints to the joints they follow, which stay: they move).
     let mut index: Vec<Option<usize>> = alloc::vec![None; n];
+    let mut kept = 0;
+    for b in 0..n {
+        if host[b] == b {
+            index[b] = Some(kept);
+            kept += 1;
+        }
+    }
     let mut out_bodies = Vec::new();
     let mut out_joints: Vec<Joint> = Vec::new();
     for b in 0..n {
         if host[b] != b {
             continue;
         }
-        index[b] = Some(out_bodies.len());
         let joint = &model.joints[b];
         let (parent, placement_of) = match joint.parent {
             Some(p) if host[p] != p => {
@@ -373,7 +404,12 @@ pub fn merge_fixed(model: &Model) -> Model {
             parent: parent.and_then(|p| index[p]),
             placement: placement_of,
             drive: joint.drive,
-            mimic: None,
+            mimic: joint.mimic.and_then(|m| {
+                Some(Mimic {
+                    joint: index.get(m.joint).copied().flatten()?,
+                    ..m
+                })
+            }),
         });
     }
     Model {

@@ -275,3 +275,68 @@ fn a_bad_mimic_is_a_model_error_naming_the_joint() {
     });
     assert!(p.contains("only revolute and prismatic"), "{p}");
 }
+
+/// Locking the joint a mimic joint follows locks both: the locked chain is the coupled one with
+/// that coordinate held still, so its `M` is the coupled `M`'s principal sub-matrix and its `τ`
+/// the coupled `τ`'s rows at `v = a = 0` on the locked coordinate. Then `keep` of the palm and
+/// the branch without the fingers, which merges them as a payload: the mimic joint's index is
+/// renumbered.
+#[test]
+fn locking_a_followed_joint_locks_the_joints_that_follow_it() {
+    use articulated_dynamics::prune::{keep, lock, merge_fixed, PruneError};
+    let m = gripper();
+    let r = Reference::new(&m).unwrap();
+    let locked = lock(&m, "finger1", &[0.3]).unwrap();
+    assert_eq!(locked.joints[2].kind, JointKind::Fixed);
+    assert_eq!(locked.joints[2].mimic, None);
+    let rl = Reference::new(&locked).unwrap();
+    assert_eq!(rl.nv(), 2);
+    for [q, v, a] in states() {
+        // wrist, finger1 (= 0.3, still), tip2.
+        let full = |x: &DVector<f64>, middle: f64| vec![x[0], middle, x[2]];
+        let (qf, vf, af) = (full(&q, 0.3), full(&v, 0.0), full(&a, 0.0));
+        let (qr, vr, ar) = ([q[0], q[2]], [v[0], v[2]], [a[0], a[2]]);
+        let mm = r.mass_matrix(&qf).unwrap();
+        let sub = mm.select_rows(&[0, 2]).select_columns(&[0, 2]);
+        assert!(rel_err_mat(&rl.mass_matrix(&qr).unwrap(), &sub, 1.0) < 1e-14);
+        let tau = r.inverse_dynamics(&qf, &vf, &af).unwrap();
+        let sub = DVector::from_vec(vec![tau[0], tau[2]]);
+        let tau_locked = rl.inverse_dynamics(&qr, &vr, &ar).unwrap();
+        assert!(rel_err_vec(&tau_locked, &sub, 1.0) < 1e-13);
+    }
+    // A mimic joint alone cannot be locked.
+    assert_eq!(
+        lock(&m, "finger2", &[0.1]),
+        Err(PruneError::Mimic {
+            joint: "finger2".into()
+        })
+    );
+    // Nor dropped while the joint it follows moves.
+    assert!(matches!(
+        keep(&m, &["palm", "finger1"], &[]),
+        Err(PruneError::Mimic { .. })
+    ));
+    // Keeping only the palm locks finger1 (and with it finger2) and tip2 at neutral.
+    let palm = merge_fixed(&keep(&m, &["palm"], &[]).unwrap());
+    assert_eq!((palm.nb(), palm.nv()), (1, 1));
+    // A mimic joint after its fixed neighbours are merged still names the joint it follows.
+    let mut shifted = gripper();
+    shifted.joints[1].kind = JointKind::Fixed;
+    shifted.joints[2].mimic = None;
+    shifted.joints[3].mimic = mimic(2, 2.0, 0.0);
+    let merged = merge_fixed(&shifted);
+    assert_eq!(merged.joints.len(), 3);
+    assert_eq!(merged.joints[2].mimic.map(|m| m.joint), Some(1));
+    let (rs, rm) = (
+        Reference::new(&shifted).unwrap(),
+        Reference::new(&merged).unwrap(),
+    );
+    let q = [0.3, -0.4];
+    assert!(
+        rel_err_mat(
+            &rm.mass_matrix(&q).unwrap(),
+            &rs.mass_matrix(&q).unwrap(),
+            1.0
+        ) < 1e-14
+    );
+}

@@ -55,6 +55,16 @@ struct Independent;
 )]
 struct Parallelogram;
 
+/// The arm with its gripper locked half open: `finger_left` at 2 cm, and with it the joints
+/// that follow it (`finger_right`, `thumb`).
+#[derive(Chain)]
+#[chain(
+    urdf = "data/gripper_mimic.urdf",
+    lock = [finger_left(0.02)],
+    outputs = [mass_matrix, inverse_dynamics]
+)]
+struct GripperHeld;
+
 const NQ: usize = 5;
 const NT: usize = 8;
 
@@ -211,5 +221,30 @@ fn a_parallelogram_from_the_grammar_has_its_closed_forms() {
         let tau = SVector::<f64, 1>::new(1.0);
         let qdd = Parallelogram::forward_dynamics(&q, &v, &tau).unwrap()[0];
         assert!((qdd - (1.0 - closed) / inertia).abs() < 1e-13, "q̈ {qdd}");
+    }
+}
+
+#[test]
+fn a_held_gripper_is_the_coupled_arm_with_its_finger_still() {
+    // shoulder, elbow, wrist, right_knuckle move; finger_left is held at 0.02 with zero rate.
+    for seed in 0..10 {
+        let (q, v, a) = random_state(reference().model(), seed);
+        let full = |x: &[f64], finger: f64| {
+            SVector::<f64, NQ>::from_column_slice(&[x[0], x[1], x[2], finger, x[4]])
+        };
+        let (qf, vf, af) = (full(&q, 0.02), full(&v, 0.0), full(&a, 0.0));
+        let pick = |x: &[f64]| SVector::<f64, 4>::from_column_slice(&[x[0], x[1], x[2], x[4]]);
+        let (qh, vh, ah) = (pick(&q), pick(&v), pick(&a));
+        let m = Gripper::mass_matrix(&qf);
+        let sub = m.select_rows(&[0, 1, 2, 4]).select_columns(&[0, 1, 2, 4]);
+        let held = GripperHeld::mass_matrix(&qh);
+        assert!(
+            rel_err(held.as_slice(), sub.as_slice()) < 1e-14,
+            "M, seed {seed}"
+        );
+        let tau = Gripper::inverse_dynamics(&qf, &vf, &af);
+        let sub: Vec<f64> = [0, 1, 2, 4].iter().map(|&k| tau[k]).collect();
+        let held = GripperHeld::inverse_dynamics(&qh, &vh, &ah);
+        assert!(rel_err(held.as_slice(), &sub) < 1e-13, "τ, seed {seed}");
     }
 }
