@@ -50,10 +50,17 @@ pub(super) fn type_doc(cx: &Context) -> Vec<String> {
         .filter_map(|j| {
             let m = j.mimic?;
             let followed = &cx.model.joints.get(m.joint)?.name;
-            Some(format!(
-                "`{}` = {:?}·`{followed}` + {:?}",
-                j.name, m.multiplier, m.offset
-            ))
+            let factor = if m.multiplier == 1.0 {
+                String::new()
+            } else {
+                format!("{:?}·", m.multiplier)
+            };
+            let offset = match m.offset {
+                0.0 => String::new(),
+                o if o < 0.0 => format!(" − {:?}", -o),
+                o => format!(" + {o:?}"),
+            };
+            Some(format!("`{}` = {factor}`{followed}`{offset}", j.name))
         })
         .collect();
     if !mimics.is_empty() {
