@@ -163,12 +163,31 @@ fn placement(r: &Mat3<f64>, p: Vec3<f64>) -> Placement {
     }
 }
 
+/// `joint` locked at the position coordinates `q`: a fixed joint whose placement is the joint's
+/// placement followed by the joint's motion at `q`.
+fn fixed_at(joint: &Joint, q: &[f64]) -> Result<Joint, PruneError> {
+    let (r0, x0) = pose_of(&joint.placement).ok_or_else(|| PruneError::Parameter {
+        joint: joint.name.clone(),
+    })?;
+    let (rj, pj) = joint_pose(joint.kind, q);
+    Ok(Joint {
+        name: joint.name.clone(),
+        kind: JointKind::Fixed,
+        parent: joint.parent,
+        placement: placement(&r0.mul_mat(&rj), vadd(x0, r0.mul_vec(pj))),
+        // A locked joint has no coordinate left for its rotor or limits to act on.
+        drive: Drive::FREE,
+        mimic: None,
+    })
+}
+
 /// `model` with `joint` locked at the position coordinates `q`: a fixed joint whose placement is
-/// the joint's placement followed by the joint's motion at `q`.
+/// the joint's placement followed by the joint's motion at `q`; the mimic joints that follow it
+/// are locked too, each at `multiplier·q + offset`.
 ///
 /// # Errors
-/// An unknown joint, the wrong number of values, a non-finite value or a zero quaternion, or a
-/// placement that is a runtime parameter.
+/// An unknown joint, a mimic joint, the wrong number of values, a non-finite value or a zero
+/// quaternion, or a placement that is a runtime parameter.
 pub fn lock(model: &Model, joint: &str, q: &[f64]) -> Result<Model, PruneError> {
     let i = model
         .joints
@@ -199,36 +218,12 @@ pub fn lock(model: &Model, joint: &str, q: &[f64]) -> Result<Model, PruneError> 
             joint: joint.to_string(),
         });
     }
-    let (r0, x0) = pose_of(&j.placement).ok_or_else(|| PruneError::Parameter {
-        joint: joint.to_string(),
-    })?;
-    let (rj, pj) = joint_pose(j.kind, q);
     let mut out = model.clone();
-    out.joints[i] = Joint {
-        name: j.name.clone(),
-        kind: JointKind::Fixed,
-        parent: j.parent,
-        placement: placement(&r0.mul_mat(&rj), vadd(x0, r0.mul_vec(pj))),
-        // A locked joint has no coordinate left for its rotor or limits to act on.
-        drive: Drive::FREE,
-        mimic: None,
-    };
+    out.joints[i] = fixed_at(j, q)?;
     // The joints that follow it are locked where they follow it to.
     for (k, follower) in model.joints.iter().enumerate() {
         if let Some(m) = follower.mimic.filter(|m| m.joint == i) {
-            let at = [m.multiplier * q[0] + m.offset];
-            let (rj, pj) = joint_pose(follower.kind, &at);
-            let (r0, x0) = pose_of(&follower.placement).ok_or_else(|| PruneError::Parameter {
-                joint: follower.name.clone(),
-            })?;
-            out.joints[k] = Joint {
-                name: follower.name.clone(),
-                kind: JointKind::Fixed,
-                parent: follower.parent,
-                placement: placement(&r0.mul_mat(&rj), vadd(x0, r0.mul_vec(pj))),
-                drive: Drive::FREE,
-                mimic: None,
-            };
+            out.joints[k] = fixed_at(follower, &[m.multiplier * q[0] + m.offset])?;
         }
     }
     Ok(out)
