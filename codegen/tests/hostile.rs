@@ -140,3 +140,23 @@ fn numbers_that_overflow_f64_are_refused() {
     );
     generate(&d.model, &d.options).unwrap_or_else(|e| panic!("{e}"));
 }
+
+/// A model built by a program rather than a front end is checked before anything is traced: a
+/// mimic joint naming a joint that does not exist is refused with its name, not a panic.
+#[test]
+fn a_program_built_model_is_checked_before_it_is_generated() {
+    let mut d = chain(&serial(3));
+    d.model.joints[2].mimic = Some(articulated_dynamics::model::Mimic {
+        joint: 7,
+        multiplier: 1.0,
+        offset: 0.0,
+    });
+    let Err(e) = generate(&d.model, &d.options) else {
+        panic!("expected a refusal");
+    };
+    let e = e.to_string();
+    assert!(
+        e.contains("the model `Serial` is invalid") && e.contains("joint `j2`"),
+        "{e}"
+    );
+}

@@ -53,8 +53,16 @@ pub fn generate(model: &Model, options: &Options) -> syn::Result<Generated> {
 }
 
 /// The model of the scene `options` describes ([`Options::scene_model`]), as a `syn::Error` at
-/// the call site if it does not fit (the front ends report it at its token first).
+/// the call site if it does not fit (the front ends report it at its token first). The model is
+/// checked first ([`Model::check`]): one built by a program (`Builder::model`) has had no front
+/// end to refuse a parent or a mimic joint out of range.
 fn scene(model: &Model, options: &Options) -> syn::Result<Model> {
+    model.check().map_err(|e| {
+        syn::Error::new(
+            Span::call_site(),
+            format!("the model `{}` is invalid: {e}", model.name),
+        )
+    })?;
     options
         .scene_model(model)
         .map_err(|e| syn::Error::new(Span::call_site(), e.to_string()))
