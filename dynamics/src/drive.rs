@@ -38,6 +38,15 @@ pub struct Drive {
 }
 
 impl Drive {
+    /// Whether it gives anything besides a rotor inertia: damping, friction or a limit (what a
+    /// joint without a coordinate of its own, a mimic joint, cannot have).
+    pub fn acts_beyond_inertia(&self) -> bool {
+        Drive {
+            armature: 0.0,
+            ..*self
+        } != Drive::FREE
+    }
+
     /// No rotor, no losses, no limits.
     pub const FREE: Drive = Drive {
         armature: 0.0,

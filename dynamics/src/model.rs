@@ -198,6 +198,14 @@ impl JointKind {
             JointKind::Fixed => 0,
         }
     }
+    /// Whether the joint moves along or about one axis (revolute, prismatic): the joints that
+    /// can mimic and be mimicked ([`Mimic`]).
+    pub fn has_one_axis(&self) -> bool {
+        matches!(
+            self,
+            JointKind::Revolute { .. } | JointKind::Prismatic { .. }
+        )
+    }
     /// The neutral configuration of this joint (zeros; the identity quaternion).
     pub fn neutral(&self) -> Vec<f64> {
         let mut q = alloc::vec![0.0; self.nq()];
@@ -297,6 +305,12 @@ pub struct Mimic {
     pub offset: f64,
 }
 
+impl Mimic {
+    /// Why a mimic joint's drive may hold nothing but its armature ([`Drive::acts_beyond_inertia`]).
+    pub const DRIVE_PROBLEM: &'static str = "a mimic joint has no coordinate, so no damping, \
+         friction or limits of its own (its armature is allowed: it is inertia)";
+}
+
 /// Where one coordinate of the tree (every joint with its own coordinates, mimic joints too)
 /// comes from in the model's coordinates: `tree[k] = multiplier·model[index] + offset`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -381,6 +395,10 @@ impl Coupling {
 
     /// `Gᵀ·M·G` for the tree's square `M` (`nv_tree × nv_tree`, row-major): `nv × nv`, row-major.
     pub fn reduce_matrix<T: Scalar>(&self, m: &[T]) -> Vec<T> {
+        if self.is_identity() {
+            // The reference's forward dynamics reads `M` at every call: no copies by column.
+            return m.to_vec();
+        }
         let n = self.v.len();
         // `M·G`, then `Gᵀ·(M·G)` by reducing its columns.
         let mg = self.reduce_columns(m, n);
@@ -529,8 +547,6 @@ impl Model {
     fn mimic_problem(&self, j: &Joint) -> Option<String> {
         use alloc::format;
         let m = j.mimic?;
-        let one_axis =
-            |k: &JointKind| matches!(k, JointKind::Revolute { .. } | JointKind::Prismatic { .. });
         let Some(followed) = self.joints.get(m.joint) else {
             return Some(format!(
                 "it mimics joint #{}, which does not exist",
@@ -544,7 +560,7 @@ impl Model {
                 "it mimics `{}`, which is a mimic joint itself: mimic the joint that one follows",
                 followed.name
             )
-        } else if !one_axis(&j.kind) || !one_axis(&followed.kind) {
+        } else if !j.kind.has_one_axis() || !followed.kind.has_one_axis() {
             format!(
                 "it mimics `{}`: only revolute and prismatic joints mimic and are mimicked",
                 followed.name
@@ -554,15 +570,8 @@ impl Model {
                 "its multiplier {} and offset {} must be finite",
                 m.multiplier, m.offset
             )
-        } else if (Drive {
-            armature: 0.0,
-            ..j.drive
-        }) != Drive::FREE
-        {
-            String::from(
-                "a mimic joint has no coordinate, so no damping, friction or limits of its own \
-                 (its armature is allowed: it is inertia)",
-            )
+        } else if j.drive.acts_beyond_inertia() {
+            String::from(Mimic::DRIVE_PROBLEM)
         } else {
             return None;
         })

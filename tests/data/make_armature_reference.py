@@ -14,12 +14,13 @@ mass_matrix = crba(q) (symmetrized), tau_out = rnea(q, v, a), qdd = aba(q, v, ta
 computeABADerivatives(q, v, tau): ddq_dq, ddq_dv, minv (= dq''/dtau, symmetrized).
 The script checks that M - M(armature = 0) is diag(armature) before writing anything.
 """
-import json
 import os
 import xml.etree.ElementTree as ET
 
 import numpy as np
 import pinocchio as pin
+
+from pinocchio_io import draw_state, symmetric, write_json
 
 here = os.path.dirname(os.path.abspath(__file__))
 urdf = os.path.join(here, 'arm7_armature.urdf')
@@ -38,16 +39,9 @@ model.armature = armature
 d, d_rigid = model.createData(), rigid.createData()
 
 
-def symmetric(m):
-    return np.triu(m) + np.triu(m, 1).T
-
-
 states = []
 for s in range(4):
-    q = rng.uniform(-1.2, 1.2, model.nq)
-    v = rng.uniform(-2, 2, model.nv)
-    a = rng.uniform(-3, 3, model.nv)
-    tau = rng.uniform(-5, 5, model.nv)
+    q, v, a, tau = draw_state(rng, model)
     M = symmetric(pin.crba(model, d, q))
     M_rigid = symmetric(pin.crba(rigid, d_rigid, q))
     assert np.abs(M - M_rigid - np.diag(armature)).max() < 1e-12, s
@@ -73,8 +67,5 @@ out = {
     "states": states,
 }
 path = os.path.join(here, 'pinocchio-armature.json')
-tmp = path + '.tmp'
-with open(tmp, 'w') as f:
-    json.dump(out, f, indent=1)
-os.replace(tmp, path)
+write_json(path, out)
 print(path, model.nq, model.nv)

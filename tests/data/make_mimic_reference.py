@@ -16,13 +16,13 @@ Before writing anything the script checks Pinocchio's coupled values against the
 with every joint independent (mimic=False) and the coupling G written out here:
 M = G^T M_full G and tau = G^T tau_full(G q + o, G v, G a).
 """
-import json
 import os
 
 import numpy as np
 import pinocchio as pin
 
-from make_derivatives_reference import symmetric
+from pinocchio_io import draw_state, symmetric, write_json
+
 
 here = os.path.dirname(os.path.abspath(__file__))
 urdf = os.path.join(here, 'gripper_mimic.urdf')
@@ -53,10 +53,7 @@ o = np.array([0, 0, 0, 0, 0.3, 0, 0, -0.2])
 
 states = []
 for s in range(4):
-    q = rng.uniform(-1.2, 1.2, model.nq)
-    v = rng.uniform(-2, 2, model.nv)
-    a = rng.uniform(-3, 3, model.nv)
-    tau = rng.uniform(-5, 5, model.nv)
+    q, v, a, tau = draw_state(rng, model)
     M = symmetric(pin.crba(model, fresh(), q))
     tau_out = pin.rnea(model, fresh(), q, v, a)
     g = pin.computeGeneralizedGravity(model, fresh(), q)
@@ -91,8 +88,5 @@ out = {
     "states": states,
 }
 path = os.path.join(here, 'pinocchio-mimic.json')
-tmp = path + '.tmp'
-with open(tmp, 'w') as f:
-    json.dump(out, f, indent=1)
-os.replace(tmp, path)
+write_json(path, out)
 print(path, model.nq, model.nv)

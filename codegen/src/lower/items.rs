@@ -15,7 +15,7 @@ use syn::{Lit, Token};
 
 use super::numbers::NumCtx;
 use super::{visibility, BodyDecl, InertiaDecl, JointDecl, Lower, MimicDecl, Parent};
-use crate::model::{Drive, JointKind, Placement, Value, DEFAULT_GRAVITY};
+use crate::model::{Drive, JointKind, Mimic, Placement, Value, DEFAULT_GRAVITY};
 use crate::options::{
     one_of, unknown_accuracy, unknown_output, unknown_scalar, Accuracy, Options, Output, ScalarKind,
 };
@@ -493,12 +493,7 @@ impl Lower {
     /// joint itself, mimics nothing itself, and, like the mimic joint, is revolute or prismatic.
     /// Returns, per joint, the declaration index of the joint it follows.
     pub(super) fn resolve_mimics(&mut self, joints: &[JointDecl]) -> Vec<Option<usize>> {
-        let one_axis = |k: &Option<JointKind>| {
-            matches!(
-                k,
-                Some(JointKind::Revolute { .. } | JointKind::Prismatic { .. })
-            )
-        };
+        let one_axis = |k: &Option<JointKind>| k.is_some_and(|k| k.has_one_axis());
         let mut out = vec![None; joints.len()];
         for (i, j) in joints.iter().enumerate() {
             let Some(m) = &j.mimic else { continue };
@@ -529,17 +524,8 @@ impl Lower {
                     "only revolute and prismatic joints mimic and are mimicked (`{}` and {owner})",
                     m.name
                 ))
-            } else if j.drive
-                != (Drive {
-                    armature: j.drive.armature,
-                    ..Drive::FREE
-                })
-            {
-                Some(
-                    "a mimic joint has no coordinate, so no damping, friction or limits of its \
-                     own (its armature is allowed: it is inertia)"
-                        .to_string(),
-                )
+            } else if j.drive.acts_beyond_inertia() {
+                Some(Mimic::DRIVE_PROBLEM.to_string())
             } else {
                 None
             };

@@ -159,14 +159,14 @@ pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> 
         };
         match output {
             Output::InverseDynamicsDerivatives => {
-                let (q, v, a) = tree_inputs(model, variant, Var::A);
+                let (q, v, a) = tree_inputs(model, &c, variant);
                 let (dq, dv) = derivatives(&q, &v, &a);
                 let mut values = labelled("dtau_dq", dq, nv);
                 values.extend(labelled("dtau_dv", dv, nv));
                 (values, None)
             }
             Output::ForwardDynamicsDerivatives => {
-                let (q, v, tau) = model_inputs(model, variant, Var::Tau);
+                let (q, v, tau) = model_inputs(model, &c, variant, Var::Tau);
                 let zero = vec![Sym::zero(); tree.nv];
                 let m = c.reduce_matrix(&mass_matrix(form, &tree, &q));
                 let h = c.reduce(&rnea(form, &tree, &q, &v, &zero, true));
@@ -185,7 +185,7 @@ pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> 
                 (values, Some(pivots_with_scale(d.pivots)))
             }
             _ => {
-                let (q, _, _) = model_inputs(model, variant, Var::A);
+                let q = c.expand_q(&super::inputs(model.nq(), Var::Q));
                 let m = c.reduce_matrix(&mass_matrix(form, &tree, &q));
                 let (minv, pairs) = mass_matrix_inverse_from(m, nv);
                 (labelled("minv", minv, nv), Some(pivots_with_scale(pairs)))

@@ -74,7 +74,7 @@ pub(crate) fn trace_variant(model: &Model, variant: Variant) -> Traced {
     let (graph, (values, pivots)) = sym::trace(|| {
         let tree = symbolic_tree(model, variant.regrouped);
         let (c, nv) = (model.coupling(), model.nv());
-        let (q, v, tau) = model_inputs(model, variant, Var::Tau);
+        let (q, v, tau) = model_inputs(model, &c, variant, Var::Tau);
         let (values, pivots) = match variant.method {
             Some(FdMethod::CrbaLtdl) => {
                 let m = c.reduce_matrix(&mass_matrix(variant.formulation, &tree, &q));

@@ -32,7 +32,7 @@ pub mod regroup;
 
 use std::fmt;
 
-use articulated_dynamics::model::Model;
+use articulated_dynamics::model::{Coupling, Model};
 use articulated_dynamics::reference::{self, centroidal, Tree};
 use articulated_dynamics::spatial::{Force, Transform, Vec3};
 use articulated_dynamics::Scalar;
@@ -341,7 +341,7 @@ fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
     let (graph, values) = sym::trace(|| {
         let tree = symbolic_tree(model, variant.regrouped);
         let (c, nv) = (model.coupling(), model.nv());
-        let (q, v, a) = tree_inputs(model, variant, Var::A);
+        let (q, v, a) = tree_inputs(model, &c, variant);
         let zero = vec![Sym::zero(); tree.nv];
         let form = variant.formulation;
         let values = match output {
@@ -474,17 +474,16 @@ pub(crate) fn symbolic_tree(model: &Model, regrouped: bool) -> Tree<Sym> {
     tree
 }
 
-/// The tree's `q`, `v` and a third vector (`a` or `τ`, input `third`) from the model's inputs,
-/// through the model's [`Coupling`](articulated_dynamics::model::Coupling): the inputs
-/// themselves but for mimic joints, whose coordinates are `multiplier·q_j + offset`. The third is
-/// the model's, not expanded: `τ` stays in the model's coordinates, `a` is expanded by the
-/// caller that needs it in the tree's ([`tree_inputs`] does for `a`).
+/// The tree's `q` and `v` from the model's inputs through the model's coupling `c`
+/// ([`Model::coupling`]: the inputs themselves but for mimic joints, whose coordinates are
+/// `multiplier·q_j + offset`), and a third input vector (`τ`, input `third`) in the model's
+/// coordinates, not expanded.
 pub(crate) fn model_inputs(
     model: &Model,
+    c: &Coupling,
     variant: Variant,
     third: fn(usize) -> Var,
 ) -> (Vec<Sym>, Vec<Sym>, Vec<Sym>) {
-    let c = model.coupling();
     (
         c.expand_q(&inputs(model.nq(), Var::Q)),
         c.expand_v(&velocities(model.nv(), variant)),
@@ -495,11 +494,11 @@ pub(crate) fn model_inputs(
 /// The tree's `q`, `v` and `a` ([`model_inputs`] with `a` expanded too).
 pub(crate) fn tree_inputs(
     model: &Model,
+    c: &Coupling,
     variant: Variant,
-    a: fn(usize) -> Var,
 ) -> (Vec<Sym>, Vec<Sym>, Vec<Sym>) {
-    let (q, v, a) = model_inputs(model, variant, a);
-    (q, v, model.coupling().expand_v(&a))
+    let (q, v, a) = model_inputs(model, c, variant, Var::A);
+    (q, v, c.expand_v(&a))
 }
 
 /// The velocities a variant is traced with: the inputs `v`, or zeros when quasi-static.

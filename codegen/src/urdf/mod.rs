@@ -734,10 +734,7 @@ impl Importer {
                      multipliers and offsets composed",
                 ));
             }
-            if !matches!(
-                built.joints[followed].kind,
-                JointKind::Revolute { .. } | JointKind::Prismatic { .. }
-            ) {
+            if !built.joints[followed].kind.has_one_axis() {
                 return Err(error(
                     "which is not revolute, continuous or prismatic: only those can be mimicked",
                 ));
