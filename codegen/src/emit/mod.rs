@@ -198,18 +198,27 @@ impl<'g> Writer<'g> {
         w
     }
 
-    /// The nodes bound by a `let`, in the order they are emitted: the batched sines and
-    /// cosines first, then every other operation except the products fused into a sum.
+    /// The nodes bound by a `let`, in the order they are emitted: the batched angles that are
+    /// not inputs (an input plus its turn), the batched sines and cosines, then every other
+    /// operation except the products fused into a sum.
     fn statement_nodes(&self) -> Vec<Sym> {
         let in_fma: HashSet<Sym> = self.fused.values().copied().collect();
+        let angles = self.batched_sums();
         let batch = self.batch_nodes();
-        let batched: HashSet<Sym> = batch.iter().copied().collect();
+        let first: HashSet<Sym> = angles.iter().chain(&batch).copied().collect();
         let rest = self.live.iter().copied().filter(|&s| {
             !matches!(self.graph.node(s), Node::Const(_) | Node::Input(_))
                 && !in_fma.contains(&s)
-                && !batched.contains(&s)
+                && !first.contains(&s)
         });
-        batch.iter().copied().chain(rest).collect()
+        angles.into_iter().chain(batch).chain(rest).collect()
+    }
+
+    /// The batched angles that are sums (an input and a constant), computed before the batch.
+    fn batched_sums(&self) -> Vec<Sym> {
+        let sums = self.batched.iter().copied();
+        sums.filter(|&a| !matches!(self.graph.node(a), Node::Input(_)))
+            .collect()
     }
 
     /// The sines, then the cosines, that the `sincos_array` call computes.
@@ -236,12 +245,17 @@ impl<'g> Writer<'g> {
     fn emit(&self, outputs: &[Sym]) -> Result<Emitted, EmitError> {
         let mut stmts = Vec::new();
         let mut done: HashSet<Sym> = HashSet::new();
-        if let Some(batch) = self.sincos_array()? {
-            done.extend(self.batch_nodes());
-            stmts.push(batch);
-        }
+        let batch: HashSet<Sym> = self.batch_nodes().into_iter().collect();
         for s in self.statement_nodes() {
             if done.contains(&s) {
+                continue;
+            }
+            if batch.contains(&s) {
+                // The first of the batch: the one call that computes all of it.
+                if let Some(call) = self.sincos_array()? {
+                    done.extend(batch.iter().copied());
+                    stmts.push(call);
+                }
                 continue;
             }
             let (pattern, value, args) = self.statement(s, &mut done)?;

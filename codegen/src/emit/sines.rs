@@ -75,17 +75,30 @@ impl Trig {
         t
     }
 
-    /// The inputs (joint angles) whose sine or cosine is live, in order of first use: in `f64`
-    /// they are computed by one `sincos_array` call when there are two or more.
+    /// The angles whose sine or cosine is live, in order of first use: the inputs, and an input
+    /// plus or minus a constant (a joint angle with its placement's turn folded in,
+    /// `crate::trace::turns`). In `f64` they are computed by one `sincos_array` call when
+    /// there are two or more.
     pub(super) fn batched_angles(&self, graph: &Graph, live: &[Sym]) -> Vec<Sym> {
         let mut angles: Vec<Sym> = Vec::new();
         for &s in live {
             if let Node::Sin(a) | Node::Cos(a) = graph.node(s) {
-                if matches!(graph.node(a), Node::Input(_)) && !angles.contains(&a) {
+                if is_angle(graph, a) && !angles.contains(&a) {
                     angles.push(a);
                 }
             }
         }
         angles
+    }
+}
+
+/// An input, or an input plus or minus a constant.
+fn is_angle(graph: &Graph, a: Sym) -> bool {
+    let input = |x: Sym| matches!(graph.node(x), Node::Input(_));
+    let constant = |x: Sym| matches!(graph.node(x), Node::Const(_));
+    match graph.node(a) {
+        Node::Input(_) => true,
+        Node::Add(x, y) | Node::Sub(x, y) => (input(x) && constant(y)) || (constant(x) && input(y)),
+        _ => false,
     }
 }

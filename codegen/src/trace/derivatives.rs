@@ -23,7 +23,9 @@ use articulated_dynamics::spatial::Mat3;
 use articulated_dynamics::Scalar;
 
 use super::forward::FdMethod;
-use super::{mass_matrix, model_inputs, newton_euler, rnea, symbolic_tree, tree_inputs};
+use super::{
+    mass_matrix, model_inputs, newton_euler, rnea, symbolic_tree, tree_angles, tree_inputs,
+};
 use super::{Formulation, Pivots, Traced, Variant};
 use crate::options::Output;
 use crate::sym::{self, Sym, Var};
@@ -148,7 +150,7 @@ fn labelled(stem: &str, x: Vec<Sym>, n: usize) -> Vec<Sym> {
 /// `M⁻¹`.
 pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
     let (graph, (values, pivots)) = sym::trace(|| {
-        let tree = symbolic_tree(model, variant.regrouped);
+        let (tree, turns) = symbolic_tree(model, variant.regrouped);
         let (c, nv) = (model.coupling(), model.nv());
         let form = variant.formulation;
         // With mimic joints, `∂τ/∂x = Gᵀ·∂τ_tree/∂x_tree·G` (`G` constant): the tree's
@@ -159,14 +161,14 @@ pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> 
         };
         match output {
             Output::InverseDynamicsDerivatives => {
-                let (q, v, a) = tree_inputs(model, &c, variant);
+                let (q, v, a) = tree_inputs(model, &c, &turns, variant);
                 let (dq, dv) = derivatives(&q, &v, &a);
                 let mut values = labelled("dtau_dq", dq, nv);
                 values.extend(labelled("dtau_dv", dv, nv));
                 (values, None)
             }
             Output::ForwardDynamicsDerivatives => {
-                let (q, v, tau) = model_inputs(model, &c, variant, Var::Tau);
+                let (q, v, tau) = model_inputs(model, &c, &turns, variant, Var::Tau);
                 let zero = vec![Sym::zero(); tree.nv];
                 let m = c.reduce_matrix(&mass_matrix(form, &tree, &q));
                 let h = c.reduce(&rnea(form, &tree, &q, &v, &zero, true));
@@ -185,7 +187,7 @@ pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> 
                 (values, Some(pivots_with_scale(d.pivots)))
             }
             _ => {
-                let q = c.expand_q(&super::inputs(model.nq(), Var::Q));
+                let q = tree_angles(model, &c, &turns);
                 let m = c.reduce_matrix(&mass_matrix(form, &tree, &q));
                 let (minv, pairs) = mass_matrix_inverse_from(m, nv);
                 (labelled("minv", minv, nv), Some(pivots_with_scale(pairs)))

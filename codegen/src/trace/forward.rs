@@ -72,9 +72,9 @@ pub(crate) fn variants(model: &Model) -> impl Iterator<Item = Variant> {
 /// Forward dynamics traced one way.
 pub(crate) fn trace_variant(model: &Model, variant: Variant) -> Traced {
     let (graph, (values, pivots)) = sym::trace(|| {
-        let tree = symbolic_tree(model, variant.regrouped);
+        let (tree, turns) = symbolic_tree(model, variant.regrouped);
         let (c, nv) = (model.coupling(), model.nv());
-        let (q, v, tau) = model_inputs(model, &c, variant, Var::Tau);
+        let (q, v, tau) = model_inputs(model, &c, &turns, variant, Var::Tau);
         let (values, pivots) = match variant.method {
             Some(FdMethod::CrbaLtdl) => {
                 let m = c.reduce_matrix(&mass_matrix(variant.formulation, &tree, &q));

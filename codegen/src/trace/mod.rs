@@ -29,6 +29,7 @@ pub mod derivatives;
 pub mod forward;
 pub mod newton_euler;
 pub mod regroup;
+pub(crate) mod turns;
 
 use std::fmt;
 
@@ -41,6 +42,7 @@ use crate::optimize::reassociate;
 use crate::options::{Accuracy, Output};
 use crate::sym::{self, Graph, OpCounts, Sym, Var};
 pub use forward::FdMethod;
+use turns::Turn;
 
 /// The recursion traced for an output: the reference's, or the one written for the generator
 /// that computes the same values in fewer operations.
@@ -339,9 +341,9 @@ pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy, quasi_stati
 /// `M`, bias, gravity or inverse dynamics traced one way.
 fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
     let (graph, values) = sym::trace(|| {
-        let tree = symbolic_tree(model, variant.regrouped);
+        let (tree, turns) = symbolic_tree(model, variant.regrouped);
         let (c, nv) = (model.coupling(), model.nv());
-        let (q, v, a) = tree_inputs(model, &c, variant);
+        let (q, v, a) = tree_inputs(model, &c, &turns, variant);
         let zero = vec![Sym::zero(); tree.nv];
         let form = variant.formulation;
         let values = match output {
@@ -461,17 +463,20 @@ fn label_outputs(output: Output, values: Vec<Sym>, nv: usize) -> Vec<Sym> {
         .collect()
 }
 
-/// The model's tree on the symbolic scalar, its parameters as inputs, regrouped if asked.
+/// The model's tree on the symbolic scalar, its parameters as inputs, regrouped if asked, with
+/// each revolute placement's turn about the joint's axis folded into the angle
+/// ([`turns`]): the turns are to be passed to [`model_inputs`], which adds them to the angles.
 ///
 /// # Panics
 /// Outside [`sym::trace`].
-pub(crate) fn symbolic_tree(model: &Model, regrouped: bool) -> Tree<Sym> {
+pub(crate) fn symbolic_tree(model: &Model, regrouped: bool) -> (Tree<Sym>, Vec<Turn>) {
     let params = inputs(model.params.len(), Var::Param);
     let mut tree = Tree::new(model, &params);
     if regrouped {
         regroup::regroup(&mut tree);
     }
-    tree
+    let turns = turns::fold(&mut tree);
+    (tree, turns)
 }
 
 /// The tree's `q` and `v` from the model's inputs through the model's coupling `c`
@@ -481,11 +486,12 @@ pub(crate) fn symbolic_tree(model: &Model, regrouped: bool) -> Tree<Sym> {
 pub(crate) fn model_inputs(
     model: &Model,
     c: &Coupling,
+    turns: &[Turn],
     variant: Variant,
     third: fn(usize) -> Var,
 ) -> (Vec<Sym>, Vec<Sym>, Vec<Sym>) {
     (
-        c.expand_q(&inputs(model.nq(), Var::Q)),
+        tree_angles(model, c, turns),
         c.expand_v(&velocities(model.nv(), variant)),
         inputs(model.nv(), third),
     )
@@ -495,10 +501,17 @@ pub(crate) fn model_inputs(
 pub(crate) fn tree_inputs(
     model: &Model,
     c: &Coupling,
+    turns: &[Turn],
     variant: Variant,
 ) -> (Vec<Sym>, Vec<Sym>, Vec<Sym>) {
-    let (q, v, a) = model_inputs(model, c, variant, Var::A);
+    let (q, v, a) = model_inputs(model, c, turns, variant, Var::A);
     (q, v, c.expand_v(&a))
+}
+
+/// The tree's `q`: the model's inputs through the coupling, with the `turns` of
+/// [`symbolic_tree`] added.
+pub(crate) fn tree_angles(model: &Model, c: &Coupling, turns: &[Turn]) -> Vec<Sym> {
+    turns::turned(c.expand_q(&inputs(model.nq(), Var::Q)), turns)
 }
 
 /// The velocities a variant is traced with: the inputs `v`, or zeros when quasi-static.
