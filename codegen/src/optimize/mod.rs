@@ -1,10 +1,13 @@
 //! Passes over a traced graph that keep its values: [`reassociate`](mod@reassociate) (sums regrouped by arrival
-//! time, a shorter critical path for the same operations) and [`round_constants_to_f32`] (what
-//! `f32` code needs before it is emitted).
+//! time, a shorter critical path for the same operations), [`reciprocals`](mod@reciprocals)
+//! (one division per divisor, products by its reciprocal for the rest) and
+//! [`round_constants_to_f32`] (what `f32` code needs before it is emitted).
 
 pub mod reassociate;
+pub mod reciprocals;
 
 pub use reassociate::reassociate;
+pub use reciprocals::reciprocals;
 
 use crate::sym::{Graph, Sym};
 

@@ -20,7 +20,9 @@
 //! the Coriolis matrix, which depend on `M(q)` alone, are traced on regrouped inertias too.
 //!
 //! Every [`Variant`] of an output is traced; [`trace`] keeps the one with the fewest operations
-//! (the first of equals), then regroups its sums by arrival time ([`crate::optimize::reassociate()`]). All
+//! (the first of equals; each counted after its divisions by a shared divisor became products by
+//! one reciprocal, [`crate::optimize::reciprocals()`]), then regroups its sums by arrival time
+//! ([`crate::optimize::reassociate()`]). All
 //! variants compute the same values (each formulation's tests hold it to the reference); they
 //! round differently.
 
@@ -38,7 +40,7 @@ use articulated_dynamics::reference::{self, centroidal, Tree};
 use articulated_dynamics::spatial::{Force, Transform, Vec3};
 use articulated_dynamics::Scalar;
 
-use crate::optimize::reassociate;
+use crate::optimize::{reassociate, reciprocals};
 use crate::options::{Accuracy, Output};
 use crate::sym::{self, Graph, OpCounts, Sym, Var};
 pub use forward::FdMethod;
@@ -198,7 +200,19 @@ impl Traced {
     /// The same values with every sum regrouped so that late terms are added last
     /// ([`crate::optimize::reassociate()`]): no more operations, a shorter critical path.
     fn reassociated(self) -> Traced {
-        let (graph, mut all) = reassociate(&self.graph, &self.all_outputs());
+        self.rebuilt(reassociate)
+    }
+
+    /// The same values with one division per divisor and products by its reciprocal for the
+    /// rest ([`crate::optimize::reciprocals()`]).
+    fn with_reciprocals(self) -> Traced {
+        self.rebuilt(reciprocals)
+    }
+
+    /// The values, pivots and scale rebuilt by `pass`, which returns its new graph and the
+    /// outputs it was given, in order.
+    fn rebuilt(self, pass: impl FnOnce(&Graph, &[Sym]) -> (Graph, Vec<Sym>)) -> Traced {
+        let (graph, mut all) = pass(&self.graph, &self.all_outputs());
         let pivots = self.pivots.as_ref().map(|_| {
             let scale = all
                 .pop()
@@ -322,6 +336,8 @@ pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy, quasi_stati
             .map(|variant| trace_variant(model, output, scene(variant)))
             .collect(),
     };
+    // Reciprocals before counting, so that variants are compared on what would be emitted.
+    let traced: Vec<Traced> = traced.into_iter().map(Traced::with_reciprocals).collect();
     let candidates: Vec<(Variant, OpCounts)> =
         traced.iter().map(|t| (t.variant, t.ops())).collect();
     let mut best = traced
