@@ -102,11 +102,55 @@ pub fn straight_line(
     scalar: ScalarKind,
     input: &dyn Fn(Var) -> TokenStream,
 ) -> Result<Emitted, EmitError> {
+    straight_line_into(graph, outputs, scalar, input, None)
+}
+
+/// Where the first outputs of [`straight_line_into`] are stored as soon as they are computed:
+/// `places[i]` are the places (such as `m[3][5]`, an array the caller declared) that take
+/// output `i`. An output that is the constant `0` is not stored (the caller's array starts at
+/// zero); the others are stored right after the statement that computes them, constants and
+/// inputs first.
+///
+/// Why: a result built at the end, `ArrayStorage([[a, b, …], …])`, keeps every entry live from
+/// where it is computed to the end of the function. On the humanoid's mass matrix (669 entries
+/// that are not zero) LLVM kept them on the stack: 796 stores and 882 loads of spilled values
+/// among 6,101 instructions. Stored where they are computed, each entry is dead at once.
+#[derive(Clone, Debug, Default)]
+pub struct Sink {
+    /// The places each output goes to, in the order of the outputs.
+    pub places: Vec<Vec<TokenStream>>,
+}
+
+/// [`straight_line`], with the outputs that `sink` names stored where they are computed (see
+/// [`Sink`]); those are left out of the blocks' exports, so the caller must not read their
+/// names after the statements ([`Emitted::outputs`] still lists them).
+///
+/// # Errors
+/// As [`straight_line`].
+///
+/// # Panics
+/// If an output belongs to another graph.
+pub fn straight_line_into(
+    graph: &Graph,
+    outputs: &[Sym],
+    scalar: ScalarKind,
+    input: &dyn Fn(Var) -> TokenStream,
+    sink: Option<&Sink>,
+) -> Result<Emitted, EmitError> {
     if scalar == ScalarKind::F32 {
         let (g, outs) = crate::optimize::round_constants_to_f32(graph, outputs);
-        return Writer::new(&g, &outs, scalar, input).emit(&outs);
+        return Writer::new(&g, &outs, scalar, input, sink).emit(&outs, sink);
     }
-    Writer::new(graph, outputs, scalar, input).emit(outputs)
+    Writer::new(graph, outputs, scalar, input, sink).emit(outputs, sink)
+}
+
+/// The constant `0` in `scalar`, as the emitted code writes it (what a [`Sink`]'s array starts
+/// from).
+pub fn zero(scalar: ScalarKind) -> TokenStream {
+    match literals::constant(0.0, scalar) {
+        Ok((zero, _)) => zero,
+        Err(_) => unreachable!("0 is finite in every scalar"),
+    }
 }
 
 /// Up to this many statements a function binds one value per `let`, which reads best. rustc
@@ -131,12 +175,14 @@ pub fn straight_line(
 const MAX_LETS: usize = 1000;
 
 /// One statement: its pattern, its value, the values it binds and the values of other
-/// statements it reads.
+/// statements it reads. A store (`store`) assigns the value to the place `pattern` instead of
+/// binding it with `let`.
 struct Statement {
     pattern: TokenStream,
     value: TokenStream,
     binds: Vec<Sym>,
     reads: Vec<Sym>,
+    store: bool,
 }
 
 /// Everything the statements are written from.
@@ -160,11 +206,15 @@ impl<'g> Writer<'g> {
         outputs: &[Sym],
         scalar: ScalarKind,
         input: &dyn Fn(Var) -> TokenStream,
+        sink: Option<&Sink>,
     ) -> Self {
         let live = graph.live(outputs);
         let mut names = Names::default();
         // The fused multiply–add is called by its short name.
         names.reserve_idents(quote!(mul_add mul_addf));
+        for place in sink.iter().flat_map(|k| &k.places).flatten() {
+            names.reserve_idents(place.clone());
+        }
         let mut inputs = HashMap::new();
         for &s in &live {
             if let Node::Input(var) = graph.node(s) {
@@ -193,7 +243,7 @@ impl<'g> Writer<'g> {
             batched,
             name: HashMap::new(),
         };
-        let statements = w.statement_nodes();
+        let statements = w.statement_nodes(outputs);
         w.name = names::assign(graph, &statements, &|s| w.reads(s), &mut names);
         w
     }
@@ -201,7 +251,7 @@ impl<'g> Writer<'g> {
     /// The nodes bound by a `let`, in the order they are emitted: the batched angles that are
     /// not inputs (an input plus its turn), the batched sines and cosines, then every other
     /// operation except the products fused into a sum.
-    fn statement_nodes(&self) -> Vec<Sym> {
+    fn statement_nodes(&self, outputs: &[Sym]) -> Vec<Sym> {
         let in_fma: HashSet<Sym> = self.fused.values().copied().collect();
         let angles = self.batched_sums();
         let batch = self.batch_nodes();
@@ -211,7 +261,70 @@ impl<'g> Writer<'g> {
                 && !in_fma.contains(&s)
                 && !first.contains(&s)
         });
-        angles.into_iter().chain(batch).chain(rest).collect()
+        let order: Vec<Sym> = angles.into_iter().chain(batch).chain(rest).collect();
+        self.hoisted(order, outputs)
+    }
+
+    /// `order` with each sum or product moved up to just after the last statement it reads,
+    /// where it is the last reader of one of its operands: then it frees at least as many
+    /// values as it makes, and moving it up shortens live ranges.
+    ///
+    /// The order of tracing keeps a recursion's values together, but a value built from early
+    /// terms is emitted where its graph node was made, which can be far later: the sum of the
+    /// humanoid's pelvis composite inertia is regrouped ([`crate::optimize::reassociate()`]) so
+    /// that the legs' terms are added first, yet every one of those partial sums was made when
+    /// the pelvis was reached, the last body; the legs' thirty terms stayed live through the
+    /// arms and the waist and were spilled to the stack.
+    fn hoisted(&self, order: Vec<Sym>, outputs: &[Sym]) -> Vec<Sym> {
+        let in_order: HashSet<Sym> = order.iter().copied().collect();
+        let mut readers: HashMap<Sym, Vec<Sym>> = HashMap::new();
+        let mut uses: HashMap<Sym, usize> = HashMap::new();
+        for &s in &order {
+            for o in self.reads(s) {
+                readers.entry(o).or_default().push(s);
+                *uses.entry(o).or_insert(0) += 1;
+            }
+        }
+        for &o in outputs {
+            *uses.entry(o).or_insert(0) += 1;
+        }
+        let movable = |s: Sym| {
+            matches!(
+                self.graph.node(s),
+                Node::Add(..) | Node::Sub(..) | Node::Mul(..) | Node::Neg(_)
+            ) && self.reads(s).iter().any(|o| uses.get(o) == Some(&1))
+        };
+        let mut placed: HashSet<Sym> = HashSet::with_capacity(order.len());
+        let ready = |s: Sym, placed: &HashSet<Sym>| {
+            self.reads(s)
+                .iter()
+                .all(|o| !in_order.contains(o) || placed.contains(o))
+        };
+        let mut out = Vec::with_capacity(order.len());
+        let mut stack = Vec::new();
+        for &first in &order {
+            if placed.contains(&first) {
+                continue;
+            }
+            stack.push(first);
+            while let Some(s) = stack.pop() {
+                if placed.contains(&s) {
+                    continue;
+                }
+                placed.insert(s);
+                out.push(s);
+                // Readers of `s` that can go now, in their own order (pushed last first).
+                let bound = self.bound_by(s);
+                let next: Vec<Sym> = bound
+                    .iter()
+                    .flat_map(|b| readers.get(b).into_iter().flatten())
+                    .copied()
+                    .filter(|&r| !placed.contains(&r) && movable(r) && ready(r, &placed))
+                    .collect();
+                stack.extend(next.into_iter().rev());
+            }
+        }
+        out
     }
 
     /// The batched angles that are sums (an input and a constant), computed before the batch.
@@ -242,11 +355,38 @@ impl<'g> Writer<'g> {
     }
 
     /// The statements and output expressions.
-    fn emit(&self, outputs: &[Sym]) -> Result<Emitted, EmitError> {
+    fn emit(&self, outputs: &[Sym], sink: Option<&Sink>) -> Result<Emitted, EmitError> {
         let mut stmts = Vec::new();
         let mut done: HashSet<Sym> = HashSet::new();
         let batch: HashSet<Sym> = self.batch_nodes().into_iter().collect();
-        for s in self.statement_nodes() {
+        // The places each sunk value goes to, in the order of the outputs.
+        let sunk = sink.map_or(0, |k| k.places.len());
+        let mut places: HashMap<Sym, Vec<&TokenStream>> = HashMap::new();
+        for (&o, ps) in outputs.iter().zip(sink.iter().flat_map(|k| &k.places)) {
+            if !matches!(self.graph.node(o), Node::Const(x) if x == 0.0) {
+                places.entry(o).or_default().extend(ps);
+            }
+        }
+        let stores = |s: Sym, stmts: &mut Vec<Statement>| -> Result<(), EmitError> {
+            for &place in places.get(&s).into_iter().flatten() {
+                stmts.push(Statement {
+                    pattern: place.clone(),
+                    value: self.operand(s)?,
+                    binds: Vec::new(),
+                    reads: vec![s],
+                    store: true,
+                });
+            }
+            Ok(())
+        };
+        // Constants and inputs first: no statement computes them.
+        let mut first = HashSet::new();
+        for &o in &outputs[..sunk] {
+            if matches!(self.graph.node(o), Node::Const(_) | Node::Input(_)) && first.insert(o) {
+                stores(o, &mut stmts)?;
+            }
+        }
+        for s in self.statement_nodes(outputs) {
             if done.contains(&s) {
                 continue;
             }
@@ -254,19 +394,28 @@ impl<'g> Writer<'g> {
                 // The first of the batch: the one call that computes all of it.
                 if let Some(call) = self.sincos_array()? {
                     done.extend(batch.iter().copied());
+                    let binds = call.binds.clone();
                     stmts.push(call);
+                    for b in binds {
+                        stores(b, &mut stmts)?;
+                    }
                 }
                 continue;
             }
             let (pattern, value, args) = self.statement(s, &mut done)?;
+            let binds = self.bound_by(s);
             stmts.push(Statement {
                 pattern,
                 value,
-                binds: self.bound_by(s),
+                binds: binds.clone(),
                 reads: args,
+                store: false,
             });
+            for b in binds {
+                stores(b, &mut stmts)?;
+            }
         }
-        let mut statements = self.bind(stmts, outputs)?;
+        let mut statements = self.bind(stmts, &outputs[sunk..])?;
         if !self.fused.is_empty() {
             let path = match self.scalar {
                 ScalarKind::F32 => quote!(::articulated::math::mul_addf),
@@ -290,7 +439,13 @@ impl<'g> Writer<'g> {
         let one_each = |stmts: &[Statement]| -> TokenStream {
             stmts
                 .iter()
-                .map(|Statement { pattern, value, .. }| quote!(let #pattern = #value;))
+                .map(|st| {
+                    let (pattern, value) = (&st.pattern, &st.value);
+                    match st.store {
+                        true => quote!(#pattern = #value;),
+                        false => quote!(let #pattern = #value;),
+                    }
+                })
                 .collect()
         };
         let n = stmts.len();
@@ -318,11 +473,16 @@ impl<'g> Writer<'g> {
                 .map(|&b| self.operand(b))
                 .collect::<Result<_, _>>()?;
             let body = one_each(chunk);
-            out.extend(quote! {
-                let [#(#exported),*] = {
-                    #body
-                    [#(#exported),*]
-                };
+            out.extend(if exported.is_empty() {
+                // Only stores leave it (see [`Sink`]).
+                quote!({ #body })
+            } else {
+                quote! {
+                    let [#(#exported),*] = {
+                        #body
+                        [#(#exported),*]
+                    };
+                }
             });
         }
         Ok(out)
@@ -367,6 +527,7 @@ impl<'g> Writer<'g> {
             value: quote!(::articulated::math::sincos_array([#(#args),*])),
             binds: self.batch_nodes(),
             reads: self.batched.clone(),
+            store: false,
         }))
     }
 

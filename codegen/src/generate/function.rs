@@ -15,11 +15,13 @@ use crate::trace::{
 
 /// The trait impl of one traced output.
 pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
-    let emitted = emit::straight_line(
+    let (sink, declare, stored) = sink(cx, traced);
+    let emitted = emit::straight_line_into(
         &traced.graph,
         &traced.all_outputs(),
         cx.options.scalar,
         &|var| cx.input(var),
+        sink.as_ref(),
     )?;
     let used = Used::of(traced, cx.nq, cx.nv);
     let Signature {
@@ -28,6 +30,7 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
         ret,
         result,
     } = signature(cx, traced, &emitted);
+    let result = stored.unwrap_or(result);
     let function = format_ident!("{}_with", traced.output.name());
     // Each argument, and the `let` that binds the entries the function reads.
     let (args, inputs): (Vec<TokenStream>, Vec<TokenStream>) = arguments
@@ -66,11 +69,43 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
             #allow
             fn #function(#(#args)* #p_arg: &#params_ty) -> #ret {
                 #(#inputs)*
+                #declare
                 #statements
                 #result
             }
         }
     })
+}
+
+/// For the mass matrix: each entry stored into the array `mass_matrix` as soon as it is
+/// computed ([`emit::Sink`]), the `let` that declares the array, and the result made of it.
+/// `None` and nothing for the other outputs, whose results are built from their values at the
+/// end.
+fn sink(cx: &Context, traced: &Traced) -> (Option<emit::Sink>, TokenStream, Option<TokenStream>) {
+    if traced.output != Output::MassMatrix {
+        return (None, TokenStream::new(), None);
+    }
+    let (nv, scalar) = (cx.nv, &cx.scalar);
+    let n = Literal::usize_unsuffixed(nv);
+    let array = format_ident!("mass_matrix");
+    // Row-major values; nalgebra's storage is column by column: entry (r, c) is `[c][r]`.
+    let places = (0..nv * nv)
+        .map(|i| {
+            let (r, c) = (
+                Literal::usize_unsuffixed(i / nv),
+                Literal::usize_unsuffixed(i % nv),
+            );
+            vec![quote!(#array.data.0[#c][#r])]
+        })
+        .collect();
+    let zero = emit::zero(cx.options.scalar);
+    (
+        Some(emit::Sink { places }),
+        quote!(let mut #array = ::articulated::nalgebra::SMatrix::<#scalar, #n, #n>::from_array_storage(
+                ::articulated::nalgebra::ArrayStorage([[#zero; #n]; #n])
+            );),
+        Some(quote!(#array)),
+    )
 }
 
 /// What an output's function looks like: its trait, its arguments before the parameters (`q`,
