@@ -105,9 +105,9 @@ pub fn straight_line(
     straight_line_into(graph, outputs, scalar, input, None)
 }
 
-/// Where the first outputs of [`straight_line_into`] are stored as soon as they are computed:
+/// Where outputs of [`straight_line_into`] are stored as soon as they are computed:
 /// `places[i]` are the places (such as `m[3][5]`, an array the caller declared) that take
-/// output `i`. An output that is the constant `0` is not stored (the caller's array starts at
+/// output `i`; an output without places (or past the end of `places`) is not sunk. An output that is the constant `0` is not stored (the caller's array starts at
 /// zero); the others are stored right after the statement that computes them, constants and
 /// inputs first.
 ///
@@ -359,8 +359,13 @@ impl<'g> Writer<'g> {
         let mut stmts = Vec::new();
         let mut done: HashSet<Sym> = HashSet::new();
         let batch: HashSet<Sym> = self.batch_nodes().into_iter().collect();
-        // The places each sunk value goes to, in the order of the outputs.
-        let sunk = sink.map_or(0, |k| k.places.len());
+        // The places each sunk value goes to, and the outputs that are not sunk (read by the
+        // caller after the statements).
+        let no_places = |i: usize| sink.is_none_or(|k| k.places.get(i).is_none_or(Vec::is_empty));
+        let kept: Vec<Sym> = (0..outputs.len())
+            .filter(|&i| no_places(i))
+            .map(|i| outputs[i])
+            .collect();
         let mut places: HashMap<Sym, Vec<&TokenStream>> = HashMap::new();
         for (&o, ps) in outputs.iter().zip(sink.iter().flat_map(|k| &k.places)) {
             if !matches!(self.graph.node(o), Node::Const(x) if x == 0.0) {
@@ -381,8 +386,11 @@ impl<'g> Writer<'g> {
         };
         // Constants and inputs first: no statement computes them.
         let mut first = HashSet::new();
-        for &o in &outputs[..sunk] {
-            if matches!(self.graph.node(o), Node::Const(_) | Node::Input(_)) && first.insert(o) {
+        for &o in outputs {
+            if places.contains_key(&o)
+                && matches!(self.graph.node(o), Node::Const(_) | Node::Input(_))
+                && first.insert(o)
+            {
                 stores(o, &mut stmts)?;
             }
         }
@@ -415,7 +423,7 @@ impl<'g> Writer<'g> {
                 stores(b, &mut stmts)?;
             }
         }
-        let mut statements = self.bind(stmts, &outputs[sunk..])?;
+        let mut statements = self.bind(stmts, &kept)?;
         if !self.fused.is_empty() {
             let path = match self.scalar {
                 ScalarKind::F32 => quote!(::articulated::math::mul_addf),
