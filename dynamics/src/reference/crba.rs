@@ -31,32 +31,49 @@ pub fn crba_with<T: Scalar>(
     let nv = tree.nv;
     let (x_up, ic) = composite_inertias_with(tree, q, to_parent);
     let mut m = alloc::vec![T::zero(); nv * nv];
-    for (i, node) in tree.nodes.iter().enumerate() {
-        for k in 0..node.nv() {
-            let col = node.v_at + k;
-            let n = &node.name;
-            let mut f = ic[i]
-                .mul_motion(node.s_col(k))
-                .label(format_args!("{n}_fs{k}_n"), format_args!("{n}_fs{k}_f"));
-            for l in 0..node.nv() {
-                m[(node.v_at + l) * nv + col] = node.s_col(l).dot(f);
-            }
-            let mut j = i;
-            while let Some(p) = tree.nodes[j].parent {
-                f = x_up[j].inv_apply_force(f);
-                j = p;
-                let nj = &tree.nodes[j];
-                for l in 0..nj.nv() {
-                    let row = nj.v_at + l;
-                    let x = nj.s_col(l).dot(f);
-                    m[row * nv + col] = x;
-                    m[col * nv + row] = x;
-                }
-            }
-        }
-        node.add_armature_to_diagonal(&mut m, nv);
+    for (i, ic) in ic.iter().enumerate() {
+        crba_columns(tree, &x_up, ic, i, &mut m);
     }
     m
+}
+
+/// Node `i`'s columns of `M` and their mirror rows, from its composite inertia `ic` and the
+/// transforms `x_up` (as [`crba_with`] takes them: `F = I_c·S_k`, carried up by each `X_upᵀ`,
+/// `M_jk = S_jᵀ·F`), with its armature on the diagonal; `m` is row-major `nv × nv`. The
+/// generator calls it as soon as a composite inertia is complete
+/// (`articulated_codegen::trace::crba`).
+pub fn crba_columns<T: Scalar>(
+    tree: &Tree<T>,
+    x_up: &[Transform<T>],
+    ic: &Inertia<T>,
+    i: usize,
+    m: &mut [T],
+) {
+    let nv = tree.nv;
+    let node = &tree.nodes[i];
+    let n = &node.name;
+    for k in 0..node.nv() {
+        let col = node.v_at + k;
+        let mut f = ic
+            .mul_motion(node.s_col(k))
+            .label(format_args!("{n}_fs{k}_n"), format_args!("{n}_fs{k}_f"));
+        for l in 0..node.nv() {
+            m[(node.v_at + l) * nv + col] = node.s_col(l).dot(f);
+        }
+        let mut j = i;
+        while let Some(p) = tree.nodes[j].parent {
+            f = x_up[j].inv_apply_force(f);
+            j = p;
+            let nj = &tree.nodes[j];
+            for l in 0..nj.nv() {
+                let row = nj.v_at + l;
+                let x = nj.s_col(l).dot(f);
+                m[row * nv + col] = x;
+                m[col * nv + row] = x;
+            }
+        }
+    }
+    node.add_armature_to_diagonal(m, nv);
 }
 
 /// Each node's transform from its parent (`X_up`, [`Tree::x_up`]) and its composite inertia
