@@ -26,9 +26,7 @@
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap, HashSet};
 
-use articulated_dynamics::Scalar;
-
-use crate::sym::{trace, Graph, Node, Sym};
+use crate::sym::{Graph, Node, Sym};
 
 /// Assumed latencies, in cycles, of the operations (Zen 4 and recent Intel cores: 3 for
 /// `addsd`/`mulsd`, 13 for `divsd`, 15–20 for `sqrtsd`; a sine with its argument reduction is
@@ -67,46 +65,34 @@ pub fn reassociate(graph: &Graph, outputs: &[Sym]) -> (Graph, Vec<Sym>) {
         }
     }
 
-    let (mut new_graph, (new_outputs, map)) = trace(|| {
-        let mut map: HashMap<Sym, Sym> = HashMap::with_capacity(live.len());
-        let mut time: HashMap<Sym, u32> = HashMap::with_capacity(live.len());
-        for &s in &live {
-            if inner.contains(&s) {
-                continue;
+    // Arrival time of each new node.
+    let mut time: HashMap<Sym, u32> = HashMap::with_capacity(live.len());
+    let (new_graph, new_outputs, _) = graph.rebuild(outputs, |s, map| {
+        if inner.contains(&s) {
+            return None;
+        }
+        let node = graph.node(s);
+        let m = |a: Sym| map[&a];
+        let t = |a: Sym| time.get(&map[&a]).copied().unwrap_or(0);
+        let (n, arrival) = match node {
+            Node::Const(_) | Node::Input(_) => (node.remade(m), 0),
+            Node::Add(..) | Node::Sub(..) | Node::Neg(_) => {
+                let mut terms = Vec::new();
+                collect_terms(graph, &inner, s, false, &mut terms);
+                let terms: Vec<(Sym, bool, u32)> = terms
+                    .into_iter()
+                    .map(|(term, negative)| (m(term), negative, t(term)))
+                    .collect();
+                rebuild_sum(terms, &mut time)
             }
-            let node = graph.node(s);
-            let m = |a: Sym| map[&a];
-            let t = |a: Sym| time.get(&map[&a]).copied().unwrap_or(0);
-            let (n, arrival) = match node {
-                Node::Const(x) => (Sym::from_f64(x), 0),
-                Node::Input(v) => (Sym::input(v), 0),
-                Node::Add(..) | Node::Sub(..) | Node::Neg(_) => {
-                    let mut terms = Vec::new();
-                    collect_terms(graph, &inner, s, false, &mut terms);
-                    let terms: Vec<(Sym, bool, u32)> = terms
-                        .into_iter()
-                        .map(|(term, negative)| (m(term), negative, t(term)))
-                        .collect();
-                    rebuild_sum(terms, &mut time)
-                }
-                Node::Mul(a, b) => (m(a) * m(b), t(a).max(t(b)) + Latency::MUL),
-                Node::Div(a, b) => (m(a) / m(b), t(a).max(t(b)) + Latency::DIV),
-                Node::Sin(a) => (m(a).sin_cos().0, t(a) + Latency::TRIG),
-                Node::Cos(a) => (m(a).sin_cos().1, t(a) + Latency::TRIG),
-                Node::Sqrt(a) => (m(a).sqrt(), t(a) + Latency::SQRT),
-            };
-            time.entry(n).or_insert(arrival);
-            map.insert(s, n);
-        }
-        (outputs.iter().map(|s| map[s]).collect::<Vec<_>>(), map)
+            Node::Mul(a, b) => (node.remade(m), t(a).max(t(b)) + Latency::MUL),
+            Node::Div(a, b) => (node.remade(m), t(a).max(t(b)) + Latency::DIV),
+            Node::Sin(a) | Node::Cos(a) => (node.remade(m), t(a) + Latency::TRIG),
+            Node::Sqrt(a) => (node.remade(m), t(a) + Latency::SQRT),
+        };
+        time.entry(n).or_insert(arrival);
+        Some(n)
     });
-    // In dependency order, so that where two old nodes become one, the first name wins as it
-    // did while tracing.
-    for old in &live {
-        if let (Some(name), Some(&new)) = (graph.hint_of(*old), map.get(old)) {
-            new_graph.hint(new, name);
-        }
-    }
     (new_graph, new_outputs)
 }
 
@@ -191,7 +177,7 @@ mod tests {
     use articulated_dynamics::reference::{Reference, Tree};
 
     use super::*;
-    use crate::sym::Var;
+    use crate::sym::{trace, Var};
     use crate::trace::crba::crba;
     use crate::trace::newton_euler::classical_rnea;
     use crate::trace::regroup::{coordinate_axis, regroup};

@@ -22,7 +22,7 @@ use std::collections::HashMap;
 
 use articulated_dynamics::Scalar;
 
-use crate::sym::{trace, Graph, Node, Sym};
+use crate::sym::{Graph, Node, Sym};
 
 /// Rebuilds the part of `graph` that `outputs` need with the divisions by a shared or constant
 /// divisor turned into products by its reciprocal (see the [module docs](self)), names carried
@@ -47,43 +47,22 @@ pub fn reciprocals(graph: &Graph, outputs: &[Sym]) -> (Graph, Vec<Sym>) {
         _ => divisions[&b] >= 2,
     };
 
-    let (mut new_graph, (new_outputs, map, inverses)) = trace(|| {
-        let mut map: HashMap<Sym, Sym> = HashMap::with_capacity(live.len());
-        // Old divisor → its reciprocal in the new graph.
-        let mut inverses: HashMap<Sym, Sym> = HashMap::new();
-        for &s in &live {
-            let m = |a: Sym| map[&a];
-            let n = match graph.node(s) {
-                Node::Const(x) => Sym::from_f64(x),
-                Node::Input(v) => Sym::input(v),
-                Node::Add(a, b) => m(a) + m(b),
-                Node::Sub(a, b) => m(a) - m(b),
-                Node::Mul(a, b) => m(a) * m(b),
-                Node::Div(a, b) if shared(b) => {
-                    let inverse = *inverses.entry(b).or_insert_with(|| match graph.node(b) {
-                        Node::Const(c) => Sym::from_f64(1.0 / c),
-                        _ => Sym::one() / m(b),
-                    });
-                    m(a) * inverse
-                }
-                Node::Div(a, b) => m(a) / m(b),
-                Node::Neg(a) => -m(a),
-                Node::Sin(a) => m(a).sin_cos().0,
-                Node::Cos(a) => m(a).sin_cos().1,
-                Node::Sqrt(a) => m(a).sqrt(),
-            };
-            map.insert(s, n);
-        }
-        let outs = outputs.iter().map(|s| map[s]).collect::<Vec<_>>();
-        (outs, map, inverses)
+    // Old divisor → its reciprocal in the new graph.
+    let mut inverses: HashMap<Sym, Sym> = HashMap::new();
+    let (mut new_graph, new_outputs, _) = graph.rebuild(outputs, |s, map| {
+        let m = |a: Sym| map[&a];
+        Some(match graph.node(s) {
+            Node::Div(a, b) if shared(b) => {
+                let inverse = *inverses.entry(b).or_insert_with(|| match graph.node(b) {
+                    Node::Const(c) => Sym::from_f64(1.0 / c),
+                    _ => Sym::one() / m(b),
+                });
+                m(a) * inverse
+            }
+            node => node.remade(m),
+        })
     });
-    // In dependency order, so that where two old nodes become one, the first name wins as it
-    // did while tracing; then the reciprocals that had no name of their own.
-    for old in &live {
-        if let (Some(name), Some(&new)) = (graph.hint_of(*old), map.get(old)) {
-            new_graph.hint(new, name);
-        }
-    }
+    // The reciprocals that had no name of their own are named after their divisor.
     for (divisor, inverse) in &inverses {
         if let Some(name) = graph.hint_of(*divisor) {
             new_graph.hint(*inverse, &format!("inv_{name}"));

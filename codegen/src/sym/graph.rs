@@ -6,7 +6,7 @@ use std::collections::{HashMap, HashSet};
 use articulated_dynamics::Scalar;
 
 use super::decimal::Decimal;
-use super::{trace, unary, Node, OpCounts, Sym, Var, INDEX_BITS, MAX_NODES};
+use super::{trace, Node, OpCounts, Sym, Var, INDEX_BITS, MAX_NODES};
 
 /// The hash-consing key of a node: operands are node indices, constants their bits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -220,33 +220,46 @@ impl Graph {
         outputs: &[Sym],
         constant: impl Fn(f64) -> f64,
     ) -> (Graph, Vec<Sym>) {
+        let (graph, new, _) = self.rebuild(outputs, |s, map| {
+            Some(match self.node(s) {
+                Node::Const(x) => Sym::from_f64(constant(x)),
+                node => node.remade(|a| map[&a]),
+            })
+        });
+        (graph, new)
+    }
+
+    /// Rebuilds the part of the graph `outputs` need in a new trace, node by node in dependency
+    /// order: `node_of(s, map)` makes the new node of live node `s`, `map` holding the new nodes
+    /// of those before it ([`Node::remade`] copies one). It may return `None` for a node that only
+    /// the nodes built in its place read (the terms inside a regrouped sum). Names are carried
+    /// over in dependency order, so that where two old nodes become one, the first name wins as
+    /// it did while tracing. Returns the new graph, the outputs in it and the map from old nodes
+    /// to new. The passes of [`crate::optimize`] and [`Graph::map_constants`] are each one call.
+    ///
+    /// # Panics
+    /// If an output belongs to another graph, or was left out.
+    pub fn rebuild(
+        &self,
+        outputs: &[Sym],
+        mut node_of: impl FnMut(Sym, &HashMap<Sym, Sym>) -> Option<Sym>,
+    ) -> (Graph, Vec<Sym>, HashMap<Sym, Sym>) {
         let live = self.live(outputs);
         let (mut graph, (new, map)) = trace(|| {
             let mut map: HashMap<Sym, Sym> = HashMap::with_capacity(live.len());
             for &s in &live {
-                let m = |a: Sym| map[&a];
-                let n = match self.node(s) {
-                    Node::Const(x) => Sym::from_f64(constant(x)),
-                    Node::Input(v) => Sym::input(v),
-                    Node::Add(a, b) => m(a) + m(b),
-                    Node::Sub(a, b) => m(a) - m(b),
-                    Node::Mul(a, b) => m(a) * m(b),
-                    Node::Div(a, b) => m(a) / m(b),
-                    Node::Neg(a) => -m(a),
-                    Node::Sin(a) => unary(m(a), Graph::sin),
-                    Node::Cos(a) => unary(m(a), Graph::cos),
-                    Node::Sqrt(a) => m(a).sqrt(),
-                };
-                map.insert(s, n);
+                if let Some(n) = node_of(s, &map) {
+                    map.insert(s, n);
+                }
             }
             (outputs.iter().map(|s| map[s]).collect::<Vec<_>>(), map)
         });
         for &s in &live {
-            if let Some(name) = self.hint_of(s) {
-                graph.hint(map[&s], name);
+            if let (Some(name), Some(&n)) = (self.hint_of(s), map.get(&s)) {
+                graph.hint(n, name);
             }
         }
-        (graph, new)
+        (graph, new, map)
     }
 
     /// The node index of `s`, checking that `s` belongs to this graph.

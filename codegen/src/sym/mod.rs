@@ -122,6 +122,24 @@ impl Node {
         };
         a.into_iter().chain(b)
     }
+
+    /// The same operation made again in the graph being traced, on the operands `m` gives in
+    /// place of this node's (a constant and an input as they are): the step of a
+    /// [`Graph::rebuild`] that changes nothing but the operands.
+    pub fn remade(self, m: impl Fn(Sym) -> Sym) -> Sym {
+        match self {
+            Node::Const(x) => Sym::from_f64(x),
+            Node::Input(v) => Sym::input(v),
+            Node::Add(a, b) => m(a) + m(b),
+            Node::Sub(a, b) => m(a) - m(b),
+            Node::Mul(a, b) => m(a) * m(b),
+            Node::Div(a, b) => m(a) / m(b),
+            Node::Neg(a) => -m(a),
+            Node::Sin(a) => unary(m(a), Graph::sin),
+            Node::Cos(a) => unary(m(a), Graph::cos),
+            Node::Sqrt(a) => unary(m(a), Graph::sqrt),
+        }
+    }
 }
 
 /// Operation counts of the part of a graph that some outputs need (see [`Graph::op_counts`]);
