@@ -28,15 +28,9 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
         trait_,
         arguments,
         ret,
-        result,
-    } = signature(cx, traced, &emitted);
-    let (declare, result) = match &sunk {
-        Some(k) => (
-            k.declare.clone(),
-            sunk_result(cx, traced, &emitted, &k.names),
-        ),
-        None => (TokenStream::new(), result),
-    };
+    } = signature(cx, traced.output);
+    let declare = sunk.as_ref().map(|k| k.declare.clone()).unwrap_or_default();
+    let result = result(cx, traced, &emitted, sunk.as_ref().map(|k| &k.names[..]));
     let function = format_ident!("{}_with", traced.output.name());
     // Each argument, and the `let` that binds the entries the function reads.
     let (args, inputs): (Vec<TokenStream>, Vec<TokenStream>) = arguments
@@ -91,7 +85,7 @@ struct Sunk {
     names: Vec<proc_macro2::Ident>,
 }
 
-/// The matrices [`sunk_result`] returns, as (name, rows, columns) and where value `i` goes
+/// The matrices [`result`] returns, as (name, rows, columns) and where value `i` goes
 /// (`None` for a value not returned, else the matrix and its row and column), for the outputs
 /// where storing as computed measured faster; `None` for the others, whose results are built
 /// from their values at the end.
@@ -193,227 +187,139 @@ fn sink(cx: &Context, traced: &Traced) -> Option<Sunk> {
     })
 }
 
-/// The result of an output whose matrices were [`sink`]ed: the matrices by name, with the
-/// checks forward dynamics makes before returning them.
-fn sunk_result(
-    cx: &Context,
-    traced: &Traced,
-    emitted: &Emitted,
-    names: &[proc_macro2::Ident],
-) -> TokenStream {
-    let matrices = match names {
-        [one] => quote!(#one),
-        _ => quote!((#(#names),*)),
-    };
-    match traced.output {
-        Output::ForwardDynamicsDerivatives => {
-            let checks = pivot_checks(cx, traced, emitted);
-            let finite = finite_checks(&emitted.outputs[..cx.nv]);
-            quote!(#(#checks)* #(#finite)* Ok(#matrices))
-        }
-        Output::MassMatrixInverse => {
-            let checks = pivot_checks(cx, traced, emitted);
-            quote!(#(#checks)* Ok(#matrices))
-        }
-        _ => matrices,
-    }
-}
-
 /// What an output's function looks like: its trait, its arguments before the parameters (`q`,
-/// `v`, `a`, `tau`, `base`), its return type and the expression it returns after the statements.
+/// `v`, `a`, `tau`, `base`) and its return type.
 struct Signature {
     trait_: TokenStream,
     arguments: &'static [&'static str],
     ret: TokenStream,
-    result: TokenStream,
 }
 
-fn signature(cx: &Context, traced: &Traced, emitted: &Emitted) -> Signature {
+fn signature(cx: &Context, output: Output) -> Signature {
     let scalar = &cx.scalar;
     let [nq, nv, nb] = [cx.nq, cx.nv, cx.model.nb()].map(Literal::usize_unsuffixed);
     let sv = cx.vector_type(cx.nv);
-    let values = &emitted.outputs[..traced.values.len()];
     let matrix = |rows: &Literal, cols: &Literal| quote!(::articulated::nalgebra::SMatrix<#scalar, #rows, #cols>);
-    let (trait_, arguments, ret, result): (_, &'static [&'static str], _, _) = match traced.output {
-        Output::MassMatrix => (
-            quote!(MassMatrix<#scalar, #nq, #nv>),
-            &["q"],
-            matrix(&nv, &nv),
-            // nalgebra stores columns; M is symmetric, so its row-major entries are its columns.
-            columns(cx, values, cx.nv),
-        ),
-        Output::Bias => (
-            quote!(Bias<#scalar, #nq, #nv>),
+    let (six, three) = (Literal::usize_unsuffixed(6), Literal::usize_unsuffixed(3));
+    let m_ty = matrix(&nv, &nv);
+    let fallible =
+        |ok: TokenStream| quote!(::core::result::Result<#ok, ::articulated::SingularMassMatrix>);
+    let (trait_, arguments, ret): (_, &'static [&'static str], _) = match output {
+        Output::MassMatrix => (quote!(MassMatrix), &["q"], m_ty),
+        Output::Bias => (quote!(Bias), &["q", "v"], sv),
+        Output::Gravity => (quote!(Gravity), &["q"], sv),
+        Output::InverseDynamics => (quote!(InverseDynamics), &["q", "v", "a"], sv),
+        Output::NonlinearEffects => (quote!(NonlinearEffects), &["q", "v"], sv),
+        Output::MassMatrixAndNonlinearEffects => (
+            quote!(MassMatrixAndNonlinearEffects),
             &["q", "v"],
-            sv.clone(),
-            vector(cx, values),
+            quote!((#m_ty, #sv)),
         ),
-        Output::Gravity => (
-            quote!(Gravity<#scalar, #nq, #nv>),
-            &["q"],
-            sv.clone(),
-            vector(cx, values),
-        ),
-        Output::InverseDynamics => (
-            quote!(InverseDynamics<#scalar, #nq, #nv>),
-            &["q", "v", "a"],
-            sv.clone(),
-            vector(cx, values),
-        ),
-        Output::NonlinearEffects => (
-            quote!(NonlinearEffects<#scalar, #nq, #nv>),
-            &["q", "v"],
-            sv.clone(),
-            vector(cx, values),
-        ),
-        Output::MassMatrixAndNonlinearEffects => {
-            let (m, nle) = values.split_at(cx.nv * cx.nv);
-            let (m, nle) = (columns(cx, m, cx.nv), vector(cx, nle));
-            (
-                quote!(MassMatrixAndNonlinearEffects<#scalar, #nq, #nv>),
-                &["q", "v"],
-                {
-                    let m_ty = matrix(&nv, &nv);
-                    quote!((#m_ty, #sv))
-                },
-                quote!((#m, #nle)),
-            )
-        }
-        Output::JointWrenches => (
-            quote!(JointWrenches<#scalar, #nq, #nv, #nb>),
-            &["q", "v", "a"],
-            matrix(&Literal::usize_unsuffixed(6), &nb),
-            columns(cx, values, 6),
-        ),
+        Output::JointWrenches => (quote!(JointWrenches), &["q", "v", "a"], matrix(&six, &nb)),
         Output::JointWrenchesBottomUp => (
-            quote!(JointWrenchesBottomUp<#scalar, #nq, #nv, #nb>),
+            quote!(JointWrenchesBottomUp),
             &["q", "v", "a", "base"],
-            matrix(&Literal::usize_unsuffixed(6), &nb),
-            columns(cx, values, 6),
+            matrix(&six, &nb),
         ),
-        Output::CenterOfMass => (
-            quote!(CenterOfMass<#scalar, #nq, #nv>),
-            &["q"],
-            cx.vector_type(3),
-            vector(cx, values),
-        ),
-        Output::CenterOfMassVelocity => (
-            quote!(CenterOfMassVelocity<#scalar, #nq, #nv>),
-            &["q", "v"],
-            cx.vector_type(3),
-            vector(cx, values),
-        ),
-        Output::CenterOfMassJacobian => (
-            quote!(CenterOfMassJacobian<#scalar, #nq, #nv>),
-            &["q"],
-            matrix(&Literal::usize_unsuffixed(3), &nv),
-            columns(cx, &transposed(values, 3), 3),
-        ),
-        Output::CentroidalMomentum => (
-            quote!(CentroidalMomentum<#scalar, #nq, #nv>),
-            &["q", "v"],
-            cx.vector_type(6),
-            vector(cx, values),
-        ),
-        Output::CentroidalMomentumMatrix => (
-            quote!(CentroidalMomentumMatrix<#scalar, #nq, #nv>),
-            &["q"],
-            matrix(&Literal::usize_unsuffixed(6), &nv),
-            columns(cx, &transposed(values, 6), 6),
-        ),
-        Output::KineticEnergy => (
-            quote!(KineticEnergy<#scalar, #nq, #nv>),
-            &["q", "v"],
-            scalar.clone(),
-            values[0].clone(),
-        ),
-        Output::PotentialEnergy => (
-            quote!(PotentialEnergy<#scalar, #nq, #nv>),
-            &["q"],
-            scalar.clone(),
-            values[0].clone(),
-        ),
-        Output::CoriolisMatrix => (
-            quote!(CoriolisMatrix<#scalar, #nq, #nv>),
-            &["q", "v"],
-            matrix(&nv, &nv),
-            columns(cx, &transposed(values, cx.nv), cx.nv),
-        ),
-        Output::InverseDynamicsDerivatives
-        | Output::ForwardDynamicsDerivatives
-        | Output::MassMatrixInverse => return derivative_signature(cx, traced, emitted),
-        Output::ForwardDynamics => {
-            let checks = pivot_checks(cx, traced, emitted);
-            let finite = finite_checks(values);
-            let out = vector(cx, values);
-            (
-                quote!(ForwardDynamics<#scalar, #nq, #nv>),
-                &["q", "v", "tau"],
-                quote!(::core::result::Result<#sv, ::articulated::SingularMassMatrix>),
-                quote!(#(#checks)* #(#finite)* Ok(#out)),
-            )
+        Output::CenterOfMass => (quote!(CenterOfMass), &["q"], cx.vector_type(3)),
+        Output::CenterOfMassVelocity => {
+            (quote!(CenterOfMassVelocity), &["q", "v"], cx.vector_type(3))
         }
+        Output::CenterOfMassJacobian => (quote!(CenterOfMassJacobian), &["q"], matrix(&three, &nv)),
+        Output::CentroidalMomentum => (quote!(CentroidalMomentum), &["q", "v"], cx.vector_type(6)),
+        Output::CentroidalMomentumMatrix => {
+            (quote!(CentroidalMomentumMatrix), &["q"], matrix(&six, &nv))
+        }
+        Output::KineticEnergy => (quote!(KineticEnergy), &["q", "v"], scalar.clone()),
+        Output::PotentialEnergy => (quote!(PotentialEnergy), &["q"], scalar.clone()),
+        Output::CoriolisMatrix => (quote!(CoriolisMatrix), &["q", "v"], m_ty),
+        Output::ForwardDynamics => (quote!(ForwardDynamics), &["q", "v", "tau"], fallible(sv)),
+        Output::InverseDynamicsDerivatives => (
+            quote!(InverseDynamicsDerivatives),
+            &["q", "v", "a"],
+            quote!((#m_ty, #m_ty)),
+        ),
+        Output::ForwardDynamicsDerivatives => (
+            quote!(ForwardDynamicsDerivatives),
+            &["q", "v", "tau"],
+            fallible(quote!((#m_ty, #m_ty, #m_ty))),
+        ),
+        Output::MassMatrixInverse => (quote!(MassMatrixInverse), &["q"], fallible(m_ty)),
+    };
+    // Every trait is generic over the scalar and the sizes, and the joint wrenches over the
+    // number of bodies too.
+    let trait_ = match output {
+        Output::JointWrenches | Output::JointWrenchesBottomUp => {
+            quote!(#trait_<#scalar, #nq, #nv, #nb>)
+        }
+        _ => quote!(#trait_<#scalar, #nq, #nv>),
     };
     Signature {
         trait_,
         arguments,
         ret,
-        result,
     }
 }
 
-/// [`signature`] of the derivative outputs: `(∂τ/∂q, ∂τ/∂v)`, `Result<(∂q̈/∂q, ∂q̈/∂v, M⁻¹)>`
-/// and `Result<M⁻¹>`, each matrix from its row-major values.
-fn derivative_signature(cx: &Context, traced: &Traced, emitted: &Emitted) -> Signature {
-    let scalar = &cx.scalar;
-    let [nq, nv] = [cx.nq, cx.nv].map(Literal::usize_unsuffixed);
+/// The expression a function returns after its statements: the result built from the values
+/// (or, for an output whose matrices were [`sink`]ed, those matrices by name), behind the checks
+/// of the outputs that solve with `M`.
+fn result(
+    cx: &Context,
+    traced: &Traced,
+    emitted: &Emitted,
+    sunk: Option<&[proc_macro2::Ident]>,
+) -> TokenStream {
     let values = &emitted.outputs[..traced.values.len()];
-    let m_ty = quote!(::articulated::nalgebra::SMatrix<#scalar, #nv, #nv>);
-    let (trait_, arguments, ret, result): (_, &'static [&'static str], _, _) = match traced.output {
+    let nv = cx.nv;
+    let built = match sunk {
+        Some([one]) => quote!(#one),
+        Some(names) => quote!((#(#names),*)),
+        None => built(cx, traced.output, values),
+    };
+    let ok = |finite: &[TokenStream]| {
+        let checks = pivot_checks(cx, traced, emitted);
+        let finite = finite_checks(finite);
+        quote!(#(#checks)* #(#finite)* Ok(#built))
+    };
+    match traced.output {
+        Output::ForwardDynamics => ok(values),
+        // q̈ comes first and is not returned: a non-finite q̈ (a NaN in `v` or `tau`) is refused
+        // like forward dynamics refuses it.
+        Output::ForwardDynamicsDerivatives => ok(&values[..nv]),
+        Output::MassMatrixInverse => ok(&[]),
+        _ => built,
+    }
+}
+
+/// An output's result from its values (see [`crate::trace`] for their order).
+fn built(cx: &Context, output: Output, values: &[TokenStream]) -> TokenStream {
+    let nv = cx.nv;
+    match output {
+        // nalgebra stores columns; M is symmetric, so its row-major entries are its columns.
+        Output::MassMatrix => columns(cx, values, nv),
+        Output::MassMatrixAndNonlinearEffects => {
+            let (m, nle) = values.split_at(nv * nv);
+            let (m, nle) = (columns(cx, m, nv), vector(cx, nle));
+            quote!((#m, #nle))
+        }
+        Output::JointWrenches | Output::JointWrenchesBottomUp => columns(cx, values, 6),
+        Output::CenterOfMassJacobian => columns(cx, &transposed(values, 3), 3),
+        Output::CentroidalMomentumMatrix => columns(cx, &transposed(values, 6), 6),
+        Output::CoriolisMatrix | Output::MassMatrixInverse => {
+            columns(cx, &transposed(values, nv), nv)
+        }
+        Output::KineticEnergy | Output::PotentialEnergy => values[0].clone(),
         Output::InverseDynamicsDerivatives => {
-            let (dq, dv) = values.split_at(cx.nv * cx.nv);
-            (
-                quote!(InverseDynamicsDerivatives<#scalar, #nq, #nv>),
-                &["q", "v", "a"],
-                quote!((#m_ty, #m_ty)),
-                square_matrices(cx, &[dq, dv]),
-            )
+            let (dq, dv) = values.split_at(nv * nv);
+            square_matrices(cx, &[dq, dv])
         }
         Output::ForwardDynamicsDerivatives => {
-            let checks = pivot_checks(cx, traced, emitted);
-            // q̈ comes first and is not returned: a non-finite q̈ (a NaN in `v` or `tau`) is
-            // refused like forward dynamics refuses it.
-            let (qdd, rest) = values.split_at(cx.nv);
-            let finite = finite_checks(qdd);
-            let (dq, rest) = rest.split_at(cx.nv * cx.nv);
-            let (dv, minv) = rest.split_at(cx.nv * cx.nv);
-            let out = square_matrices(cx, &[dq, dv, minv]);
-            (
-                quote!(ForwardDynamicsDerivatives<#scalar, #nq, #nv>),
-                &["q", "v", "tau"],
-                quote!(::core::result::Result<(#m_ty, #m_ty, #m_ty), ::articulated::SingularMassMatrix>),
-                quote!(#(#checks)* #(#finite)* Ok(#out)),
-            )
+            let (dq, rest) = values[nv..].split_at(nv * nv);
+            let (dv, minv) = rest.split_at(nv * nv);
+            square_matrices(cx, &[dq, dv, minv])
         }
-        Output::MassMatrixInverse => {
-            let checks = pivot_checks(cx, traced, emitted);
-            (
-                quote!(MassMatrixInverse<#scalar, #nq, #nv>),
-                &["q"],
-                quote!(::core::result::Result<#m_ty, ::articulated::SingularMassMatrix>),
-                {
-                    let m = columns(cx, &transposed(values, cx.nv), cx.nv);
-                    quote!(#(#checks)* Ok(#m))
-                },
-            )
-        }
-        _ => unreachable!("not a derivative output"),
-    };
-    Signature {
-        trait_,
-        arguments,
-        ret,
-        result,
+        _ => vector(cx, values),
     }
 }
 
