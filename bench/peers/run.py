@@ -731,6 +731,16 @@ def report(env, models, ops, results, instr, checks, args, load_end):
             extra.append(
                 f"Pinocchio `{p}` (Convention::WORLD): v3 {fmt_ns(res['pin_v3'][p][0])} ns, wheel {fmt_ns(res['pin_wheel'][p][0])} ns"
             )
+        if "mass_matrix_update" in res["ours_v3"]:
+            u3, ud = res["ours_v3"]["mass_matrix_update"][0], res["ours_default"]["mass_matrix_update"][0]
+            p3 = min(res["pin_v3"][p][0] for p in ("mass_matrix", "mass_matrix_world"))
+            i_u = ins.get("ours_v3", {}).get("mass_matrix_update")
+            extra.append(
+                f"ours `mass_matrix_update` (`M` into a `KeptMassMatrix`, which keeps its zeros between calls, "
+                f"as Pinocchio's `crba` writes into `data.M`): v3 {fmt_ns(u3)} ns ({fmt_ratio(p3 / u3)} "
+                f"against Pinocchio v3), default {fmt_ns(ud)} ns"
+                + (f"; {i_u:.0f} instructions per call (v3)" if i_u else "")
+            )
         for p, what in (
             ("mass_matrix_dense", "M then `mj_fullM`"),
             ("mj_forward", "the whole `mj_forward`"),
@@ -1082,7 +1092,7 @@ def main():
     instr = {}
     if not args.quick:
         def which(name):
-            ours = [r[0] for r in ROWS + WHOLE_ROWS]
+            ours = [r[0] for r in ROWS + WHOLE_ROWS] + ["mass_matrix_update"]
             pin = sorted({p for r in ROWS + WHOLE_ROWS for p in r[1]})
             if ops[name]["derivatives"]:
                 ours += [r[0] for r in DERIV_ROWS] + [r[2] for r in DERIV_ROWS if r[2]]

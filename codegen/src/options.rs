@@ -94,6 +94,9 @@ impl Accuracy {
 pub enum Output {
     /// `mass_matrix(q)`: `M(q)`.
     MassMatrix,
+    /// `mass_matrix_update(q, &mut kept)`: `M(q)` into a `KeptMassMatrix`, only the entries that
+    /// can be non-zero written (the others stay zero from one call to the next).
+    MassMatrixUpdate,
     /// `bias(q, v)`: `N(q, q̇)·q̇` without gravity.
     Bias,
     /// `gravity(q)`: `g(q)`.
@@ -143,8 +146,9 @@ pub enum Output {
 
 impl Output {
     /// Every output, with its name in the grammar, in the order the generator emits them.
-    pub const ALL: [(Output, &'static str); 20] = [
+    pub const ALL: [(Output, &'static str); 21] = [
         (Output::MassMatrix, "mass_matrix"),
+        (Output::MassMatrixUpdate, "mass_matrix_update"),
         (Output::Bias, "bias"),
         (Output::Gravity, "gravity"),
         (Output::InverseDynamics, "inverse_dynamics"),
@@ -191,6 +195,7 @@ impl Output {
     pub fn name(self) -> &'static str {
         match self {
             Output::MassMatrix => "mass_matrix",
+            Output::MassMatrixUpdate => "mass_matrix_update",
             Output::Bias => "bias",
             Output::Gravity => "gravity",
             Output::InverseDynamics => "inverse_dynamics",

@@ -7,6 +7,7 @@
 //! | trait | function | what it computes |
 //! |---|---|---|
 //! | [`MassMatrix`] | `C::mass_matrix(&q)` | `M(q)`, `NV × NV` |
+//! | [`MassMatrixUpdate`] | `C::mass_matrix_update(&q, &mut kept)` | `M(q)` into a [`KeptMassMatrix`] |
 //! | [`Bias`] | `C::bias(&q, &v)` | `N(q, q̇)·q̇`, the velocity-product terms, **without gravity** |
 //! | [`Gravity`] | `C::gravity(&q)` | `g(q)`, the generalized force that holds the chain still |
 //! | [`InverseDynamics`] | `C::inverse_dynamics(&q, &v, &a)` | `τ = M·a + N·q̇ + g` |
@@ -186,6 +187,112 @@ pub trait MassMatrix<T, const NQ: usize, const NV: usize>: Chain<T> {
     /// `M(q)` with the default parameters.
     fn mass_matrix(q: &SVector<T, NQ>) -> SMatrix<T, NV, NV> {
         Self::mass_matrix_with(q, &Self::default_params())
+    }
+}
+
+/// `M(q)` written into a [`KeptMassMatrix`] (the output `mass_matrix_update`): only the entries
+/// that can be non-zero, without zeroing the rest first.
+pub trait MassMatrixUpdate<T, const NQ: usize, const NV: usize>: Chain<T> {
+    /// `M(q)` for the parameters `p`, into `kept`.
+    fn mass_matrix_update_with(
+        q: &SVector<T, NQ>,
+        p: &Self::Params,
+        kept: &mut KeptMassMatrix<Self, T, NV>,
+    );
+    /// `M(q)` with the default parameters, into `kept`.
+    fn mass_matrix_update(q: &SVector<T, NQ>, kept: &mut KeptMassMatrix<Self, T, NV>) {
+        Self::mass_matrix_update_with(q, &Self::default_params(), kept)
+    }
+}
+
+/// `M(q)` of chain `C`, kept between calls of [`MassMatrixUpdate::mass_matrix_update`], which
+/// writes only the entries that can be non-zero: what a controller asks at every tick, in the
+/// memory it keeps for it (as Pinocchio's `crba` writes into `data.M`).
+///
+/// [`MassMatrix::mass_matrix`] returns a new matrix, so it first zeroes all of it (a `memset`)
+/// and then writes every entry that is not zero for all `q`. Kept, the zeros stay from one call
+/// to the next: on the 37-coordinate humanoid, 700 of the 1,369 entries are zero for every `q`,
+/// and the update takes 644 ns where `mass_matrix` takes 740 (side by side, x86-64-v3, a 2-core
+/// AMD EPYC VM). On arm7, whose `M` has no zero, 54.8 against 59.0 ns: the entries go to memory
+/// as they are computed, where the new matrix, a local until it is returned, kept them in
+/// registers and on the stack to the end.
+///
+/// The matrix can only be read (through [`Deref`](core::ops::Deref) or
+/// [`matrix`](KeptMassMatrix::matrix)): that keeps the zeros it starts with, so every update
+/// leaves the whole of `M(q)`. It is typed by its chain, whose generated code knows which
+/// entries are zero.
+///
+/// ```
+/// articulated::chain! {
+///     chain Pendulum {
+///         outputs: [mass_matrix, mass_matrix_update];
+///         body bob { mass: 1.0, com: [0.0, 0.0, -1.0], inertia: diag(0.01, 0.01, 0.01) }
+///         joint pivot: revolute(y) { parent: world, child: bob }
+///     }
+/// }
+/// use articulated::{KeptMassMatrix, MassMatrix, MassMatrixUpdate};
+/// use articulated::nalgebra::SVector;
+///
+/// let mut m = KeptMassMatrix::<Pendulum, f64, 1>::new();
+/// for step in 0..3 {
+///     let q = SVector::<f64, 1>::new(0.1 * f64::from(step));
+///     Pendulum::mass_matrix_update(&q, &mut m);
+///     assert_eq!(*m, Pendulum::mass_matrix(&q));
+/// }
+/// ```
+pub struct KeptMassMatrix<C: ?Sized, T, const NV: usize> {
+    matrix: SMatrix<T, NV, NV>,
+    chain: core::marker::PhantomData<fn() -> C>,
+}
+
+impl<C: ?Sized, T: crate::Scalar, const NV: usize> KeptMassMatrix<C, T, NV> {
+    /// A zero matrix, ready for its first update.
+    pub fn new() -> Self {
+        Self {
+            matrix: SMatrix::from_array_storage(nalgebra::ArrayStorage([[T::zero(); NV]; NV])),
+            chain: core::marker::PhantomData,
+        }
+    }
+}
+
+impl<C: ?Sized, T: crate::Scalar, const NV: usize> Default for KeptMassMatrix<C, T, NV> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<C: ?Sized, T, const NV: usize> KeptMassMatrix<C, T, NV> {
+    /// The matrix as the last update left it.
+    pub fn matrix(&self) -> &SMatrix<T, NV, NV> {
+        &self.matrix
+    }
+
+    /// The matrix, by value.
+    pub fn into_matrix(self) -> SMatrix<T, NV, NV> {
+        self.matrix
+    }
+}
+
+impl<C: ?Sized, T, const NV: usize> core::ops::Deref for KeptMassMatrix<C, T, NV> {
+    type Target = SMatrix<T, NV, NV>;
+
+    fn deref(&self) -> &SMatrix<T, NV, NV> {
+        &self.matrix
+    }
+}
+
+impl<C: ?Sized, T: Clone, const NV: usize> Clone for KeptMassMatrix<C, T, NV> {
+    fn clone(&self) -> Self {
+        Self {
+            matrix: self.matrix.clone(),
+            chain: core::marker::PhantomData,
+        }
+    }
+}
+
+impl<C: ?Sized, T: fmt::Debug, const NV: usize> fmt::Debug for KeptMassMatrix<C, T, NV> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_tuple("KeptMassMatrix").field(&self.matrix).finish()
     }
 }
 
@@ -518,5 +625,14 @@ pub mod __private {
         tol: T,
     ) -> bool {
         pivot > tol * scale
+    }
+
+    /// The entries of a [`KeptMassMatrix`](super::KeptMassMatrix), for the generated update,
+    /// which writes only entries that can be non-zero.
+    #[inline(always)]
+    pub fn kept_entries<C: ?Sized, T, const NV: usize>(
+        kept: &mut super::KeptMassMatrix<C, T, NV>,
+    ) -> &mut nalgebra::SMatrix<T, NV, NV> {
+        &mut kept.matrix
     }
 }

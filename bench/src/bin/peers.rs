@@ -17,7 +17,8 @@
 //! reported as the fastest and the median batch, in ns per call.
 //!
 //! The models: the same `.chain` files the generator ships, each generated with the six
-//! dynamics outputs of the comparison and the eight quantities of the whole system (centre of
+//! dynamics outputs of the comparison (and `mass_matrix_update`, `M` into a kept matrix) and
+//! the eight quantities of the whole system (centre of
 //! mass, its velocity and Jacobian, centroidal momentum and its matrix, kinetic and potential
 //! energy, the Coriolis matrix). Adding one is one line of `models!` below (and one in
 //! `run.py`'s model list).
@@ -86,6 +87,10 @@ const DERIVATIVE_OUTPUTS: [Output; 3] = [
     Output::MassMatrixInverse,
 ];
 
+/// The timing of `C::mass_matrix_update(&q, &mut kept)`: `M` into a [`KeptMassMatrix`], only the
+/// entries that can be non-zero written (reported beside `mass_matrix`).
+const MASS_MATRIX_UPDATE: &str = "mass_matrix_update";
+
 /// The kernels that are not generated functions: `∂τ/∂q` and `∂q̈/∂q` by central differences of
 /// the generated `inverse_dynamics` and `forward_dynamics` ([`central_differences`]), timed after
 /// [`DERIVATIVE_OUTPUTS`].
@@ -100,6 +105,7 @@ const STEP: f64 = 1e-6;
 /// A generated model with the outputs of the comparison.
 trait Peer<const NQ: usize, const NV: usize>:
     MassMatrix<f64, NQ, NV>
+    + MassMatrixUpdate<f64, NQ, NV>
     + NonlinearEffects<f64, NQ, NV>
     + Gravity<f64, NQ, NV>
     + InverseDynamics<f64, NQ, NV>
@@ -167,6 +173,7 @@ macro_rules! peer_type {
             file = $file,
             outputs = [
                 mass_matrix,
+                mass_matrix_update,
                 nonlinear_effects,
                 gravity,
                 inverse_dynamics,
@@ -366,6 +373,12 @@ where
     let s = |i: usize| &states[i & mask];
     visitor.visit(Output::MassMatrix.name(), |i| {
         black_box(M::mass_matrix(black_box(&s(i).q)));
+    });
+    // `M` into a kept matrix, as Pinocchio's `crba` writes into `data.M`.
+    let mut kept = KeptMassMatrix::<M, f64, NV>::new();
+    visitor.visit(MASS_MATRIX_UPDATE, |i| {
+        M::mass_matrix_update(black_box(&s(i).q), &mut kept);
+        black_box(&kept);
     });
     visitor.visit(Output::NonlinearEffects.name(), |i| {
         let x = s(i);

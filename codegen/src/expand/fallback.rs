@@ -41,6 +41,13 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
         impl #sizes ::articulated::MassMatrix<T, N, N> for #name {
             fn mass_matrix_with(_: &#v, _: &()) -> #m #never
         }
+        impl #sizes ::articulated::MassMatrixUpdate<T, N, N> for #name {
+            fn mass_matrix_update_with(
+                _: &#v,
+                _: &(),
+                _: &mut ::articulated::KeptMassMatrix<Self, T, N>,
+            ) #never
+        }
         impl #sizes ::articulated::Bias<T, N, N> for #name {
             fn bias_with(_: &#v, _: &#v, _: &()) -> #v #never
         }

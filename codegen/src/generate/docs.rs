@@ -140,6 +140,11 @@ pub(super) fn function_doc(cx: &Context, traced: &Traced) -> Vec<String> {
 fn equation(output: Output) -> &'static str {
     match output {
         Output::MassMatrix => "`M(q)`, the joint-space mass matrix (Wieber 2005, eq. 6).",
+        Output::MassMatrixUpdate => {
+            "`M(q)`, the joint-space mass matrix (Wieber 2005, eq. 6), written into `kept`: only \
+             the entries that can be non-zero, the others left as they are, zero \
+             (`articulated::KeptMassMatrix`)."
+        }
         Output::Bias => {
             "`N(q, q̇)·q̇`, the velocity-product terms without gravity (Wieber 2005, eq. 7)."
         }
@@ -229,7 +234,9 @@ fn formulation(traced: &Traced) -> String {
             crba_name(specialized, root_frame),
             rnea_name(specialized)
         ),
-        (Output::MassMatrix, _) => format!("By {}", crba_name(specialized, root_frame)),
+        (Output::MassMatrix | Output::MassMatrixUpdate, _) => {
+            format!("By {}", crba_name(specialized, root_frame))
+        }
         (Output::MassMatrixAndNonlinearEffects, _) => format!(
             "`M` by {}, `N·q̇ + g` by {}",
             crba_name(specialized, root_frame),
@@ -312,7 +319,7 @@ fn accuracy(cx: &Context, traced: &Traced) -> Option<String> {
              `cond(M)` = 7e6 and 2e-6 at 7e10 (`docs/accuracy.md`). `accuracy: robust` \
              generates ABA instead, whose error does not grow with it."
         ),
-        (Output::MassMatrix | Output::InverseDynamics, _) => format!(
+        (Output::MassMatrix | Output::MassMatrixUpdate | Output::InverseDynamics, _) => format!(
             "Accuracy (`{choice}`, every choice alike): no solve, so no loss with the condition \
              number of `M`; measured against the double-double ground truth at every state of \
              `docs/accuracy.md` (gimbal lock, mass ratios to 1e12, slender bodies, lengths from \

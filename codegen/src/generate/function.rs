@@ -53,6 +53,16 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
         .map(|d| quote!(#[doc = #d]));
     let p_arg = if used.params { quote!(p) } else { quote!(_p) };
     let statements = &emitted.statements;
+    // The update takes the matrix it writes and returns nothing.
+    let (kept, ret) = if traced.output == Output::MassMatrixUpdate {
+        let (scalar, nv) = (&cx.scalar, Literal::usize_unsuffixed(cx.nv));
+        (
+            quote!(kept: &mut ::articulated::KeptMassMatrix<Self, #scalar, #nv>,),
+            quote!(),
+        )
+    } else {
+        (quote!(), quote!(-> #ret))
+    };
     // A scalar result is the last `let`, named after what it is (`kinetic_energy`): returning
     // the name reads better than inlining its expression, which is what clippy would have.
     let allow = if matches!(
@@ -67,7 +77,7 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
         impl #generics ::articulated::#trait_ for #name {
             #(#doc)*
             #allow
-            fn #function(#(#args)* #p_arg: &#params_ty) -> #ret {
+            fn #function(#(#args)* #p_arg: &#params_ty, #kept) #ret {
                 #(#inputs)*
                 #declare
                 #statements
@@ -115,7 +125,9 @@ fn sunk_layout(
         }
     };
     Some(match traced.output {
-        Output::MassMatrix => (vec![("mass_matrix", nv, nv)], Box::new(row_major(0, nv, 0))),
+        Output::MassMatrix | Output::MassMatrixUpdate => {
+            (vec![("mass_matrix", nv, nv)], Box::new(row_major(0, nv, 0)))
+        }
         Output::CoriolisMatrix => (
             vec![("coriolis_matrix", nv, nv)],
             Box::new(row_major(0, nv, 0)),
@@ -168,18 +180,25 @@ fn sink(cx: &Context, traced: &Traced) -> Option<Sunk> {
         })
         .collect();
     let zero = emit::zero(cx.options.scalar);
-    let declare = matrices
-        .iter()
-        .zip(&names)
-        .map(|(&(_, rows, cols), name)| {
-            let (r, c) = (Literal::usize_unsuffixed(rows), Literal::usize_unsuffixed(cols));
-            quote! {
-                let mut #name = ::articulated::nalgebra::SMatrix::<#scalar, #r, #c>::from_array_storage(
-                    ::articulated::nalgebra::ArrayStorage([[#zero; #r]; #c])
-                );
-            }
-        })
-        .collect();
+    // Each matrix a new zero one; the update's is the one its caller keeps, not zeroed (only the
+    // entries that can be non-zero are stored).
+    let zeroed = |(&(_, rows, cols), name): (&(&str, usize, usize), &proc_macro2::Ident)| {
+        let (r, c) = (
+            Literal::usize_unsuffixed(rows),
+            Literal::usize_unsuffixed(cols),
+        );
+        let ty = quote!(::articulated::nalgebra::SMatrix::<#scalar, #r, #c>);
+        quote! {
+            let mut #name = #ty::from_array_storage(
+                ::articulated::nalgebra::ArrayStorage([[#zero; #r]; #c])
+            );
+        }
+    };
+    let declare = if traced.output == Output::MassMatrixUpdate {
+        quote!(let mass_matrix = ::articulated::__private::kept_entries(kept);)
+    } else {
+        matrices.iter().zip(&names).map(zeroed).collect()
+    };
     Some(Sunk {
         sink: emit::Sink { places },
         declare,
@@ -206,6 +225,8 @@ fn signature(cx: &Context, output: Output) -> Signature {
         |ok: TokenStream| quote!(::core::result::Result<#ok, ::articulated::SingularMassMatrix>);
     let (trait_, arguments, ret): (_, &'static [&'static str], _) = match output {
         Output::MassMatrix => (quote!(MassMatrix), &["q"], m_ty),
+        // Returns nothing: its result goes into the `kept` argument ([`item`]).
+        Output::MassMatrixUpdate => (quote!(MassMatrixUpdate), &["q"], quote!()),
         Output::Bias => (quote!(Bias), &["q", "v"], sv),
         Output::Gravity => (quote!(Gravity), &["q"], sv),
         Output::InverseDynamics => (quote!(InverseDynamics), &["q", "v", "a"], sv),
@@ -272,6 +293,9 @@ fn result(
 ) -> TokenStream {
     let values = &emitted.outputs[..traced.values.len()];
     let nv = cx.nv;
+    if traced.output == Output::MassMatrixUpdate {
+        return TokenStream::new();
+    }
     let built = match sunk {
         Some([one]) => quote!(#one),
         Some(names) => quote!((#(#names),*)),
@@ -298,6 +322,8 @@ fn built(cx: &Context, output: Output, values: &[TokenStream]) -> TokenStream {
     match output {
         // nalgebra stores columns; M is symmetric, so its row-major entries are its columns.
         Output::MassMatrix => columns(cx, values, nv),
+        // Written into its `kept` argument.
+        Output::MassMatrixUpdate => quote!(),
         Output::MassMatrixAndNonlinearEffects => {
             let (m, nle) = values.split_at(nv * nv);
             let (m, nle) = (columns(cx, m, nv), vector(cx, nle));

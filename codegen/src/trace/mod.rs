@@ -270,6 +270,12 @@ pub fn trace(model: &Model, output: Output) -> Traced {
 /// [`Accuracy::Robust`] keeps forward dynamics to ABA. `quasi_static` traces every variant with
 /// `v = 0` ([`Variant::quasi_static`]).
 pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy, quasi_static: bool) -> Traced {
+    // The update into a kept matrix is `M`, stored elsewhere.
+    if output == Output::MassMatrixUpdate {
+        let mut traced = trace_with(model, Output::MassMatrix, accuracy, quasi_static);
+        traced.output = output;
+        return traced;
+    }
     let scene = |mut v: Variant| {
         v.quasi_static = quasi_static;
         v
@@ -363,7 +369,9 @@ fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
         let zero = vec![Sym::zero(); tree.nv];
         let form = variant.formulation;
         let values = match output {
-            Output::MassMatrix => c.reduce_matrix(&mass_matrix(form, &tree, &q)),
+            Output::MassMatrix | Output::MassMatrixUpdate => {
+                c.reduce_matrix(&mass_matrix(form, &tree, &q))
+            }
             Output::Bias => c.reduce(&rnea(form, &tree, &q, &v, &zero, false)),
             Output::Gravity => c.reduce(&rnea(form, &tree, &q, &zero, &zero, true)),
             Output::InverseDynamics => c.reduce(&rnea(form, &tree, &q, &v, &a, true)),
@@ -427,7 +435,7 @@ fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
 /// unnamed; the first name a value gets wins.
 fn label_outputs(output: Output, values: Vec<Sym>, nv: usize) -> Vec<Sym> {
     let stem = match output {
-        Output::MassMatrix => "m",
+        Output::MassMatrix | Output::MassMatrixUpdate => "m",
         Output::Bias => "bias",
         Output::Gravity => "g",
         Output::InverseDynamics => "tau",
