@@ -27,6 +27,7 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
     let Signature {
         trait_,
         arguments,
+        after_params,
         ret,
     } = signature(cx, traced.output);
     let declare = sunk.as_ref().map(|k| k.declare.clone()).unwrap_or_default();
@@ -53,16 +54,6 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
         .map(|d| quote!(#[doc = #d]));
     let p_arg = if used.params { quote!(p) } else { quote!(_p) };
     let statements = &emitted.statements;
-    // The update takes the matrix it writes and returns nothing.
-    let (kept, ret) = if traced.output == Output::MassMatrixUpdate {
-        let (scalar, nv) = (&cx.scalar, Literal::usize_unsuffixed(cx.nv));
-        (
-            quote!(kept: &mut ::articulated::KeptMassMatrix<Self, #scalar, #nv>,),
-            quote!(),
-        )
-    } else {
-        (quote!(), quote!(-> #ret))
-    };
     // A scalar result is the last `let`, named after what it is (`kinetic_energy`): returning
     // the name reads better than inlining its expression, which is what clippy would have.
     let allow = if matches!(
@@ -77,7 +68,7 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
         impl #generics ::articulated::#trait_ for #name {
             #(#doc)*
             #allow
-            fn #function(#(#args)* #p_arg: &#params_ty, #kept) #ret {
+            fn #function(#(#args)* #p_arg: &#params_ty, #after_params) #ret {
                 #(#inputs)*
                 #declare
                 #statements
@@ -207,10 +198,11 @@ fn sink(cx: &Context, traced: &Traced) -> Option<Sunk> {
 }
 
 /// What an output's function looks like: its trait, its arguments before the parameters (`q`,
-/// `v`, `a`, `tau`, `base`) and its return type.
+/// `v`, `a`, `tau`, `base`), those after them, and its return type (`-> …`, or nothing).
 struct Signature {
     trait_: TokenStream,
     arguments: &'static [&'static str],
+    after_params: TokenStream,
     ret: TokenStream,
 }
 
@@ -225,7 +217,7 @@ fn signature(cx: &Context, output: Output) -> Signature {
         |ok: TokenStream| quote!(::core::result::Result<#ok, ::articulated::SingularMassMatrix>);
     let (trait_, arguments, ret): (_, &'static [&'static str], _) = match output {
         Output::MassMatrix => (quote!(MassMatrix), &["q"], m_ty),
-        // Returns nothing: its result goes into the `kept` argument ([`item`]).
+        // Returns nothing: it writes into its `kept` argument (below).
         Output::MassMatrixUpdate => (quote!(MassMatrixUpdate), &["q"], quote!()),
         Output::Bias => (quote!(Bias), &["q", "v"], sv),
         Output::Gravity => (quote!(Gravity), &["q"], sv),
@@ -275,9 +267,17 @@ fn signature(cx: &Context, output: Output) -> Signature {
         }
         _ => quote!(#trait_<#scalar, #nq, #nv>),
     };
+    let (after_params, ret) = match output {
+        Output::MassMatrixUpdate => (
+            quote!(kept: &mut ::articulated::KeptMassMatrix<Self, #scalar, #nv>,),
+            quote!(),
+        ),
+        _ => (quote!(), quote!(-> #ret)),
+    };
     Signature {
         trait_,
         arguments,
+        after_params,
         ret,
     }
 }
