@@ -113,6 +113,8 @@ def programs(model):
         "ours_default": [os.path.join(OUT, "rust-default", "release", "peers")] + states("ours"),
         "pin_v3": [os.path.join(OUT, "bin", "pinocchio_v3")] + pin_args + states("pin"),
         "pin_wheel": [os.path.join(OUT, "bin", "pinocchio_wheel")] + pin_args + states("pin"),
+        "ours_native": [os.path.join(OUT, "rust-native", "release", "peers")] + states("ours"),
+        "pin_native": [os.path.join(OUT, "bin", "pinocchio_native")] + pin_args + states("pin"),
         "mujoco": [os.path.join(OUT, "bin", "mujoco_timing"), "--mjb", mjb_path(name)]
         + states("mujoco"),
     }
@@ -415,6 +417,7 @@ def check_values(model_entry, progs, maps, state0, derivatives):
     own = [
         ("pin_v3", ref),
         ("pin_wheel", run_json(progs["pin_wheel"] + ["--values", name])),
+        ("pin_native", run_json(progs["pin_native"] + ["--values", name])),
     ]
     for key, vals in own:
         pairs = [
@@ -442,8 +445,8 @@ def check_values(model_entry, progs, maps, state0, derivatives):
         e = rel(ref_d["minv (aba derivatives)"], ref_d["mass_matrix_inverse"])
         if e > DERIV_TOL:
             sys.exit(f"[run.py] VALUES DISAGREE: {name} {key}: Minv of computeABADerivatives and computeMinverse differ by {e:.3g}")
-    # Ours, both builds.
-    for key in ("ours_v3", "ours_default"):
+    # Ours, every build.
+    for key in ("ours_v3", "ours_default", "ours_native"):
         vals = run_json(progs[key] + ["--values", name])
         if vals["forward_dynamics"] is None:
             sys.exit(f"[run.py] {name} {key}: forward dynamics found M singular at the first state")
@@ -601,6 +604,12 @@ def sh(cmd):
         return "?"
 
 
+def native_cpu(target_cpus):
+    """The CPU `-C target-cpu=native` stands for, from `rustc --print target-cpus`."""
+    found = re.search(r"^\s*native\b.*\(currently ([^)]*)\)", target_cpus, re.M)
+    return found.group(1) if found else "?"
+
+
 def environment():
     lscpu = sh("lscpu")
     model_name = re.search(r"Model name:\s*(.*)", lscpu)
@@ -614,6 +623,10 @@ def environment():
         kernel=platform.release(),
         rustc=sh("rustc --version"),
         gxx=sh("g++ --version | head -1"),
+        # What `-march=native` and `-C target-cpu=native` (the native column pair) resolve to.
+        gcc_native=sh("g++ -march=native -Q --help=target 2>/dev/null | sed -n 's/^ *-march= *//p' | head -1")
+        + (" with AVX-512" if "__AVX512F__" in sh("g++ -march=native -dM -E - </dev/null") else ""),
+        rustc_native=native_cpu(sh("rustc --print target-cpus")),
         valgrind=sh("valgrind --version"),
         python=platform.python_version(),
         pinocchio=pin.__version__,
@@ -767,6 +780,7 @@ def report(env, models, ops, results, instr, checks, args, load_end):
             w(f"- {e}")
     whole_report(w, models, ops, results, instr)
     derivatives_report(w, models, ops, results, instr, checks)
+    native_report(w, models, ops, results, env)
     w("")
     w(WHAT)
     return "\n".join(L) + "\n"
@@ -854,6 +868,46 @@ def whole_report(w, models, ops, results, instr):
                 "- instructions per call, ours default: "
                 + ", ".join(f"{o} {ins['ours_default'][o]:.0f}" for o, _ in WHOLE_ROWS)
             )
+
+
+def native_report(w, models, ops, results, env):
+    """The section of the builds for this machine's CPU, both sides."""
+    w("")
+    w("## Both built for this CPU")
+    w("")
+    w("The same calls, timed in the same rounds, with both sides built for the CPU of this")
+    w(f"machine: ours with `RUSTFLAGS=\"-C target-cpu=native\"` (rustc resolves it to `{env['rustc_native']}`),")
+    w(f"Pinocchio with `g++ -O3 -DNDEBUG -march=native` (`{env['gcc_native']}`), what a user who builds for")
+    w("the machine gets; everything else as for v3. On a CPU with AVX-512 this adds its wider")
+    w("registers and the CPU's own instruction scheduling to both. Values are checked as for the")
+    w("other builds; no instruction counts (valgrind does not decode AVX-512).")
+    w("")
+    w("In short (Pinocchio native / ours native, the range over the six outputs of each model's")
+    w("first table):")
+    w("")
+    pin_min = lambda res, outs: min(res["pin_native"][p][0] for p in outs)
+    for (name, *_rest) in models:
+        res = results[name]
+        ratios = [(pin_min(res, r[1]) / res["ours_native"][r[0]][0], r[0]) for r in ROWS]
+        (lo, lo_out), (hi, hi_out) = min(ratios), max(ratios)
+        w(f"- **{name}**: {lo:.1f}× ({lo_out}) to {hi:.1f}× ({hi_out})")
+    for (name, *_rest) in models:
+        res = results[name]
+        rows = [(o, pins) for o, pins, _mj in ROWS]
+        if "mass_matrix_update" in res["ours_native"]:
+            rows.append(("mass_matrix_update", ["mass_matrix", "mass_matrix_world"]))
+        rows += [(o, pins) for o, pins in WHOLE_ROWS]
+        if ops[name]["derivatives"]:
+            rows += [(o, [p]) for o, p, _d, _v in DERIV_ROWS]
+        w("")
+        w(f"### {name}: native")
+        w("")
+        w("| output | ours native (ns) | Pinocchio native (ns) | Pinocchio / ours (native) | Pinocchio / ours (v3, above) |")
+        w("|---|---:|---:|---:|---:|")
+        for o, pins in rows:
+            on, pn = res["ours_native"][o][0], pin_min(res, pins)
+            o3, p3 = res["ours_v3"][o][0], min(res["pin_v3"][p][0] for p in pins)
+            w(f"| {o} | {fmt_ns(on)} | {fmt_ns(pn)} | {fmt_ratio(pn / on)} | {fmt_ratio(p3 / o3)} |")
 
 
 def derivatives_report(w, models, ops, results, instr, checks):

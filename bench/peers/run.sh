@@ -6,11 +6,11 @@
 # 1. a Python venv in target/peers/venv with the pinned wheels (Pinocchio's C++ headers and
 #    libraries come with `pin` under site-packages/cmeel.prefix; MuJoCo's C header and library
 #    with `mujoco`);
-# 2. the timing programs: bench/peers/pinocchio_timing.cpp twice (algorithms compiled here
-#    for x86-64-v3; calls into the wheel's prebuilt library), bench/peers/mujoco_timing.c, and
-#    our bench/src/bin/peers.rs twice (x86-64-v3, default target; with the feature
-#    humanoid-derivatives, the humanoid's derivative outputs), each rebuilt only when its source
-#    or flags changed;
+# 2. the timing programs: bench/peers/pinocchio_timing.cpp three times (algorithms compiled
+#    here for x86-64-v3 and for this machine's CPU; calls into the wheel's prebuilt library),
+#    bench/peers/mujoco_timing.c, and our bench/src/bin/peers.rs three times (x86-64-v3, this
+#    machine's CPU, default target; with the feature humanoid-derivatives, the humanoid's
+#    derivative outputs), each rebuilt only when its source or flags changed;
 # 3. bench/peers/run.py: values check, timing, callgrind, BENCHMARKS.md.
 # Everything it builds or installs stays under target/peers/ (ignored by git).
 set -euo pipefail
@@ -25,6 +25,10 @@ BIN=$OUT/bin
 # include (those are only build extras of its wheels), hence cmeel-eigen, cmeel-urdfdom-headers.
 REQUIREMENTS="pin==4.1.0 mujoco==4.0.0 cmeel-eigen==3.4.1 cmeel-urdfdom-headers==3.0.0 numpy"
 CPU_FLAGS="-march=x86-64-v3"   # the same CPU as RUSTFLAGS="-C target-cpu=x86-64-v3"
+# The second pair, both sides built for this machine (RUSTFLAGS="-C target-cpu=native"). The
+# stamp holds what gcc makes of it, so that a tree copied to another CPU rebuilds.
+NATIVE_FLAGS="-march=native"
+NATIVE_CPU=$(g++ -march=native -Q --help=target 2>/dev/null | sed -n 's/^ *-march= *//p' | head -1)
 
 step() { echo "[run.sh] $*"; }
 
@@ -86,12 +90,16 @@ EOF
 )
 PIN_INC="-I$PREFIX/include -I$PREFIX/include/eigen3 -I$PREFIX/include/urdfdom_headers"
 PIN_LIBS="-L$PREFIX/lib -Wl,-rpath,$PREFIX/lib -lpinocchio_parsers -lpinocchio_default"
-step "Pinocchio: two builds of its headers, a few minutes each when the source changed"
+step "Pinocchio: three builds of its headers, a few minutes each when the source changed"
 # v3: Pinocchio's algorithms compiled here. The model comes from the wheel's parser library
 # (built for baseline x86-64), so Eigen keeps that build's alignment and allocator.
 build "$BIN/pinocchio_v3" bench/peers/pinocchio_timing.cpp "g++ -std=c++17 -O3 -DNDEBUG $CPU_FLAGS -DEIGEN_MAX_ALIGN_BYTES=16 \
   -DEIGEN_MALLOC_ALREADY_ALIGNED=1 $PIN_DEFS $PIN_INC bench/peers/pinocchio_timing.cpp \
   -o $BIN/pinocchio_v3 $PIN_LIBS"
+# native: the same for this machine's CPU (the comment keys the stamp to the CPU gcc found).
+build "$BIN/pinocchio_native" bench/peers/pinocchio_timing.cpp "g++ -std=c++17 -O3 -DNDEBUG $NATIVE_FLAGS -DEIGEN_MAX_ALIGN_BYTES=16 \
+  -DEIGEN_MALLOC_ALREADY_ALIGNED=1 $PIN_DEFS $PIN_INC bench/peers/pinocchio_timing.cpp \
+  -o $BIN/pinocchio_native $PIN_LIBS # for $NATIVE_CPU"
 # wheel: the calls go to the wheel's prebuilt libpinocchio_default, as for a CMake user.
 build "$BIN/pinocchio_wheel" bench/peers/pinocchio_timing.cpp "g++ -std=c++17 -O3 -DNDEBUG \
   -DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION $PIN_DEFS $PIN_INC bench/peers/pinocchio_timing.cpp \
@@ -101,6 +109,9 @@ build "$BIN/mujoco_timing" bench/peers/mujoco_timing.c "gcc -std=c11 -O3 -DNDEBU
 
 step "building ours for x86-64-v3 (cargo, target/peers/rust-v3)"
 RUSTFLAGS="-C target-cpu=x86-64-v3" CARGO_TARGET_DIR=$OUT/rust-v3 \
+  cargo build --release --quiet -p articulated-bench --bin peers --features humanoid-derivatives
+step "building ours for this machine's CPU (cargo, target/peers/rust-native)"
+RUSTFLAGS="-C target-cpu=native" CARGO_TARGET_DIR=$OUT/rust-native \
   cargo build --release --quiet -p articulated-bench --bin peers --features humanoid-derivatives
 step "building ours for the default target (cargo, target/peers/rust-default)"
 env -u RUSTFLAGS CARGO_TARGET_DIR="$OUT/rust-default" \
