@@ -781,6 +781,7 @@ def report(env, models, ops, results, instr, checks, args, load_end):
     whole_report(w, models, ops, results, instr)
     derivatives_report(w, models, ops, results, instr, checks)
     native_report(w, models, ops, results, env)
+    bytes_report(w, models, results, code_bytes(os.path.join(OUT, "rust-v3", "release", "peers")))
     w("")
     w(WHAT)
     return "\n".join(L) + "\n"
@@ -868,6 +869,49 @@ def whole_report(w, models, ops, results, instr):
                 "- instructions per call, ours default: "
                 + ", ".join(f"{o} {ins['ours_default'][o]:.0f}" for o, _ in WHOLE_ROWS)
             )
+
+
+def code_bytes(binary):
+    """bytes[(model, output)]: the size of each generated function that the binary keeps as a
+    symbol of its own (`nm -S`); the small ones are inlined into their caller and have none."""
+    listing = subprocess.run(["nm", "-S", "-C", binary], capture_output=True, text=True).stdout
+    sizes = {}
+    for line in listing.splitlines():
+        found = re.match(r"\S+ (\S+) \S <peers::(\w+) as articulated::generated::\w+<[^>]*>>::(\w+)_with$", line)
+        if found:
+            model = re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", found.group(2)).lower()
+            sizes[(model, found.group(3))] = int(found.group(1), 16)
+    return sizes
+
+
+def bytes_report(w, models, results, sizes):
+    """Machine-code bytes beside time, per generated function (v3 build)."""
+    rows = []
+    for (name, *_rest) in models:
+        for output, (fastest, _median) in results[name]["ours_v3"].items():
+            if (name, output) in sizes:
+                rows.append((sizes[(name, output)], name, output, fastest))
+    if not rows:
+        return
+    rows.sort()
+    rates = [b / ns for b, _n, _o, ns in rows]
+    w("")
+    w("## Code size and time")
+    w("")
+    w("Every generated function of the v3 build that is a function of its own in `peers` (the small")
+    w("ones are inlined into their caller), with its machine-code bytes (`nm -S`) beside its time.")
+    w("Straight-line code runs through all its bytes once per call, and around and past the 32 KiB")
+    w("of a level-1 instruction cache the time follows the bytes, whatever the operations: the")
+    w(f"{len(rates)} functions here, {rows[0][0] / 1000:.0f} KB to {rows[-1][0] / 1000:.0f} KB, ran at "
+      f"{min(rates):.0f} to {max(rates):.0f} bytes per nanosecond (median {float(np.median(rates)):.0f}).")
+    w("That they wait on fetching code from level 2 is an inference from that steady rate: this")
+    w("VM exposes no performance counters. For such functions fewer bytes (spills, constants,")
+    w("stores: see `ARCHITECTURE.md`) is what makes them faster.")
+    w("")
+    w("| model | output | bytes | ours v3 (ns) | bytes per ns |")
+    w("|---|---|---:|---:|---:|")
+    for b, name, output, ns in rows:
+        w(f"| {name} | {output} | {b} | {fmt_ns(ns)} | {b / ns:.0f} |")
 
 
 def native_report(w, models, ops, results, env):
