@@ -122,3 +122,41 @@ fn humanoid_and_chain50_match_the_reference() {
         assert_eq!(w.singular, 0, "random_state should keep M regular");
     }
 }
+
+/// The emitted mass matrix is cut into basic blocks (`articulated::math::block_boundary`, about
+/// every 200 statements in a long function, every 80 in a short one), and no other output is:
+/// the cuts measured faster only there (`articulated_codegen`'s `emit::with_boundaries`).
+#[test]
+fn only_the_mass_matrix_is_cut_into_blocks() {
+    use articulated_codegen::options::Output;
+    let cuts = |file: &str, output: Output| -> (usize, usize) {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(file);
+        let mut chain = articulated_codegen::load::load(&path, false).unwrap();
+        chain.options.set_outputs([output]);
+        let code = articulated_codegen::generate::generate_file(&chain.model, &chain.options, file)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let body = &code[code.find(&format!("fn {}_with", output.name())).unwrap()..];
+        let statements = body.matches(';').count();
+        (body.matches("block_boundary()").count(), statements)
+    };
+    for output in [Output::MassMatrix, Output::MassMatrixUpdate] {
+        let (n, statements) = cuts("models/humanoid.chain", output);
+        assert!(statements > 3_000, "{statements}");
+        // One per 200 statements, give or take the quarter each may move.
+        let (low, high) = (statements / 250 - 1, statements / 150);
+        assert!((low..=high).contains(&n), "humanoid {output:?}: {n} cuts");
+        let (n, statements) = cuts("models/arm7.chain", output);
+        let (low, high) = (statements / 100 - 1, statements / 60);
+        assert!(
+            (low..=high).contains(&n),
+            "arm7 {output:?}: {n} cuts in {statements}"
+        );
+    }
+    for output in [
+        Output::ForwardDynamics,
+        Output::InverseDynamics,
+        Output::NonlinearEffects,
+    ] {
+        assert_eq!(cuts("models/humanoid.chain", output).0, 0, "{output:?}");
+    }
+}

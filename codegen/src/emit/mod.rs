@@ -119,6 +119,10 @@ pub fn straight_line(
 pub struct Sink {
     /// The places each output goes to, in the order of the outputs.
     pub places: Vec<Vec<TokenStream>>,
+    /// Cut the statements into basic blocks with calls to `articulated::math::block_boundary`
+    /// (about every 200 statements, every 80 in functions of fewer than 1,000, none below 300;
+    /// `with_boundaries` in the source has the measurements); `false` leaves them one block.
+    pub boundaries: bool,
 }
 
 /// [`straight_line`], with the outputs that `sink` names stored where they are computed (see
@@ -175,14 +179,118 @@ pub fn zero(scalar: ScalarKind) -> TokenStream {
 const MAX_LETS: usize = 1000;
 
 /// One statement: its pattern, its value, the values it binds and the values of other
-/// statements it reads. A store (`store`) assigns the value to the place `pattern` instead of
-/// binding it with `let`.
+/// statements it reads, and how it is written.
 struct Statement {
     pattern: TokenStream,
     value: TokenStream,
     binds: Vec<Sym>,
     reads: Vec<Sym>,
-    store: bool,
+    kind: Kind,
+}
+
+/// How a [`Statement`] is written.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    /// `let pattern = value;`
+    Let,
+    /// `pattern = value;`: the value assigned to a place (see [`Sink`]).
+    Store,
+    /// `value;` with no pattern: a call to [`boundary`].
+    Boundary,
+}
+
+/// The call that cuts a function into basic blocks where a [`Sink`] asks for it: a branch that is
+/// never taken (its documentation says why it helps).
+fn boundary() -> TokenStream {
+    quote!(::articulated::math::block_boundary())
+}
+
+/// `stmts` with a [`boundary`] about every 80 statements (functions of 300 to 1,000) or 200
+/// (longer ones; shorter ones are left whole), each where the fewest values are live (bound
+/// before it and read after it; `memory`, the values that live in memory anyway, not counted)
+/// within a quarter of that spacing (a choice, not measured against evenly spaced cuts: the
+/// difference is smaller than the noise from code placement below).
+///
+/// The spacing, measured on `mass_matrix_update` (`x86-64-v3`, Zen 4; fastest of 5 rounds × 40
+/// batches, in each of five layouts of one binary, the linker's `--shuffle-sections` seeds 1–5,
+/// because a function of about 32 KB runs at one of two speeds depending on where it lands):
+///
+/// | cut every | humanoid (3,243 statements) | chain50 | arm7 (311) |
+/// |---|---|---|---|
+/// | never | 638–644 ns, 36.5 KB | 3,197–3,215 ns, 185 KB | 53.4–62.1 ns |
+/// | 80 | 519–593 | 2,513–2,538, 144 KB | 50.5–55.6 |
+/// | 120 | 494–523 | 2,526–2,531, 145 KB | |
+/// | 200 | 429–525, 32.2 KB (fast in 2 of 5 layouts of one build, none of another) | 2,464–2,489, 141 KB | |
+/// | 500 | 415–555 (fast in 2–3 of 5), 31.4 KB | 2,666–2,677, 154 KB | |
+/// | 1500 | 546–561 | 2,895–2,913, 166 KB | |
+///
+/// arm7's `mass_matrix` (by value) went from 57.8–68.7 to 51.2–51.4 ns. Below 300 statements it
+/// was a wash: the two-link's (155) 41.1–41.2 → 40.5 ns with one cut, `models/tree.chain`'s
+/// (233) 38.4–39.0 → 39.8–40.1 with two.
+fn with_boundaries(stmts: Vec<Statement>, memory: &HashSet<Sym>) -> Vec<Statement> {
+    let n = stmts.len();
+    if n < 300 {
+        return stmts;
+    }
+    let every = if n < 1_000 { 80 } else { 200 };
+    // live[i]: values live between statement i - 1 and statement i.
+    let mut last_read: HashMap<Sym, usize> = HashMap::new();
+    for (i, st) in stmts.iter().enumerate() {
+        for &r in &st.reads {
+            last_read.insert(r, i);
+        }
+    }
+    let mut delta = vec![0_i64; n + 1];
+    for (i, st) in stmts.iter().enumerate() {
+        for b in st.binds.iter().filter(|b| !memory.contains(b)) {
+            if let Some(&l) = last_read.get(b) {
+                if l > i {
+                    delta[i + 1] += 1;
+                    delta[l + 1] -= 1;
+                }
+            }
+        }
+    }
+    let mut live = Vec::with_capacity(n + 1);
+    let mut cur = 0;
+    for d in &delta {
+        cur += d;
+        live.push(cur);
+    }
+    let cuts: HashSet<usize> = cut_positions(&live, every).into_iter().collect();
+    let mut out = Vec::with_capacity(n + cuts.len());
+    for (i, st) in stmts.into_iter().enumerate() {
+        if cuts.contains(&i) {
+            out.push(Statement {
+                pattern: TokenStream::new(),
+                value: boundary(),
+                binds: Vec::new(),
+                reads: Vec::new(),
+                kind: Kind::Boundary,
+            });
+        }
+        out.push(st);
+    }
+    out
+}
+
+/// Where [`with_boundaries`] cuts `live.len() - 1` statements, `live[i]` values being live before
+/// statement `i`: one cut about every `every` statements, each at the fewest live values within
+/// `every / 4` of where it would fall (the nearer on a tie), the next `every` after it, and none
+/// within `every / 2` of the end.
+fn cut_positions(live: &[i64], every: usize) -> Vec<usize> {
+    let n = live.len().saturating_sub(1);
+    let mut cuts = Vec::new();
+    let mut at = every;
+    while every > 0 && at + every / 2 < n {
+        let window = at - every / 4..(at + every / 4).min(n - 1);
+        let best = window
+            .min_by_key(|&i| (live[i], i.abs_diff(at)))
+            .unwrap_or(at);
+        cuts.push(best);
+        at = best + every;
+    }
+    cuts
 }
 
 /// Everything the statements are written from.
@@ -379,7 +487,7 @@ impl<'g> Writer<'g> {
                     value: self.operand(s)?,
                     binds: Vec::new(),
                     reads: vec![s],
-                    store: true,
+                    kind: Kind::Store,
                 });
             }
             Ok(())
@@ -417,12 +525,16 @@ impl<'g> Writer<'g> {
                 value,
                 binds: binds.clone(),
                 reads: args,
-                store: false,
+                kind: Kind::Let,
             });
             for b in binds {
                 stores(b, &mut stmts)?;
             }
         }
+        let stmts = match sink.is_some_and(|k| k.boundaries) {
+            true => with_boundaries(stmts, &batch),
+            false => stmts,
+        };
         let mut statements = self.bind(stmts, &kept)?;
         if !self.fused.is_empty() {
             let path = match self.scalar {
@@ -449,9 +561,10 @@ impl<'g> Writer<'g> {
                 .iter()
                 .map(|st| {
                     let (pattern, value) = (&st.pattern, &st.value);
-                    match st.store {
-                        true => quote!(#pattern = #value;),
-                        false => quote!(let #pattern = #value;),
+                    match st.kind {
+                        Kind::Store => quote!(#pattern = #value;),
+                        Kind::Let => quote!(let #pattern = #value;),
+                        Kind::Boundary => quote!(#value;),
                     }
                 })
                 .collect()
@@ -535,7 +648,7 @@ impl<'g> Writer<'g> {
             value: quote!(::articulated::math::sincos_array([#(#args),*])),
             binds: self.batch_nodes(),
             reads: self.batched.clone(),
-            store: false,
+            kind: Kind::Let,
         }))
     }
 
@@ -673,4 +786,30 @@ impl<'g> Writer<'g> {
 pub fn format(tokens: TokenStream) -> Result<String, syn::Error> {
     let file: syn::File = syn::parse2(tokens)?;
     Ok(prettyplease::unparse(&file))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cut_positions;
+
+    #[test]
+    fn cuts_fall_where_fewest_values_are_live_near_each_place() {
+        // 1,000 statements, 30 values live everywhere but a dip to 3 at 190 and to 5 at 430
+        // (and a deeper one at 260, outside every window: 200 ± 50 and then 390 ± 50).
+        let mut live = vec![30_i64; 1001];
+        live[190] = 3;
+        live[260] = 1;
+        live[430] = 5;
+        let cuts = cut_positions(&live, 200);
+        assert_eq!(cuts[..2], [190, 430]);
+        // Flat elsewhere: the place itself, then every 200, none in the last 100.
+        assert_eq!(cuts[2..], [630, 830]);
+    }
+
+    #[test]
+    fn short_functions_are_not_cut() {
+        assert!(cut_positions(&[4; 101], 80).is_empty());
+        assert_eq!(cut_positions(&[4; 201], 80), [80]);
+        assert!(cut_positions(&[], 80).is_empty());
+    }
 }

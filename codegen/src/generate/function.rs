@@ -190,8 +190,15 @@ fn sink(cx: &Context, traced: &Traced) -> Option<Sunk> {
     } else {
         matrices.iter().zip(&names).map(zeroed).collect()
     };
+    // The mass matrix cut into basic blocks (`emit::Sink::boundaries`, measured there). Not the
+    // other outputs, which it made slower or larger (x86-64-v3, Zen 4, five layouts each): the
+    // humanoid's forward dynamics 1,895–1,912 ns uncut, 1,946–2,026 cut every 80 to 500
+    // statements; its inverse dynamics 32.5 → 36.6 KB and nonlinear effects 32.2 → 35.5 KB;
+    // arm7's inverse and forward dynamics derivatives 618–629 → 629–642 and 915–937 →
+    // 964–977 ns, `mass_matrix_inverse` 97.0 → 100.6–102.5.
+    let boundaries = matches!(traced.output, Output::MassMatrix | Output::MassMatrixUpdate);
     Some(Sunk {
-        sink: emit::Sink { places },
+        sink: emit::Sink { places, boundaries },
         declare,
         names,
     })
