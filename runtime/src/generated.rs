@@ -212,10 +212,11 @@ pub trait MassMatrixUpdate<T, const NQ: usize, const NV: usize>: Chain<T> {
 /// [`MassMatrix::mass_matrix`] returns a new matrix, so it first zeroes all of it (a `memset`)
 /// and then writes every entry that is not zero for all `q`. Kept, the zeros stay from one call
 /// to the next: on the 37-coordinate humanoid, 700 of the 1,369 entries are zero for every `q`,
-/// and the update takes 644 ns where `mass_matrix` takes 740 (side by side, x86-64-v3, a 2-core
-/// AMD EPYC VM). On arm7, whose `M` has no zero, 54.8 against 59.0 ns: the entries go to memory
-/// as they are computed, where the new matrix, a local until it is returned, kept them in
-/// registers and on the stack to the end.
+/// and the update takes 512 ns where `mass_matrix` takes 636 (side by side, x86-64-v3, a 2-core
+/// AMD EPYC VM; `BENCHMARKS.md`). On arm7, whose `M` has no zero, 51.4 against 52.2 ns: the
+/// entries go to memory as they are computed, where the new matrix, a local until it is
+/// returned, keeps them to the end (54.8 against 59.0 before the generated `M` was cut into
+/// basic blocks, which took more of the by-value function's spills than of the update's).
 ///
 /// The matrix can only be read (through [`Deref`](core::ops::Deref) or
 /// [`matrix`](KeptMassMatrix::matrix)): that keeps the zeros it starts with, so every update
