@@ -200,7 +200,7 @@ pub fn sincos_array<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
 /// one region; what it made of the humanoid's `mass_matrix_update` (3,243 statements) kept more
 /// values live than 16 vector registers hold, and 1,412 instructions of its 5,342 moved spilled
 /// values to and from the stack. Cut into blocks of about 200 statements, it compiles to 4,919
-/// instructions, 1,042 of them spill moves, and 32.2 KB instead of 36.5 KB, and runs in 429–514
+/// instructions, 1,042 of them spill moves, and 32.2 KB instead of 36.5 KB, and runs in 429–525
 /// ns instead of 638–644 (`x86-64-v3`, Zen 4; the spread is the code's placement). Only a branch
 /// does it: a compiler fence or a `black_box` without a branch at the same places left the
 /// function as slow. The generator cuts only the mass matrix, where it measured faster

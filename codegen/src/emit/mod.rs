@@ -189,7 +189,6 @@ struct Statement {
 }
 
 /// How a [`Statement`] is written.
-#[derive(Clone, Copy, PartialEq, Eq)]
 enum Kind {
     /// `let pattern = value;`
     Let,
