@@ -61,6 +61,21 @@ ROWS = [
     ),
 ]
 
+# Our `M` into memory the caller keeps, each against Pinocchio's `crba` (which writes `data.M`,
+# its upper triangle only), reported under each model's table: the output, what it writes.
+KEPT_ROWS = [
+    (
+        "mass_matrix_update",
+        "`M` into a `KeptMassMatrix`, which keeps its zeros between calls, as Pinocchio's `crba` "
+        "writes into `data.M`",
+    ),
+    (
+        "mass_matrix_lower",
+        "the lower triangle of `M` into a `KeptMassMatrixLower`, diagonal included: one triangle, as "
+        "Pinocchio's `crba` fills one (the upper)",
+    ),
+]
+
 # The quantities of the whole system (their own table): our output name, Pinocchio's program
 # outputs (the first is the default call; the fastest of them is the figure). MuJoCo's program
 # times none of them (see WHOLE_MUJOCO).
@@ -454,18 +469,19 @@ def check_values(model_entry, progs, maps, state0, derivatives):
         vals["mm_nle_M"], vals["mm_nle_nle"] = both["mass_matrix"], both["nonlinear_effects"]
         m = maps["ours"].back(
             vals, state0,
-            mass_keys=("mass_matrix", "mm_nle_M"),
+            mass_keys=("mass_matrix", "mm_nle_M", "mass_matrix_lower"),
             force_keys=("nonlinear_effects", "gravity", "inverse_dynamics", "mm_nle_nle"),
             accel_keys=("forward_dynamics",),
         )
         worst = 0.0
         for what, r in [
             ("mass_matrix", "mass_matrix"), ("mm_nle_M", "mass_matrix"),
+            ("mass_matrix_lower", "mass_matrix"),
             ("nonlinear_effects", "nonlinear_effects"), ("mm_nle_nle", "nonlinear_effects"),
             ("gravity", "gravity"), ("inverse_dynamics", "inverse_dynamics"),
             ("forward_dynamics", "forward_dynamics"),
         ]:
-            x = up(m[what]) if what in ("mass_matrix", "mm_nle_M") else m[what]
+            x = up(m[what]) if what in ("mass_matrix", "mm_nle_M", "mass_matrix_lower") else m[what]
             e = rel(x, refs[r])
             worst = max(worst, e)
             if e > OURS_TOL:
@@ -744,13 +760,14 @@ def report(env, models, ops, results, instr, checks, args, load_end):
             extra.append(
                 f"Pinocchio `{p}` (Convention::WORLD): v3 {fmt_ns(res['pin_v3'][p][0])} ns, wheel {fmt_ns(res['pin_wheel'][p][0])} ns"
             )
-        if "mass_matrix_update" in res["ours_v3"]:
-            u3, ud = res["ours_v3"]["mass_matrix_update"][0], res["ours_default"]["mass_matrix_update"][0]
+        for kept, what in KEPT_ROWS:
+            if kept not in res["ours_v3"]:
+                continue
+            u3, ud = res["ours_v3"][kept][0], res["ours_default"][kept][0]
             p3 = min(res["pin_v3"][p][0] for p in ("mass_matrix", "mass_matrix_world"))
-            i_u = ins.get("ours_v3", {}).get("mass_matrix_update")
+            i_u = ins.get("ours_v3", {}).get(kept)
             extra.append(
-                f"ours `mass_matrix_update` (`M` into a `KeptMassMatrix`, which keeps its zeros between calls, "
-                f"as Pinocchio's `crba` writes into `data.M`): v3 {fmt_ns(u3)} ns ({fmt_ratio(p3 / u3)} "
+                f"ours `{kept}` ({what}): v3 {fmt_ns(u3)} ns ({fmt_ratio(p3 / u3)} "
                 f"against Pinocchio v3), default {fmt_ns(ud)} ns"
                 + (f"; {i_u:.0f} instructions per call (v3)" if i_u else "")
             )
@@ -938,8 +955,7 @@ def native_report(w, models, ops, results, env):
     for (name, *_rest) in models:
         res = results[name]
         rows = [(o, pins) for o, pins, _mj in ROWS]
-        if "mass_matrix_update" in res["ours_native"]:
-            rows.append(("mass_matrix_update", ["mass_matrix", "mass_matrix_world"]))
+        rows += [(k, ["mass_matrix", "mass_matrix_world"]) for k, _ in KEPT_ROWS if k in res["ours_native"]]
         rows += [(o, pins) for o, pins in WHOLE_ROWS]
         if ops[name]["derivatives"]:
             rows += [(o, [p]) for o, p, _d, _v in DERIV_ROWS]
@@ -1190,7 +1206,7 @@ def main():
     instr = {}
     if not args.quick:
         def which(name):
-            ours = [r[0] for r in ROWS + WHOLE_ROWS] + ["mass_matrix_update"]
+            ours = [r[0] for r in ROWS + WHOLE_ROWS] + [k for k, _ in KEPT_ROWS]
             pin = sorted({p for r in ROWS + WHOLE_ROWS for p in r[1]})
             if ops[name]["derivatives"]:
                 ours += [r[0] for r in DERIV_ROWS] + [r[2] for r in DERIV_ROWS if r[2]]

@@ -97,6 +97,9 @@ pub enum Output {
     /// `mass_matrix_update(q, &mut kept)`: `M(q)` into a `KeptMassMatrix`, only the entries that
     /// can be non-zero written (the others stay zero from one call to the next).
     MassMatrixUpdate,
+    /// `mass_matrix_lower(q, &mut kept)`: the lower triangle of `M(q)`, diagonal included, into
+    /// a `KeptMassMatrixLower` (the update's entries on and below the diagonal).
+    MassMatrixLower,
     /// `bias(q, v)`: `N(q, q̇)·q̇` without gravity.
     Bias,
     /// `gravity(q)`: `g(q)`.
@@ -146,9 +149,10 @@ pub enum Output {
 
 impl Output {
     /// Every output, with its name in the grammar, in the order the generator emits them.
-    pub const ALL: [(Output, &'static str); 21] = [
+    pub const ALL: [(Output, &'static str); 22] = [
         (Output::MassMatrix, "mass_matrix"),
         (Output::MassMatrixUpdate, "mass_matrix_update"),
+        (Output::MassMatrixLower, "mass_matrix_lower"),
         (Output::Bias, "bias"),
         (Output::Gravity, "gravity"),
         (Output::InverseDynamics, "inverse_dynamics"),
@@ -196,6 +200,7 @@ impl Output {
         match self {
             Output::MassMatrix => "mass_matrix",
             Output::MassMatrixUpdate => "mass_matrix_update",
+            Output::MassMatrixLower => "mass_matrix_lower",
             Output::Bias => "bias",
             Output::Gravity => "gravity",
             Output::InverseDynamics => "inverse_dynamics",

@@ -185,9 +185,9 @@ pub mod prelude {
         Bias, CenterOfMass, CenterOfMassJacobian, CenterOfMassVelocity, CentroidalMomentum,
         CentroidalMomentumMatrix, Chain, Coordinates, CoriolisMatrix, ForwardDynamics,
         ForwardDynamicsDerivatives, Gravity, InverseDynamics, InverseDynamicsDerivatives,
-        JointWrenches, JointWrenchesBottomUp, KeptMassMatrix, KineticEnergy, MassMatrix,
-        MassMatrixAndNonlinearEffects, MassMatrixInverse, MassMatrixUpdate, NonlinearEffects,
-        OpCounts, PotentialEnergy, SingularMassMatrix,
+        JointWrenches, JointWrenchesBottomUp, KeptMassMatrix, KeptMassMatrixLower, KineticEnergy,
+        MassMatrix, MassMatrixAndNonlinearEffects, MassMatrixInverse, MassMatrixLower,
+        MassMatrixUpdate, NonlinearEffects, OpCounts, PotentialEnergy, SingularMassMatrix,
     };
 }
 

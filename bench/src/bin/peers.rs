@@ -17,7 +17,8 @@
 //! reported as the fastest and the median batch, in ns per call.
 //!
 //! The models: the same `.chain` files the generator ships, each generated with the six
-//! dynamics outputs of the comparison (and `mass_matrix_update`, `M` into a kept matrix) and
+//! dynamics outputs of the comparison (and `mass_matrix_update` and `mass_matrix_lower`, `M`
+//! and its lower triangle into a kept matrix) and
 //! the eight quantities of the whole system (centre of
 //! mass, its velocity and Jacobian, centroidal momentum and its matrix, kinetic and potential
 //! energy, the Coriolis matrix). Adding one is one line of `models!` below (and one in
@@ -91,6 +92,11 @@ const DERIVATIVE_OUTPUTS: [Output; 3] = [
 /// entries that can be non-zero written (reported beside `mass_matrix`).
 const MASS_MATRIX_UPDATE: &str = "mass_matrix_update";
 
+/// The timing of `C::mass_matrix_lower(&q, &mut kept)`: `M`'s lower triangle into a
+/// [`KeptMassMatrixLower`], the half of `M` Pinocchio's `crba` also leaves out (it fills the upper
+/// one).
+const MASS_MATRIX_LOWER: &str = "mass_matrix_lower";
+
 /// The kernels that are not generated functions: `∂τ/∂q` and `∂q̈/∂q` by central differences of
 /// the generated `inverse_dynamics` and `forward_dynamics` ([`central_differences`]), timed after
 /// [`DERIVATIVE_OUTPUTS`].
@@ -106,6 +112,7 @@ const STEP: f64 = 1e-6;
 trait Peer<const NQ: usize, const NV: usize>:
     MassMatrix<f64, NQ, NV>
     + MassMatrixUpdate<f64, NQ, NV>
+    + MassMatrixLower<f64, NQ, NV>
     + NonlinearEffects<f64, NQ, NV>
     + Gravity<f64, NQ, NV>
     + InverseDynamics<f64, NQ, NV>
@@ -174,6 +181,7 @@ macro_rules! peer_type {
             outputs = [
                 mass_matrix,
                 mass_matrix_update,
+                mass_matrix_lower,
                 nonlinear_effects,
                 gravity,
                 inverse_dynamics,
@@ -379,6 +387,11 @@ where
     visitor.visit(MASS_MATRIX_UPDATE, |i| {
         M::mass_matrix_update(black_box(&s(i).q), &mut kept);
         black_box(&kept);
+    });
+    let mut lower = KeptMassMatrixLower::<M, f64, NV>::new();
+    visitor.visit(MASS_MATRIX_LOWER, |i| {
+        M::mass_matrix_lower(black_box(&s(i).q), &mut lower);
+        black_box(&lower);
     });
     visitor.visit(Output::NonlinearEffects.name(), |i| {
         let x = s(i);
@@ -679,6 +692,8 @@ fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(x: &State<NQ, NV>) 
         .map(|a| vector(&a))
         .unwrap_or_else(|_| "null".into());
     let (m2, nle2) = M::mass_matrix_and_nonlinear_effects(&x.q, &x.v);
+    let mut lower = KeptMassMatrixLower::<M, f64, NV>::new();
+    M::mass_matrix_lower(&x.q, &mut lower);
     format!(
         "{{\"mass_matrix\": {}, \"nonlinear_effects\": {}, \"gravity\": {}, \
          \"inverse_dynamics\": {}, \"forward_dynamics\": {fd}, \
@@ -686,7 +701,8 @@ fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(x: &State<NQ, NV>) 
          \"center_of_mass\": {}, \"center_of_mass_velocity\": {}, \
          \"center_of_mass_jacobian\": {}, \"centroidal_momentum\": {}, \
          \"centroidal_momentum_matrix\": {}, \"kinetic_energy\": {:e}, \
-         \"potential_energy\": {:e}, \"coriolis_matrix\": {}{}}}",
+         \"potential_energy\": {:e}, \"coriolis_matrix\": {}, \
+         \"mass_matrix_lower\": {}{}}}",
         rows(&M::mass_matrix(&x.q)),
         vector(&M::nonlinear_effects(&x.q, &x.v)),
         vector(&M::gravity(&x.q)),
@@ -701,6 +717,7 @@ fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(x: &State<NQ, NV>) 
         M::kinetic_energy(&x.q, &x.v),
         M::potential_energy(&x.q),
         rows(&M::coriolis_matrix(&x.q, &x.v)),
+        rows(&lower.symmetric()),
         M::derivative_values(x)
     )
 }

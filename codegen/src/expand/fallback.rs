@@ -48,6 +48,13 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
                 _: &mut ::articulated::KeptMassMatrix<Self, T, N>,
             ) #never
         }
+        impl #sizes ::articulated::MassMatrixLower<T, N, N> for #name {
+            fn mass_matrix_lower_with(
+                _: &#v,
+                _: &(),
+                _: &mut ::articulated::KeptMassMatrixLower<Self, T, N>,
+            ) #never
+        }
         impl #sizes ::articulated::Bias<T, N, N> for #name {
             fn bias_with(_: &#v, _: &#v, _: &()) -> #v #never
         }

@@ -145,6 +145,12 @@ fn equation(output: Output) -> &'static str {
              the entries that can be non-zero, the others left as they are, zero \
              (`articulated::KeptMassMatrix`)."
         }
+        Output::MassMatrixLower => {
+            "The lower triangle of `M(q)`, the joint-space mass matrix (Wieber 2005, eq. 6), \
+             diagonal included, written into `kept`: the entries on and below the diagonal that \
+             can be non-zero; the strict upper triangle is never written and stays zero \
+             (`articulated::KeptMassMatrixLower`, what nalgebra's `Cholesky::new` reads)."
+        }
         Output::Bias => {
             "`N(q, q̇)·q̇`, the velocity-product terms without gravity (Wieber 2005, eq. 7)."
         }
@@ -234,7 +240,7 @@ fn formulation(traced: &Traced) -> String {
             crba_name(specialized, root_frame),
             rnea_name(specialized)
         ),
-        (Output::MassMatrix | Output::MassMatrixUpdate, _) => {
+        (Output::MassMatrix | Output::MassMatrixUpdate | Output::MassMatrixLower, _) => {
             format!("By {}", crba_name(specialized, root_frame))
         }
         (Output::MassMatrixAndNonlinearEffects, _) => format!(
@@ -319,7 +325,13 @@ fn accuracy(cx: &Context, traced: &Traced) -> Option<String> {
              `cond(M)` = 7e6 and 2e-6 at 7e10 (`docs/accuracy.md`). `accuracy: robust` \
              generates ABA instead, whose error does not grow with it."
         ),
-        (Output::MassMatrix | Output::MassMatrixUpdate | Output::InverseDynamics, _) => format!(
+        (
+            Output::MassMatrix
+            | Output::MassMatrixUpdate
+            | Output::MassMatrixLower
+            | Output::InverseDynamics,
+            _,
+        ) => format!(
             "Accuracy (`{choice}`, every choice alike): no solve, so no loss with the condition \
              number of `M`; measured against the double-double ground truth at every state of \
              `docs/accuracy.md` (gimbal lock, mass ratios to 1e12, slender bodies, lengths from \

@@ -119,6 +119,11 @@ fn sunk_layout(
         Output::MassMatrix | Output::MassMatrixUpdate => {
             (vec![("mass_matrix", nv, nv)], Box::new(row_major(0, nv, 0)))
         }
+        // On and below the diagonal only (row ≥ column).
+        Output::MassMatrixLower => (
+            vec![("mass_matrix", nv, nv)],
+            Box::new(move |i| (i / nv >= i % nv).then_some((0, i / nv, i % nv))),
+        ),
         Output::CoriolisMatrix => (
             vec![("coriolis_matrix", nv, nv)],
             Box::new(row_major(0, nv, 0)),
@@ -185,7 +190,10 @@ fn sink(cx: &Context, traced: &Traced) -> Option<Sunk> {
             );
         }
     };
-    let declare = if traced.output == Output::MassMatrixUpdate {
+    let declare = if matches!(
+        traced.output,
+        Output::MassMatrixUpdate | Output::MassMatrixLower
+    ) {
         quote!(let mass_matrix = ::articulated::__private::kept_entries(kept);)
     } else {
         matrices.iter().zip(&names).map(zeroed).collect()
@@ -196,7 +204,10 @@ fn sink(cx: &Context, traced: &Traced) -> Option<Sunk> {
     // statements; its inverse dynamics 32.5 → 36.6 KB and nonlinear effects 32.2 → 35.5 KB;
     // arm7's inverse and forward dynamics derivatives 618–629 → 629–642 and 915–937 →
     // 964–977 ns, `mass_matrix_inverse` 97.0 → 100.6–102.5.
-    let boundaries = matches!(traced.output, Output::MassMatrix | Output::MassMatrixUpdate);
+    let boundaries = matches!(
+        traced.output,
+        Output::MassMatrix | Output::MassMatrixUpdate | Output::MassMatrixLower
+    );
     Some(Sunk {
         sink: emit::Sink { places, boundaries },
         declare,
@@ -226,6 +237,7 @@ fn signature(cx: &Context, output: Output) -> Signature {
         Output::MassMatrix => (quote!(MassMatrix), &["q"], m_ty),
         // Returns nothing: it writes into its `kept` argument (below).
         Output::MassMatrixUpdate => (quote!(MassMatrixUpdate), &["q"], quote!()),
+        Output::MassMatrixLower => (quote!(MassMatrixLower), &["q"], quote!()),
         Output::Bias => (quote!(Bias), &["q", "v"], sv),
         Output::Gravity => (quote!(Gravity), &["q"], sv),
         Output::InverseDynamics => (quote!(InverseDynamics), &["q", "v", "a"], sv),
@@ -279,6 +291,10 @@ fn signature(cx: &Context, output: Output) -> Signature {
             quote!(kept: &mut ::articulated::KeptMassMatrix<Self, #scalar, #nv>,),
             quote!(),
         ),
+        Output::MassMatrixLower => (
+            quote!(kept: &mut ::articulated::KeptMassMatrixLower<Self, #scalar, #nv>,),
+            quote!(),
+        ),
         _ => (quote!(), quote!(-> #ret)),
     };
     Signature {
@@ -300,7 +316,10 @@ fn result(
 ) -> TokenStream {
     let values = &emitted.outputs[..traced.values.len()];
     let nv = cx.nv;
-    if traced.output == Output::MassMatrixUpdate {
+    if matches!(
+        traced.output,
+        Output::MassMatrixUpdate | Output::MassMatrixLower
+    ) {
         return TokenStream::new();
     }
     let built = match sunk {
@@ -330,7 +349,7 @@ fn built(cx: &Context, output: Output, values: &[TokenStream]) -> TokenStream {
         // nalgebra stores columns; M is symmetric, so its row-major entries are its columns.
         Output::MassMatrix => columns(cx, values, nv),
         // Written into its `kept` argument.
-        Output::MassMatrixUpdate => quote!(),
+        Output::MassMatrixUpdate | Output::MassMatrixLower => quote!(),
         Output::MassMatrixAndNonlinearEffects => {
             let (m, nle) = values.split_at(nv * nv);
             let (m, nle) = (columns(cx, m, nv), vector(cx, nle));

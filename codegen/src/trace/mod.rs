@@ -270,8 +270,8 @@ pub fn trace(model: &Model, output: Output) -> Traced {
 /// [`Accuracy::Robust`] keeps forward dynamics to ABA. `quasi_static` traces every variant with
 /// `v = 0` ([`Variant::quasi_static`]).
 pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy, quasi_static: bool) -> Traced {
-    // The update into a kept matrix is `M`, stored elsewhere.
-    if output == Output::MassMatrixUpdate {
+    // The updates into a kept matrix are `M`, stored elsewhere (the lower one storing half).
+    if matches!(output, Output::MassMatrixUpdate | Output::MassMatrixLower) {
         let mut traced = trace_with(model, Output::MassMatrix, accuracy, quasi_static);
         traced.output = output;
         return traced;
@@ -369,7 +369,7 @@ fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
         let zero = vec![Sym::zero(); tree.nv];
         let form = variant.formulation;
         let values = match output {
-            Output::MassMatrix | Output::MassMatrixUpdate => {
+            Output::MassMatrix | Output::MassMatrixUpdate | Output::MassMatrixLower => {
                 c.reduce_matrix(&mass_matrix(form, &tree, &q))
             }
             Output::Bias => c.reduce(&rnea(form, &tree, &q, &v, &zero, false)),
@@ -435,7 +435,7 @@ fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
 /// unnamed; the first name a value gets wins.
 fn label_outputs(output: Output, values: Vec<Sym>, nv: usize) -> Vec<Sym> {
     let stem = match output {
-        Output::MassMatrix | Output::MassMatrixUpdate => "m",
+        Output::MassMatrix | Output::MassMatrixUpdate | Output::MassMatrixLower => "m",
         Output::Bias => "bias",
         Output::Gravity => "g",
         Output::InverseDynamics => "tau",
