@@ -119,11 +119,15 @@ fn sunk_layout(
         Output::MassMatrix | Output::MassMatrixUpdate => {
             (vec![("mass_matrix", nv, nv)], Box::new(row_major(0, nv, 0)))
         }
-        // On and below the diagonal only (row ≥ column).
-        Output::MassMatrixLower => (
-            vec![("mass_matrix", nv, nv)],
-            Box::new(move |i| (i / nv >= i % nv).then_some((0, i / nv, i % nv))),
-        ),
+        // The lower triangle row by row (`Traced::values`).
+        Output::MassMatrixLower => {
+            let lower: Vec<(usize, usize)> =
+                (0..nv).flat_map(|r| (0..=r).map(move |c| (r, c))).collect();
+            (
+                vec![("mass_matrix", nv, nv)],
+                Box::new(move |i| lower.get(i).map(|&(r, c)| (0, r, c))),
+            )
+        }
         Output::CoriolisMatrix => (
             vec![("coriolis_matrix", nv, nv)],
             Box::new(row_major(0, nv, 0)),

@@ -171,7 +171,8 @@ pub struct Traced {
     pub output: Output,
     /// The expression graph.
     pub graph: Graph,
-    /// The values, in order: `M` row-major for the mass matrix, one per velocity otherwise.
+    /// The values, in order: `M` row-major for the mass matrix (its lower triangle, row by row,
+    /// for `mass_matrix_lower`), one per velocity otherwise.
     pub values: Vec<Sym>,
     /// Forward dynamics only: the factorization's checks.
     pub pivots: Option<Pivots>,
@@ -274,6 +275,15 @@ pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy, quasi_stati
     if matches!(output, Output::MassMatrixUpdate | Output::MassMatrixLower) {
         let mut traced = trace_with(model, Output::MassMatrix, accuracy, quasi_static);
         traced.output = output;
+        if output == Output::MassMatrixLower {
+            // Only the entries it stores: an entry above the diagonal left among the values
+            // would be one the function returns, kept live to its end.
+            let nv = model.nv();
+            traced.values = (0..nv)
+                .flat_map(|r| (0..=r).map(move |c| r * nv + c))
+                .filter_map(|i| traced.values.get(i).copied())
+                .collect();
+        }
         return traced;
     }
     let scene = |mut v: Variant| {
