@@ -195,6 +195,12 @@ impl Output {
         Output::ForwardDynamics,
     ];
 
+    /// Whether its function writes `M` into a kept matrix argument (`kept`) and returns nothing:
+    /// `mass_matrix_update` and `mass_matrix_lower`.
+    pub fn is_kept(self) -> bool {
+        matches!(self, Output::MassMatrixUpdate | Output::MassMatrixLower)
+    }
+
     /// Its name in the grammar: the generated function's name.
     pub fn name(self) -> &'static str {
         match self {

@@ -9,8 +9,8 @@ use crate::emit::{self, Emitted};
 use crate::options::{Output, ScalarKind};
 use crate::sym::{Node, Var};
 use crate::trace::{
-    Traced, PIVOT_TOL_F32, PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_ABA_F32, PIVOT_TOL_GLOBAL_ABA_F64,
-    PIVOT_TOL_GLOBAL_F32, PIVOT_TOL_GLOBAL_F64,
+    lower_triangle, Traced, PIVOT_TOL_F32, PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_ABA_F32,
+    PIVOT_TOL_GLOBAL_ABA_F64, PIVOT_TOL_GLOBAL_F32, PIVOT_TOL_GLOBAL_F64,
 };
 
 /// The trait impl of one traced output.
@@ -121,8 +121,7 @@ fn sunk_layout(
         }
         // The lower triangle row by row (`Traced::values`).
         Output::MassMatrixLower => {
-            let lower: Vec<(usize, usize)> =
-                (0..nv).flat_map(|r| (0..=r).map(move |c| (r, c))).collect();
+            let lower: Vec<(usize, usize)> = lower_triangle(nv).collect();
             (
                 vec![("mass_matrix", nv, nv)],
                 Box::new(move |i| lower.get(i).map(|&(r, c)| (0, r, c))),
@@ -194,10 +193,7 @@ fn sink(cx: &Context, traced: &Traced) -> Option<Sunk> {
             );
         }
     };
-    let declare = if matches!(
-        traced.output,
-        Output::MassMatrixUpdate | Output::MassMatrixLower
-    ) {
+    let declare = if traced.output.is_kept() {
         quote!(let mass_matrix = ::articulated::__private::kept_entries(kept);)
     } else {
         matrices.iter().zip(&names).map(zeroed).collect()
@@ -208,10 +204,7 @@ fn sink(cx: &Context, traced: &Traced) -> Option<Sunk> {
     // statements; its inverse dynamics 32.5 → 36.6 KB and nonlinear effects 32.2 → 35.5 KB;
     // arm7's inverse and forward dynamics derivatives 618–629 → 629–642 and 915–937 →
     // 964–977 ns, `mass_matrix_inverse` 97.0 → 100.6–102.5.
-    let boundaries = matches!(
-        traced.output,
-        Output::MassMatrix | Output::MassMatrixUpdate | Output::MassMatrixLower
-    );
+    let boundaries = traced.output == Output::MassMatrix || traced.output.is_kept();
     Some(Sunk {
         sink: emit::Sink { places, boundaries },
         declare,
@@ -320,10 +313,7 @@ fn result(
 ) -> TokenStream {
     let values = &emitted.outputs[..traced.values.len()];
     let nv = cx.nv;
-    if matches!(
-        traced.output,
-        Output::MassMatrixUpdate | Output::MassMatrixLower
-    ) {
+    if traced.output.is_kept() {
         return TokenStream::new();
     }
     let built = match sunk {

@@ -272,16 +272,15 @@ pub fn trace(model: &Model, output: Output) -> Traced {
 /// `v = 0` ([`Variant::quasi_static`]).
 pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy, quasi_static: bool) -> Traced {
     // The updates into a kept matrix are `M`, stored elsewhere (the lower one storing half).
-    if matches!(output, Output::MassMatrixUpdate | Output::MassMatrixLower) {
+    if output.is_kept() {
         let mut traced = trace_with(model, Output::MassMatrix, accuracy, quasi_static);
         traced.output = output;
         if output == Output::MassMatrixLower {
             // Only the entries it stores: an entry above the diagonal left among the values
             // would be one the function returns, kept live to its end.
             let nv = model.nv();
-            traced.values = (0..nv)
-                .flat_map(|r| (0..=r).map(move |c| r * nv + c))
-                .filter_map(|i| traced.values.get(i).copied())
+            traced.values = lower_triangle(nv)
+                .filter_map(|(r, c)| traced.values.get(r * nv + c).copied())
                 .collect();
         }
         return traced;
@@ -368,6 +367,12 @@ pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy, quasi_stati
         .unwrap_or_else(|| unreachable!("every output has variants"));
     best.candidates = candidates;
     best.reassociated()
+}
+
+/// The (row, column) of each entry of an `nv × nv` matrix on and below its diagonal, row by
+/// row: the order of `mass_matrix_lower`'s values.
+pub(crate) fn lower_triangle(nv: usize) -> impl Iterator<Item = (usize, usize)> {
+    (0..nv).flat_map(|r| (0..=r).map(move |c| (r, c)))
 }
 
 /// `M`, bias, gravity or inverse dynamics traced one way.
