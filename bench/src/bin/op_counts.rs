@@ -415,6 +415,8 @@ fn markdown(rows: &[Row], shipped: &Row) -> String {
         let method = match r.fd_method {
             FdMethod::Aba => "ABA",
             FdMethod::CrbaLtdl => "CRBA + LᵀDL",
+            // Serial chains have no branching body to condense at.
+            FdMethod::CrbaCondensed => "CRBA + condensed LᵀDL",
         };
         let _ = writeln!(
             s,

@@ -44,6 +44,16 @@ pub fn crba<T: Scalar>(
     q: &[T],
     axis: impl Fn(&Vec3<T>) -> Option<usize>,
 ) -> Vec<T> {
+    crba_with_composites(tree, q, axis).0
+}
+
+/// [`crba`], with each node's composite inertia (in its own frame) and `X_up`: what the
+/// condensed forward dynamics ([`super::condensed`]) builds on.
+pub fn crba_with_composites<T: Scalar>(
+    tree: &Tree<T>,
+    q: &[T],
+    axis: impl Fn(&Vec3<T>) -> Option<usize>,
+) -> (Vec<T>, Vec<Inertia<T>>, Vec<Transform<T>>) {
     let nv = tree.nv;
     let x_up = tree.x_up(q);
     let mut ic: Vec<Inertia<T>> = tree.nodes.iter().map(|n| n.inertia).collect();
@@ -58,7 +68,7 @@ pub fn crba<T: Scalar>(
             ic[p] = ic[p].add(&up);
         }
     }
-    m
+    (m, ic, x_up)
 }
 
 /// The centroidal momentum matrix `A_G(q)` (`articulated_dynamics::reference::centroidal`) with

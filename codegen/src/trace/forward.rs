@@ -1,11 +1,14 @@
-//! Forward dynamics, traced two ways:
+//! Forward dynamics, traced three ways:
 //! - **ABA** (Featherstone 2008, RBDA §7.3), O(n);
 //! - **CRBA + `LᵀDL`**: `M` from CRBA, `h = N·q̇ + g` from Newton–Euler, then `M = LᵀDL` factored
 //!   from the last coordinate to the first (RBDA §6.5), which keeps the tree's sparsity: the
 //!   structural zeros of `M` are exact zeros in the graph, so every product with them folds
-//!   away.
+//!   away;
+//! - **CRBA + `LᵀDL` with the limbs condensed** ([`super::condensed`]) where a body other than
+//!   the root branches: each subtree off it eliminated against its own coordinates only, its
+//!   effect on the rest one 6 × 6 matrix at that body.
 //!
-//! Each on the tree as described and regrouped, and CRBA + `LᵀDL` with both formulations of
+//! Each on the tree as described and regrouped, and CRBA + `LᵀDL` with all formulations of
 //! `M` and `h`. Regrouping changes neither `M` nor ABA's pivots: every moved part `I_s` has
 //! `I_s·S = 0`, so each `D_i = Sᵢᵀ·I^A_i·S_i` and `U_i = I^A_i·S_i` is the same.
 
@@ -14,6 +17,7 @@ use articulated_dynamics::reference::{aba, ltdl_solve};
 use articulated_dynamics::Scalar;
 
 use super::derivatives::{pivots_with_exact, pivots_with_scale};
+use super::{condensed, crba, regroup};
 use super::{label_outputs, mass_matrix, model_inputs, rnea, symbolic_tree};
 use super::{Formulation, Traced, Variant};
 use crate::options::Output;
@@ -26,6 +30,9 @@ pub enum FdMethod {
     Aba,
     /// CRBA, Newton–Euler, then a sparse `LᵀDL` of `M` and two triangular solves.
     CrbaLtdl,
+    /// As [`FdMethod::CrbaLtdl`], with the subtrees that branch off a body other than the root
+    /// condensed into a 6 × 6 matrix at that body ([`super::condensed`]).
+    CrbaCondensed,
 }
 
 impl FdMethod {
@@ -34,13 +41,18 @@ impl FdMethod {
         match self {
             FdMethod::Aba => "ABA (RBDA §7.3)",
             FdMethod::CrbaLtdl => "CRBA + sparse LᵀDL (RBDA §6.2, §6.5)",
+            FdMethod::CrbaCondensed => {
+                "CRBA + LᵀDL with the limbs condensed at their branching body"
+            }
         }
     }
 }
 
 /// The variants of forward dynamics: ABA on the tree as described and regrouped, CRBA + `LᵀDL`
-/// with both formulations, each on both trees. ABA only without mimic joints: a coordinate that
-/// moves joints on two branches has no articulated inertia of its own.
+/// with every formulation, each on both trees, and the condensed form on both trees where a
+/// body other than the root branches. ABA and the condensed form only without mimic joints: a
+/// coordinate that moves joints on two branches has no articulated inertia of its own, nor
+/// belongs to one subtree.
 pub(crate) fn variants(model: &Model) -> impl Iterator<Item = Variant> {
     let aba_runs = !model.has_mimic();
     let aba = [false, true].map(|regrouped| Variant {
@@ -66,7 +78,19 @@ pub(crate) fn variants(model: &Model) -> impl Iterator<Item = Variant> {
             quasi_static: false,
         })
     });
-    aba.into_iter().filter(move |_| aba_runs).chain(ltdl)
+    let condensed = [false, true].map(|regrouped| Variant {
+        regrouped,
+        formulation: Formulation::Specialized,
+        method: Some(FdMethod::CrbaCondensed),
+        analytic: false,
+        coriolis: false,
+        quasi_static: false,
+    });
+    let condensed_runs = aba_runs && condensed::applies(model);
+    aba.into_iter()
+        .filter(move |_| aba_runs)
+        .chain(ltdl)
+        .chain(condensed.into_iter().filter(move |_| condensed_runs))
 }
 
 /// Forward dynamics traced one way.
@@ -83,6 +107,15 @@ pub(crate) fn trace_variant(model: &Model, variant: Variant) -> Traced {
                 let b: Vec<Sym> = tau.iter().zip(&h).map(|(&t, &h)| t - h).collect();
                 let (values, pairs) = ltdl_solve(m, b, nv);
                 // Inside the trace: the sum is recorded in this graph.
+                (values, pivots_with_scale(pairs))
+            }
+            Some(FdMethod::CrbaCondensed) => {
+                let (m, ic, x_up) = crba::crba_with_composites(&tree, &q, regroup::coordinate_axis);
+                let zero = vec![Sym::zero(); tree.nv];
+                let h = rnea(variant.formulation, &tree, &q, &v, &zero, true);
+                let b: Vec<Sym> = tau.iter().zip(&h).map(|(&t, &h)| t - h).collect();
+                let cuts = condensed::cut_points(&tree);
+                let (values, pairs) = condensed::solve(&tree, &ic, &x_up, m, b, &cuts);
                 (values, pivots_with_scale(pairs))
             }
             _ => {

@@ -26,6 +26,7 @@
 //! variants compute the same values (each formulation's tests hold it to the reference); they
 //! round differently.
 
+pub mod condensed;
 pub mod crba;
 pub mod derivatives;
 pub mod forward;
