@@ -171,6 +171,15 @@ fn carry_sym(k: &Mat6<Sym>, x: &Transform<Sym>) -> Mat6<Sym> {
     r
 }
 
+/// What a condensed subtree keeps for its back-substitution: its branching body `p`, its
+/// coordinates, the rows of `W = L⁻ᵀ·Φᵀ` and `z = L⁻ᵀ·b_L`.
+struct Limb {
+    p: usize,
+    idx: Vec<usize>,
+    w: Vec<[Sym; 6]>,
+    z: Vec<Sym>,
+}
+
 /// `M·q̈ = b` with the subtrees of `cuts` condensed (module docs). `m` row-major `nv × nv` from
 /// [`super::crba::crba_with_composites`] with its composite inertias `ic` and transforms `x_up`.
 /// Returns `q̈` and each coordinate's pivot with its unreduced `M_kk`.
@@ -185,13 +194,6 @@ pub(crate) fn solve(
     let nv = tree.nv;
     let unreduced: Vec<Sym> = (0..nv).map(|k| m[k * nv + k]).collect();
     let mut in_limb = vec![false; nv];
-    // Per subtree: its coordinates, its forces in P's frame, W's rows, z.
-    struct Limb {
-        p: usize,
-        idx: Vec<usize>,
-        w: Vec<[Sym; 6]>,
-        z: Vec<Sym>,
-    }
     let mut limbs: Vec<Limb> = Vec::new();
     for &p in cuts {
         let mut k_p = Mat6::zero();
@@ -201,42 +203,8 @@ pub(crate) fn solve(
             for &l in &idx {
                 in_limb[l] = true;
             }
-            // Φ: each coordinate's F = I_c·S carried to P, as `crba_columns` carries it.
-            let mut phi: Vec<[Sym; 6]> = Vec::with_capacity(idx.len());
-            for (i, node) in tree.nodes.iter().enumerate() {
-                if i != c && !is_descendant(tree, i, c) {
-                    continue;
-                }
-                for k in 0..node.nv() {
-                    let mut f: Force<Sym> = ic[i].mul_motion(node.s_col(k));
-                    let mut j = i;
-                    loop {
-                        f = x_up[j].inv_apply_force(f);
-                        match tree.nodes[j].parent {
-                            Some(p) if j != c => j = p,
-                            _ => break,
-                        }
-                    }
-                    phi.push(f.to_array());
-                }
-            }
-            factor(&mut m, nv, &idx);
-            let mut w = phi;
-            solve_lt(&m, nv, &idx, &mut w, |a, l, b| {
-                core::array::from_fn(|r| a[r] - l * b[r])
-            });
-            let mut z: Vec<Sym> = idx.iter().map(|&l| b[l]).collect();
-            solve_lt(&m, nv, &idx, &mut z, |a, l, b| a - l * b);
-            for (a, &l) in idx.iter().enumerate() {
-                let inv_d = (Sym::one() / m[l * nv + l]).label(format_args!("inv_d_{l}"));
-                let wd: [Sym; 6] = core::array::from_fn(|r| w[a][r] * inv_d);
-                for r in 0..6 {
-                    for s in r..6 {
-                        k_p.0[r][s] = k_p.0[r][s] + wd[r] * w[a][s];
-                    }
-                    f_p[r] = f_p[r] + wd[r] * z[a];
-                }
-            }
+            let phi = forces_at_branch(tree, ic, x_up, c);
+            let (w, z) = condense(&mut m, &b, nv, &idx, phi, &mut k_p, &mut f_p);
             limbs.push(Limb { p, idx, w, z });
         }
         for r in 0..6 {
@@ -244,43 +212,7 @@ pub(crate) fn solve(
                 k_p.0[r][s] = k_p.0[s][r];
             }
         }
-        // The trunk: K and f carried from P to the root, as the CRBA carries a composite
-        // inertia; each trunk column K_j·S_s carried to the ancestors.
-        let (mut k_j, mut f_j, mut j) = (k_p, Force::from_array(f_p), p);
-        loop {
-            let node = &tree.nodes[j];
-            for k in 0..node.nv() {
-                let s = node.v_at + k;
-                b[s] = b[s] - node.s_col(k).dot(f_j);
-                let mut col = k_j.mul_motion(node.s_col(k));
-                for l in 0..=k {
-                    let row = node.v_at + l;
-                    let x = m[s * nv + row] - node.s_col(l).dot(col);
-                    m[s * nv + row] = x;
-                    m[row * nv + s] = x;
-                }
-                let mut jj = j;
-                while let Some(pp) = tree.nodes[jj].parent {
-                    col = x_up[jj].inv_apply_force(col);
-                    jj = pp;
-                    let nj = &tree.nodes[jj];
-                    for l in 0..nj.nv() {
-                        let row = nj.v_at + l;
-                        let x = m[s * nv + row] - nj.s_col(l).dot(col);
-                        m[s * nv + row] = x;
-                        m[row * nv + s] = x;
-                    }
-                }
-            }
-            match node.parent {
-                None => break,
-                Some(pp) => {
-                    k_j = carry_sym(&k_j, &x_up[j]);
-                    f_j = x_up[j].inv_apply_force(f_j);
-                    j = pp;
-                }
-            }
-        }
+        carry_to_root(tree, x_up, &mut m, &mut b, k_p, Force::from_array(f_p), p);
     }
     // The trunk's system, by the sparse LᵀDL.
     let trunk: Vec<usize> = (0..nv).filter(|&k| !in_limb[k]).collect();
@@ -291,16 +223,7 @@ pub(crate) fn solve(
     for (a, &k) in trunk.iter().enumerate() {
         x[a] = (x[a] / m[k * nv + k]).label(format_args!("y_{k}"));
     }
-    for (a, &k) in trunk.iter().enumerate() {
-        let mut acc = x[a];
-        for (ai, &i) in trunk[..a].iter().enumerate() {
-            let lki = m[k * nv + i];
-            if lki.constant() != Some(0.0) {
-                acc = acc - lki * qdd[trunk[ai]];
-            }
-        }
-        qdd[k] = acc.label(format_args!("qdd_{k}"));
-    }
+    solve_l(&m, nv, &trunk, &x, &mut qdd);
     // Each subtree from its branching body's acceleration.
     let mut a_at: Vec<Option<Motion<Sym>>> = vec![None; tree.nodes.len()];
     for limb in &limbs {
@@ -314,19 +237,135 @@ pub(crate) fn solve(
             }
             y.push((z / m[l * nv + l]).label(format_args!("y_{l}")));
         }
-        for (a, &k) in idx.iter().enumerate() {
-            let mut acc = y[a];
-            for &i in &idx[..a] {
-                let lki = m[k * nv + i];
-                if lki.constant() != Some(0.0) {
-                    acc = acc - lki * qdd[i];
-                }
-            }
-            qdd[k] = acc.label(format_args!("qdd_{k}"));
-        }
+        solve_l(&m, nv, idx, &y, &mut qdd);
     }
     let pairs = (0..nv).map(|k| (m[k * nv + k], unreduced[k])).collect();
     (qdd, pairs)
+}
+
+/// `Φ` of the subtree at `c`: each of its coordinates' `F = I_c·S`, carried into the frame of
+/// `c`'s parent as `crba_columns` carries it (so the graph shares the CRBA's own nodes).
+fn forces_at_branch(
+    tree: &Tree<Sym>,
+    ic: &[Inertia<Sym>],
+    x_up: &[Transform<Sym>],
+    c: usize,
+) -> Vec<[Sym; 6]> {
+    let mut phi = Vec::new();
+    for (i, node) in tree.nodes.iter().enumerate() {
+        if i != c && !is_descendant(tree, i, c) {
+            continue;
+        }
+        for k in 0..node.nv() {
+            let mut f: Force<Sym> = ic[i].mul_motion(node.s_col(k));
+            let mut j = i;
+            loop {
+                f = x_up[j].inv_apply_force(f);
+                match tree.nodes[j].parent {
+                    Some(p) if j != c => j = p,
+                    _ => break,
+                }
+            }
+            phi.push(f.to_array());
+        }
+    }
+    phi
+}
+
+/// Factors the subtree's block `idx` of `m` in place and adds its `Wᵀ·D⁻¹·W` to the upper
+/// triangle of `k_p` and its `Wᵀ·D⁻¹·z` to `f_p`; returns `W`'s rows and `z`.
+fn condense(
+    m: &mut [Sym],
+    b: &[Sym],
+    nv: usize,
+    idx: &[usize],
+    phi: Vec<[Sym; 6]>,
+    k_p: &mut Mat6<Sym>,
+    f_p: &mut [Sym; 6],
+) -> (Vec<[Sym; 6]>, Vec<Sym>) {
+    factor(m, nv, idx);
+    let mut w = phi;
+    solve_lt(m, nv, idx, &mut w, |a, l, b| {
+        core::array::from_fn(|r| a[r] - l * b[r])
+    });
+    let mut z: Vec<Sym> = idx.iter().map(|&l| b[l]).collect();
+    solve_lt(m, nv, idx, &mut z, |a, l, b| a - l * b);
+    for (a, &l) in idx.iter().enumerate() {
+        let inv_d = (Sym::one() / m[l * nv + l]).label(format_args!("inv_d_{l}"));
+        let wd: [Sym; 6] = core::array::from_fn(|r| w[a][r] * inv_d);
+        for r in 0..6 {
+            for s in r..6 {
+                k_p.0[r][s] = k_p.0[r][s] + wd[r] * w[a][s];
+            }
+            f_p[r] = f_p[r] + wd[r] * z[a];
+        }
+    }
+    (w, z)
+}
+
+/// Takes `Ψᵀ·K·Ψ` from the trunk's entries of `m` and `Ψᵀ·f` from `b`: `K` and `f` carried
+/// from `p` to the root as the CRBA carries a composite inertia, each trunk column `K_j·S_s`
+/// carried to the ancestors.
+fn carry_to_root(
+    tree: &Tree<Sym>,
+    x_up: &[Transform<Sym>],
+    m: &mut [Sym],
+    b: &mut [Sym],
+    k_p: Mat6<Sym>,
+    f_p: Force<Sym>,
+    p: usize,
+) {
+    let nv = tree.nv;
+    // Subtracts `x` from the entry (s, row) and from its mirror.
+    let mut take = |s: usize, row: usize, x: Sym| {
+        let v = m[s * nv + row] - x;
+        m[s * nv + row] = v;
+        m[row * nv + s] = v;
+    };
+    let (mut k_j, mut f_j, mut j) = (k_p, f_p, p);
+    loop {
+        let node = &tree.nodes[j];
+        for k in 0..node.nv() {
+            let s = node.v_at + k;
+            b[s] = b[s] - node.s_col(k).dot(f_j);
+            let mut col = k_j.mul_motion(node.s_col(k));
+            for l in 0..=k {
+                take(s, node.v_at + l, node.s_col(l).dot(col));
+            }
+            let mut jj = j;
+            while let Some(pp) = tree.nodes[jj].parent {
+                col = x_up[jj].inv_apply_force(col);
+                jj = pp;
+                let nj = &tree.nodes[jj];
+                for l in 0..nj.nv() {
+                    take(s, nj.v_at + l, nj.s_col(l).dot(col));
+                }
+            }
+        }
+        match node.parent {
+            None => break,
+            Some(pp) => {
+                k_j = carry_sym(&k_j, &x_up[j]);
+                f_j = x_up[j].inv_apply_force(f_j);
+                j = pp;
+            }
+        }
+    }
+}
+
+/// `L·q̈ = y` for the factor of `idx` ([`factor`]), from its first coordinate: each
+/// `q̈_k = y_k − Σ_{i < k} L_ki·q̈_i`, labelled, into `qdd`.
+fn solve_l(m: &[Sym], nv: usize, idx: &[usize], y: &[Sym], qdd: &mut [Sym]) {
+    for (a, &k) in idx.iter().enumerate() {
+        let mut acc = y[a];
+        for &i in &idx[..a] {
+            let lki = m[k * nv + i];
+            if lki.constant() != Some(0.0) {
+                acc = acc - lki * qdd[i];
+            }
+        }
+        qdd[k] = acc.label(format_args!("qdd_{k}"));
+    }
 }
 
 /// Node `j`'s acceleration `Σ X·S·q̈` over its joint and its ancestors' (no velocity terms),
