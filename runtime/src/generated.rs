@@ -710,6 +710,14 @@ pub mod __private {
         pivot > tol * scale
     }
 
+    /// `true`: the generator found the chain's `M(q)` singular at every configuration, and the
+    /// function that calls this refuses every state (a call, not a literal `if true`, so that
+    /// the statements after it are not reported as unreachable).
+    #[inline(always)]
+    pub const fn singular_at_every_configuration() -> bool {
+        true
+    }
+
     /// The entries of a [`KeptMassMatrix`](super::KeptMassMatrix), for the generated update,
     /// which writes only entries that can be non-zero (and with `LOWER`, only on and below the
     /// diagonal).

@@ -107,6 +107,11 @@ pub(super) fn type_doc(cx: &Context) -> Vec<String> {
 pub(super) fn function_doc(cx: &Context, traced: &Traced) -> Vec<String> {
     let mut paragraphs = vec![equation(traced.output).to_string(), formulation(traced)];
     paragraphs.extend(accuracy(cx, traced));
+    if let Some(k) = traced.pivots.as_ref().and_then(|p| p.singular) {
+        paragraphs.push(format!(
+            "**Always `Err(SingularMassMatrix {{ velocity: {k} }})`**: the generator found              `M(q)` of this chain singular at every configuration (at velocity coordinate {k}:              bodies without mass whose motion another coordinate duplicates, or joints that              move no mass), so no state has a solution."
+        ));
+    }
     let ops = traced.ops();
     let mut figures = format!(
         "Operations: {} add/sub, {} mul, {} div, {} neg, {} sin/cos, {} sqrt ({} in all).",

@@ -10,7 +10,7 @@ use crate::options::{Output, ScalarKind};
 use crate::sym::{Node, Var};
 use crate::trace::{
     lower_triangle, Traced, PIVOT_TOL_F32, PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_ABA_F32,
-    PIVOT_TOL_GLOBAL_ABA_F64, PIVOT_TOL_GLOBAL_F32, PIVOT_TOL_GLOBAL_F64,
+    PIVOT_TOL_GLOBAL_ABA_F64, PIVOT_TOL_GLOBAL_F64,
 };
 
 /// The trait impl of one traced output.
@@ -434,11 +434,12 @@ fn pivot_checks(cx: &Context, traced: &Traced, emitted: &Emitted) -> Vec<TokenSt
         return Vec::new();
     };
     let f32 = cx.options.scalar == ScalarKind::F32;
+    // An `f32` `LᵀDL` has no test against the trace: see `PIVOT_TOL_GLOBAL_F64`.
     let (tol, tol_global) = match (f32, pivots.aba) {
-        (true, false) => (PIVOT_TOL_F32, PIVOT_TOL_GLOBAL_F32),
-        (true, true) => (PIVOT_TOL_F32, PIVOT_TOL_GLOBAL_ABA_F32),
-        (false, false) => (PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_F64),
-        (false, true) => (PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_ABA_F64),
+        (true, false) => (PIVOT_TOL_F32, None),
+        (true, true) => (PIVOT_TOL_F32, Some(PIVOT_TOL_GLOBAL_ABA_F32)),
+        (false, false) => (PIVOT_TOL_F64, Some(PIVOT_TOL_GLOBAL_F64)),
+        (false, true) => (PIVOT_TOL_F64, Some(PIVOT_TOL_GLOBAL_ABA_F64)),
     };
     let constant = |s| match traced.graph.node(s) {
         Node::Const(x) => Some(x),
@@ -449,6 +450,15 @@ fn pivot_checks(cx: &Context, traced: &Traced, emitted: &Emitted) -> Vec<TokenSt
     let scale_expr = &exprs[2 * pivots.pairs.len()];
     let scale_const = constant(pivots.scale);
     let mut checks = Vec::new();
+    if let Some(k) = pivots.singular {
+        // Decided by the generator (`trace::singular_everywhere`); the function's docs say so.
+        let k = Literal::usize_unsuffixed(k);
+        checks.push(quote! {
+            if ::articulated::__private::singular_at_every_configuration() {
+                return Err(::articulated::SingularMassMatrix { velocity: #k });
+            }
+        });
+    }
     for (k, &(p, d)) in pivots.pairs.iter().enumerate() {
         let (pe, de) = (&exprs[2 * k], &exprs[2 * k + 1]);
         let (p_const, d_const) = (constant(p), constant(d));
@@ -463,13 +473,14 @@ fn pivot_checks(cx: &Context, traced: &Traced, emitted: &Emitted) -> Vec<TokenSt
                 Some(quote!(::articulated::__private::positive_pivot(#pe, #de, #t)))
             }
         };
-        let global = match (p_const, scale_const) {
+        let global = match (p_const, scale_const, tol_global) {
+            (_, _, None) => None,
             // Nothing was eliminated from an exact pivot (`Pivots::exact`): it carries no
             // rounding noise from the rest of the tree for the trace to expose, so a light or
             // slender leaf 1e12 below the rest passes.
             _ if pivots.exact[k] => None,
-            (Some(pv), Some(sv)) if pv > tol_global * sv => None,
-            _ => {
+            (Some(pv), Some(sv), Some(tol_global)) if pv > tol_global * sv => None,
+            (_, _, Some(tol_global)) => {
                 let t = cx.lit(tol_global);
                 Some(quote!(::articulated::__private::positive_pivot(#pe, #scale_expr, #t)))
             }

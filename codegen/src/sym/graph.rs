@@ -160,13 +160,22 @@ impl Graph {
     /// # Panics
     /// If an output belongs to another graph.
     pub fn eval(&self, outputs: &[Sym], inputs: impl Fn(Var) -> f64) -> Vec<f64> {
-        let mut value = vec![0.0; self.nodes.len()];
+        self.eval_in::<f64>(outputs, inputs)
+    }
+
+    /// Evaluates `outputs` in the scalar `T` (`f32` for what generated `f32` code computes, up
+    /// to the order of its fused operations), each constant and input rounded to `T` first.
+    ///
+    /// # Panics
+    /// If an output belongs to another graph.
+    pub fn eval_in<T: Scalar>(&self, outputs: &[Sym], inputs: impl Fn(Var) -> f64) -> Vec<T> {
+        let mut value = vec![T::zero(); self.nodes.len()];
         for s in self.live(outputs) {
             let i = s.index() as usize;
             let v = |j: u32| value[j as usize];
             let x = match self.nodes[i] {
-                Key::Const(bits) => f64::from_bits(bits),
-                Key::Input(var) => inputs(var),
+                Key::Const(bits) => T::from_f64(f64::from_bits(bits)),
+                Key::Input(var) => T::from_f64(inputs(var)),
                 Key::Add(a, b) => v(a) + v(b),
                 Key::Sub(a, b) => v(a) - v(b),
                 Key::Mul(a, b) => v(a) * v(b),

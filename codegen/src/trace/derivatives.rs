@@ -184,13 +184,13 @@ pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> 
                 values.extend(labelled("ddq_dq", d.dqdd_dq, nv));
                 values.extend(labelled("ddq_dv", d.dqdd_dv, nv));
                 values.extend(labelled("minv", d.minv, nv));
-                (values, Some(pivots_with_scale(d.pivots)))
+                (values, Some(Pivots::with_scale(d.pivots)))
             }
             _ => {
                 let q = tree_angles(model, &c, &turns);
                 let m = c.reduce_matrix(&mass_matrix(form, &tree, &q));
                 let (minv, pairs) = mass_matrix_inverse_from(m, nv);
-                (labelled("minv", minv, nv), Some(pivots_with_scale(pairs)))
+                (labelled("minv", minv, nv), Some(Pivots::with_scale(pairs)))
             }
         }
     });
@@ -201,29 +201,5 @@ pub(crate) fn trace_variant(model: &Model, output: Output, variant: Variant) -> 
         pivots,
         variant,
         candidates: Vec::new(),
-    }
-}
-
-/// The pivots of an `LᵀDL` with the sum of their unreduced values (inside the trace); a pivot
-/// that is its own unreduced value is exact ([`Pivots::exact`]).
-pub(crate) fn pivots_with_scale(pairs: Vec<(Sym, Sym)>) -> Pivots {
-    let exact = pairs.iter().map(|&(p, d)| p == d).collect();
-    pivots_with_exact(pairs, exact, false)
-}
-
-/// The pivots with the sum of their unreduced values, which are exact, and whether they are
-/// ABA's.
-pub(crate) fn pivots_with_exact(pairs: Vec<(Sym, Sym)>, exact: Vec<bool>, aba: bool) -> Pivots {
-    let scale = pairs
-        .iter()
-        .map(|p| p.1)
-        .reduce(|a, b| a + b)
-        .unwrap_or_else(Sym::zero)
-        .label(format_args!("pivot_scale"));
-    Pivots {
-        pairs,
-        scale,
-        exact,
-        aba,
     }
 }

@@ -16,10 +16,9 @@ use articulated_dynamics::model::Model;
 use articulated_dynamics::reference::{aba, ltdl_solve};
 use articulated_dynamics::Scalar;
 
-use super::derivatives::{pivots_with_exact, pivots_with_scale};
 use super::{condensed, crba, regroup};
 use super::{label_outputs, mass_matrix, model_inputs, rnea, symbolic_tree};
-use super::{Formulation, Traced, Variant};
+use super::{Formulation, Pivots, Traced, Variant};
 use crate::options::Output;
 use crate::sym::{self, Sym, Var};
 
@@ -107,7 +106,7 @@ pub(crate) fn trace_variant(model: &Model, variant: Variant) -> Traced {
                 let b: Vec<Sym> = tau.iter().zip(&h).map(|(&t, &h)| t - h).collect();
                 let (values, pairs) = ltdl_solve(m, b, nv);
                 // Inside the trace: the sum is recorded in this graph.
-                (values, pivots_with_scale(pairs))
+                (values, Pivots::with_scale(pairs))
             }
             Some(FdMethod::CrbaCondensed) => {
                 let (m, ic, x_up) = crba::crba_with_composites(&tree, &q, regroup::coordinate_axis);
@@ -116,7 +115,7 @@ pub(crate) fn trace_variant(model: &Model, variant: Variant) -> Traced {
                 let b: Vec<Sym> = tau.iter().zip(&h).map(|(&t, &h)| t - h).collect();
                 let cuts = condensed::cut_points(&tree);
                 let (values, pairs) = condensed::solve(&tree, &ic, &x_up, m, b, &cuts);
-                (values, pivots_with_scale(pairs))
+                (values, Pivots::with_scale(pairs))
             }
             _ => {
                 let out = aba(&tree, &q, &v, &tau, true);
@@ -128,7 +127,7 @@ pub(crate) fn trace_variant(model: &Model, variant: Variant) -> Traced {
                     }
                 }
                 let pairs = out.pivots.into_iter().zip(out.diag).collect();
-                (out.qdd, pivots_with_exact(pairs, exact, true))
+                (out.qdd, Pivots::with_exact(pairs, exact, true))
             }
         };
         let values = label_outputs(Output::ForwardDynamics, values, nv);

@@ -36,7 +36,7 @@ pub(crate) mod turns;
 
 use std::fmt;
 
-use articulated_dynamics::model::{Coupling, Model};
+use articulated_dynamics::model::{Coupling, JointKind, Model};
 use articulated_dynamics::reference::{self, centroidal, Tree};
 use articulated_dynamics::spatial::{Force, Transform, Vec3};
 use articulated_dynamics::Scalar;
@@ -139,6 +139,101 @@ pub struct Pivots {
     pub aba: bool,
     /// The sum of the unreduced values.
     pub scale: Sym,
+    /// A velocity coordinate at whose pivot `M(q)` is singular at every configuration
+    /// ([`singular_everywhere`]): the generated function refuses every state there, in every
+    /// scalar, rather than trust its rounding noise to fail the comparisons.
+    pub singular: Option<usize>,
+}
+
+impl Pivots {
+    /// The pivots of an `LᵀDL` with the sum of their unreduced values (inside the trace); a
+    /// pivot that is its own unreduced value is exact ([`Pivots::exact`]).
+    pub(crate) fn with_scale(pairs: Vec<(Sym, Sym)>) -> Pivots {
+        let exact = pairs.iter().map(|&(p, d)| p == d).collect();
+        Pivots::with_exact(pairs, exact, false)
+    }
+
+    /// The pivots with the sum of their unreduced values, which are exact, and whether they
+    /// are ABA's.
+    pub(crate) fn with_exact(pairs: Vec<(Sym, Sym)>, exact: Vec<bool>, aba: bool) -> Pivots {
+        let scale = pairs
+            .iter()
+            .map(|p| p.1)
+            .reduce(|a, b| a + b)
+            .unwrap_or_else(Sym::zero)
+            .label(format_args!("pivot_scale"));
+        Pivots {
+            pairs,
+            scale,
+            exact,
+            aba,
+            singular: None,
+        }
+    }
+}
+
+/// The velocity coordinate of the first pivot (in elimination order) at which `M(q)` of
+/// `model` is singular at every configuration, if it is: a massless body whose motion another
+/// coordinate duplicates (a free base over a massless root, whose rotation about the first
+/// joint's axis moves nothing that the joint does not), joints that move no mass.
+///
+/// Such a pivot is rounding noise in every state, and noise is not small enough to be told
+/// from a pivot by comparing it with anything: `arm6_mixed` on a free base over its massless
+/// root gives pivots up to 8e-12 of their unreduced values in `f64` and 6e-4 in `f32` (tens of
+/// thousands of ulps), above the 1e-6 to 1e-2 at which light limbs of regular trees stand. So
+/// the generator decides it once: `M` is factored in double-double (about 32 digits) at three
+/// fixed, generic configurations, and a coordinate whose pivot is below 1e-20 of the trace at
+/// all three is singular everywhere (a regular configuration of any model this project
+/// generates stands many orders of magnitude above that; exact singularity at 1e-30).
+pub fn singular_everywhere(model: &Model) -> Option<usize> {
+    use articulated_dynamics::extended::Dd;
+    use articulated_dynamics::reference::{crba, ltdl_factor};
+    let params: Vec<Dd> = model
+        .param_defaults()
+        .iter()
+        .map(|&p| Dd::from_f64(p))
+        .collect();
+    let tree = Tree::new(model, &params);
+    let (c, nv) = (model.coupling(), model.nv());
+    let mut found = None;
+    for sample in 1..=3u32 {
+        let q = generic_configuration(model, sample);
+        let q: Vec<Dd> = c.expand_q(&q).iter().map(|&x| Dd::from_f64(x)).collect();
+        let m = c.reduce_matrix(&crba(&tree, &q));
+        let (_, pivots) = ltdl_factor(m, nv);
+        let trace = pivots.iter().fold(0.0, |s, p| s + p.1.to_f64().abs());
+        // In elimination order: from the last coordinate to the first.
+        let k = (0..nv)
+            .rev()
+            .find(|&k| pivots[k].0.to_f64() <= 1e-20 * trace)?;
+        if found.is_some_and(|f| f != k) {
+            return None;
+        }
+        found = Some(k);
+    }
+    found
+}
+
+/// A configuration of `model` with every coordinate away from zero and from the others
+/// (`sample` picks one of several), each quaternion normalized: generic, so that no singularity
+/// of a particular configuration (gimbal lock, a straight arm) shows.
+fn generic_configuration(model: &Model, sample: u32) -> Vec<f64> {
+    let mut q = model.neutral();
+    for (i, x) in q.iter_mut().enumerate() {
+        // Irrational steps: no two coordinates alike, none at a multiple of π/2.
+        let t = (i as f64 + 1.0) * 0.618_033_988_749_895 + f64::from(sample) * 0.414_213_562_373;
+        *x += 0.3 + 0.9 * (t - t.floor());
+    }
+    for (j, joint) in model.joints.iter().enumerate() {
+        let at = match joint.kind {
+            JointKind::SphericalQuaternion if joint.mimic.is_none() => model.q_offset(j),
+            JointKind::FreeQuaternion => model.q_offset(j) + 3,
+            _ => continue,
+        };
+        let n = q[at..at + 4].iter().map(|x| x * x).sum::<f64>().sqrt();
+        q[at..at + 4].iter_mut().for_each(|x| *x /= n);
+    }
+    q
 }
 
 /// Relative pivot tolerance of generated forward dynamics: a pivot must exceed this fraction of
@@ -155,9 +250,14 @@ pub const PIVOT_TOL_F32: f64 = 1e-6;
 /// `arm6_mixed` on a free base, where 1e-15 let 1e14 through); against the trace it cannot.
 /// Legitimate pivots of ill-conditioned chains (κ up to 1e11) pass; a pivot nothing was
 /// eliminated from is exempt ([`Pivots::exact`]).
+///
+/// `f32` has no such test for an `LᵀDL`: a limb joint's pivot is a small fraction of a trace
+/// that a heavy base dominates (the humanoid's wrists stand at 2.5e-6 of it, against `f32`'s
+/// 1.2e-7 epsilon), while the noise of an exactly singular `M` reaches 7e-5 of it, so no
+/// threshold separates the two. What the test was for, an `M` singular at every configuration,
+/// the generator finds itself ([`singular_everywhere`]); an `f32` pivot is held to its own
+/// unreduced value ([`PIVOT_TOL_F32`]).
 pub const PIVOT_TOL_GLOBAL_F64: f64 = 1e-12;
-/// The same for `f32`.
-pub const PIVOT_TOL_GLOBAL_F32: f64 = 1e-5;
 /// The same for ABA's pivots, as the reference's (1e-15 of the largest): ABA keeps its digits
 /// where `M` is ill-conditioned, so what the reference solves passes too (a body 1e12 times
 /// lighter than the rest, a slender body with an axial moment 1e-12 of the others').
@@ -228,6 +328,7 @@ impl Traced {
                     .as_ref()
                     .map_or_else(Vec::new, |p| p.exact.clone()),
                 aba: self.pivots.as_ref().is_some_and(|p| p.aba),
+                singular: self.pivots.as_ref().and_then(|p| p.singular),
             }
         });
         Traced {
@@ -245,6 +346,7 @@ impl Traced {
         let (values, rest) = all.split_at(self.values.len());
         let ok = match rest.split_last() {
             None => true,
+            Some(_) if self.pivots.as_ref().is_some_and(|p| p.singular.is_some()) => false,
             Some((&scale, values)) => {
                 let exact = self.pivots.as_ref().map_or(&[][..], |p| &p.exact[..]);
                 let tol_global = match self.pivots.as_ref().is_some_and(|p| p.aba) {
@@ -367,7 +469,11 @@ pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy, quasi_stati
         })
         .unwrap_or_else(|| unreachable!("every output has variants"));
     best.candidates = candidates;
-    best.reassociated()
+    let mut best = best.reassociated();
+    if let Some(p) = &mut best.pivots {
+        p.singular = singular_everywhere(model);
+    }
+    best
 }
 
 /// The (row, column) of each entry of an `nv × nv` matrix on and below its diagonal, row by
