@@ -73,8 +73,7 @@ fn condition(m: &DMatrix<f64>) -> f64 {
 /// caller exits with failure if there is any); or the error message when nothing could be.
 pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
     // Checks the model and the parameter values, for both engines.
-    let (model, reference) =
-        load_reference(&args.model, args.base.floating, args.params.as_deref())?;
+    let (model, reference) = load_reference(&args.model, args.base, args.params.as_deref())?;
     let params = reference.params().to_vec();
     let (nq, nv) = (reference.nq(), reference.nv());
     let q = match &args.q {
@@ -170,9 +169,15 @@ fn mimics(model: &Model) -> Value {
 
 fn by_reference(r: &Reference, s: &State) -> Fields {
     let text = |e: Error| e.to_string();
-    let column = |v: Result<nalgebra::Vector3<f64>, Error>| {
-        v.map(|v| vector(&DVector::from_column_slice(v.as_slice())))
-            .map_err(text)
+    // Where nothing moves (a quadrotor's fixed links on a fixed base: nv = 0) no body is left
+    // and the centre of mass is no point: it and the centroidal momentum are `null`, the rest
+    // empty.
+    let nothing_moves = r.nv() == 0;
+    let column = |v: Result<nalgebra::Vector3<f64>, Error>| match v {
+        _ if nothing_moves => Ok(Value::Null),
+        v => v
+            .map(|v| vector(&DVector::from_column_slice(v.as_slice())))
+            .map_err(text),
     };
     let m = r.mass_matrix(&s.q);
     let cond = m.as_ref().map(condition).map_err(|e| e.clone());
@@ -206,9 +211,12 @@ fn by_reference(r: &Reference, s: &State) -> Fields {
         ),
         (
             "centroidal_momentum",
-            r.centroidal_momentum(&s.q, &s.v)
-                .map(|x| vector(&DVector::from_column_slice(x.as_slice())))
-                .map_err(text),
+            match r.centroidal_momentum(&s.q, &s.v) {
+                _ if nothing_moves => Ok(Value::Null),
+                h => h
+                    .map(|x| vector(&DVector::from_column_slice(x.as_slice())))
+                    .map_err(text),
+            },
         ),
         (
             "kinetic_energy",

@@ -2,15 +2,14 @@
 //! "Generated code"), so users can read generated code without `cargo expand` or a nightly toolchain.
 
 use articulated_codegen::generate::generate_file;
-use articulated_codegen::load::{load, FloatingBase};
+use articulated_codegen::load::FloatingBase;
 use articulated_codegen::options::{Accuracy, Output, ScalarKind};
 
 use crate::ExpandArgs;
 
 /// Runs `expand`; the Rust source, or the error message for stderr.
 pub fn run(args: &ExpandArgs) -> Result<String, String> {
-    let mut chain =
-        load(&args.model, args.base.floating.unwrap_or_default()).map_err(|e| e.to_string())?;
+    let mut chain = crate::load_description(&args.model, args.base)?;
     // The header names the command that regenerates the file, so it carries the flags too.
     let mut source = args.model.display().to_string();
     match args.base.floating {

@@ -14,8 +14,7 @@ use crate::{load_reference, InvertArgs};
 
 /// Runs `invert`; a one-line summary for stdout, or the error message for stderr.
 pub fn run(args: &InvertArgs) -> Result<String, String> {
-    let (model, reference) =
-        load_reference(&args.model, args.base.floating, args.params.as_deref())?;
+    let (model, reference) = load_reference(&args.model, args.base, args.params.as_deref())?;
     let (nq, nv) = (reference.nq(), reference.nv());
     let shown = args.trajectory.display();
     let text = std::fs::read_to_string(&args.trajectory)

@@ -199,11 +199,10 @@ pub struct InvertArgs {
 /// dynamics at the parameter values `params` (comma-separated; the file's defaults if `None`).
 pub fn load_reference(
     path: &std::path::Path,
-    floating: Option<FloatingBase>,
+    base: Base,
     params: Option<&str>,
 ) -> Result<(articulated::model::Model, articulated::reference::Reference), String> {
-    let model = articulated_codegen::load::load_model(path, floating.unwrap_or_default())
-        .map_err(|e| e.to_string())?;
+    let model = load_description(path, base)?.model;
     let params = match params {
         None => model.param_defaults(),
         Some(p) => parse_vector(p, "params", model.params.len())?,
@@ -254,6 +253,33 @@ pub struct Base {
         value_parser = parse_floating
     )]
     pub floating: Option<FloatingBase>,
+    /// Refuse a file that loads with warnings (an inertia no rigid body has, a `<mimic>` on a
+    /// fixed joint): each warning becomes an error.
+    #[arg(long)]
+    pub strict: bool,
+    /// Give each body whose inertia no rigid body has (the triangle inequality broken, or not
+    /// positive semi-definite) the mean of its principal moments about every axis, as
+    /// MuJoCo's `balanceinertia`, instead of a warning.
+    #[arg(long)]
+    pub balance_inertia: bool,
+}
+
+/// Loads `path` as `base` says, its warnings on stderr (with `--strict`, errors that refuse
+/// it).
+pub fn load_description(
+    path: &std::path::Path,
+    base: Base,
+) -> Result<articulated_codegen::options::Description, String> {
+    let options = articulated_codegen::load::LoadOptions {
+        floating: base.floating.unwrap_or_default(),
+        balance_inertia: base.balance_inertia,
+        strict: base.strict,
+    };
+    let chain = articulated_codegen::load::load_with(path, options).map_err(|e| e.to_string())?;
+    for w in &chain.warnings {
+        eprintln!("{}", w.display_in(path));
+    }
+    Ok(chain)
 }
 
 /// `euler` or `quaternion`, for `--floating`.

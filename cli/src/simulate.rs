@@ -74,8 +74,7 @@ const PLOT_POINTS: usize = 2000;
 
 /// Runs `simulate`; a one-line summary for stdout, or the error message for stderr.
 pub fn run(args: &SimulateArgs) -> Result<String, String> {
-    let (model, reference) =
-        load_reference(&args.model, args.base.floating, args.params.as_deref())?;
+    let (model, reference) = load_reference(&args.model, args.base, args.params.as_deref())?;
     let (nq, nv) = (reference.nq(), reference.nv());
     let q0 = match &args.q0 {
         Some(s) => parse_vector(s, "q0", nq)?,

@@ -530,3 +530,50 @@ fn mimic_joints_are_printed_and_couple_the_tree() {
     let e = rel_err(&outputs[0]["kinetic_energy"], &tree["kinetic_energy"]);
     assert!(e < 1e-14, "kinetic energy vs the independent tree: {e:e}");
 }
+
+/// A real robot file whose inertias no rigid body has (Romeo's shoulder and elbow break the
+/// triangle inequality) loads with a warning per body on stderr, at its line; `--strict`
+/// refuses it with the same lines as errors; `--balance-inertia` evens them out silently.
+#[test]
+fn warnings_reach_stderr_and_strict_refuses_them() {
+    let romeo = "tests/data/real_robots/urdf/romeo_description/urdf/romeo_small.urdf";
+    let (ok, stdout, stderr) = eval(&[romeo]);
+    assert!(ok, "{stderr}");
+    assert!(serde_json::from_str::<Value>(&stdout).is_ok());
+    let warnings: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.contains(": warning: "))
+        .collect();
+    assert_eq!(warnings.len(), 2, "{stderr}");
+    assert!(warnings[0].starts_with(&format!("{romeo}:547: warning: link `RShoulderYawLink`")));
+    assert!(warnings[1].starts_with(&format!("{romeo}:585: warning: link `RElbowYawLink`")));
+    let (ok, stdout, stderr) = eval(&[romeo, "--strict"]);
+    assert!(!ok && stdout.is_empty(), "{stdout}");
+    assert_eq!(stderr.matches(": error: link `").count(), 2, "{stderr}");
+    let (ok, _, stderr) = eval(&[romeo, "--balance-inertia"]);
+    assert!(ok, "{stderr}");
+    assert!(!stderr.contains("warning"), "{stderr}");
+}
+
+/// A model where nothing moves (a quadrotor's links all fixed, on a fixed base) evaluates to
+/// empty results, not an error.
+#[test]
+fn a_model_where_nothing_moves_evaluates_to_empty_results() {
+    let quadrotor = "tests/data/real_robots/urdf/hector_description/robots/quadrotor_base.urdf";
+    let (ok, stdout, stderr) = eval(&[quadrotor]);
+    assert!(ok, "{stderr}");
+    let v: Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!((v["nq"].as_u64(), v["nv"].as_u64()), (Some(0), Some(0)));
+    for key in [
+        "mass_matrix",
+        "bias",
+        "gravity",
+        "tau",
+        "qdd",
+        "coriolis_matrix",
+    ] {
+        assert_eq!(v[key], Value::Array(Vec::new()), "{key}");
+    }
+    assert_eq!(v["center_of_mass"], Value::Null);
+    assert_eq!(v["kinetic_energy"].as_f64(), Some(0.0));
+}

@@ -371,6 +371,30 @@ pub struct Description {
     pub model: Model,
     /// Visibility, docs, scalar, outputs.
     pub options: Options,
+    /// What the description holds that loads but deserves a look (a URDF link's inertia that
+    /// breaks the triangle inequality, a `<mimic>` on a fixed joint): each front end reports
+    /// them (the CLI on stderr, `Builder` as `cargo:warning`, the macros as a compiler
+    /// warning), and a strict load refuses them.
+    pub warnings: Vec<Warning>,
+}
+
+/// A problem that does not stop a description from loading, at its line where known.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Warning {
+    /// The 1-based line in the description's file.
+    pub line: Option<usize>,
+    /// What it is, and what was done about it.
+    pub message: String,
+}
+
+impl Warning {
+    /// `file:line: warning: message`, as compilers write it.
+    pub fn display_in(&self, file: &std::path::Path) -> String {
+        match self.line {
+            Some(l) => format!("{}:{l}: warning: {}", file.display(), self.message),
+            None => format!("{}: warning: {}", file.display(), self.message),
+        }
+    }
 }
 
 impl Description {
@@ -379,6 +403,7 @@ impl Description {
         Description {
             model,
             options: Options::default(),
+            warnings: Vec::new(),
         }
     }
 }

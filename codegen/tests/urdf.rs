@@ -641,19 +641,11 @@ fn a_mimic_joint_follows_the_joint_it_names() {
 
 /// What a mimic joint may not follow is an error at its line, naming both joints.
 #[test]
-fn a_mimic_of_a_fixed_unknown_or_mimic_joint_is_an_error_at_its_line() {
+fn a_mimic_of_a_fixed_or_mimic_joint_is_an_error_at_its_line() {
     let cases: &[(&str, &str)] = &[
-        (
-            r#"<joint name="m" type="revolute"><parent link="a"/><child link="b"/><mimic joint="nobody"/></joint>"#,
-            "joint `m` mimics `nobody`, which is not a joint of this robot",
-        ),
         (
             r#"<joint name="m" type="revolute"><parent link="a"/><child link="b"/><mimic joint="m"/></joint>"#,
             "joint `m` mimics `m`, itself",
-        ),
-        (
-            r#"<joint name="m" type="fixed"><parent link="a"/><child link="b"/><mimic joint="ja"/></joint>"#,
-            "only revolute, continuous and prismatic joints can mimic",
         ),
         (
             r#"<joint name="m" type="revolute"><parent link="a"/><child link="b"/><mimic joint="ja" multiplier="nan"/></joint>"#,
@@ -681,6 +673,65 @@ fn a_mimic_of_a_fixed_unknown_or_mimic_joint_is_an_error_at_its_line() {
     assert!(
         e.message().contains("`m1`, which is a mimic joint itself"),
         "{e}"
+    );
+}
+
+/// What real files hold and Pinocchio loads: a `<mimic>` on a fixed joint (TALOS's grippers) is
+/// ignored, and one that names no joint of the file (Alex's hands) leaves an independent joint
+/// with its own limits, each with a warning at the joint's line.
+#[test]
+fn a_mimic_on_a_fixed_joint_or_of_an_unknown_joint_loads_with_a_warning() {
+    let cases: &[(&str, &str, usize)] = &[
+        (
+            r#"<joint name="m" type="revolute"><parent link="a"/><child link="b"/><limit lower="-1" upper="1" effort="1" velocity="1"/><mimic joint="nobody"/></joint>"#,
+            "joint `m` mimics `nobody`, which is not a joint of this robot: it is loaded as an \
+             independent joint",
+            2,
+        ),
+        (
+            r#"<joint name="m" type="fixed"><parent link="a"/><child link="b"/><mimic joint="ja"/></joint>"#,
+            "joint `m` is fixed and mimics `ja`: the `<mimic>` is ignored",
+            1,
+        ),
+    ];
+    for (joint, message, nv) in cases {
+        let chain = from_urdf_str(&chain_with(&format!("<link name=\"b\"/>\n{joint}")), false)
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(chain.warnings.len(), 1, "{:?}", chain.warnings);
+        assert_eq!(chain.warnings[0].line, Some(7));
+        assert_eq!(chain.warnings[0].message, *message);
+        assert_eq!(chain.model.nv(), *nv);
+        assert!(chain.model.joints.iter().all(|j| j.mimic.is_none()));
+        if *nv == 2 {
+            assert_eq!(chain.model.joints[1].drive.upper, 1.0);
+        }
+    }
+}
+
+/// Every problem of a file is reported at once, each at its line: a user fixes them in one
+/// edit, not one run each.
+#[test]
+fn every_problem_is_reported_at_once() {
+    let xml = robot(&format!(
+        "<link name=\"base\"/>\n<link name=\"l1\">{}</link>\n\
+         <joint name=\"j1\" type=\"revolute\"><parent link=\"base\"/><child link=\"l1\"/></joint>\n\
+         <link name=\"l2\">{}</link>\n\
+         <joint name=\"j2\" type=\"revolute\"><parent link=\"l1\"/><child link=\"l2\"/><axis xyz=\"0 0 0\"/></joint>",
+        inertial(-1.0, "0 0 0", "0 0 0", [0.1, 0.0, 0.0, 0.1, 0.0, 0.1]),
+        inertial(1.0, "0 0 0", "0 0 0", [0.1, 0.0, 0.0, 0.1, 0.0, 0.1]),
+    ));
+    let e = err(&xml);
+    assert_eq!(e.count(), 2, "{e}");
+    let text = e.to_string();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 2, "{text}");
+    assert!(
+        lines[0].starts_with("<urdf>:4: ") && lines[0].contains("negative mass"),
+        "{text}"
+    );
+    assert!(
+        lines[1].starts_with("<urdf>:7: ") && lines[1].contains("is zero"),
+        "{text}"
     );
 }
 
@@ -775,7 +826,7 @@ fn visual_and_collision_elements_are_never_read() {
 /// A link's inertia follows the `.chain` rules: no negative principal moment, the triangle
 /// inequality; zero (a frame, a point mass) and the edge of the inequality are accepted.
 #[test]
-fn inertias_that_no_body_has_are_refused_at_the_link() {
+fn inertias_that_no_body_has_load_with_a_warning_at_the_link() {
     let link = |i: [f64; 6]| {
         robot(&format!(
             "<link name=\"base\"/>\n<link name=\"l1\">{}</link>\n\
@@ -783,19 +834,121 @@ fn inertias_that_no_body_has_are_refused_at_the_link() {
             inertial(1.0, "0 0 0", "0 0 0", i)
         ))
     };
-    let e = err(&link([1.0, 0.0, 0.0, 1.0, 0.0, -0.5]));
-    assert!(e.message().contains("not positive semi-definite"), "{e}");
-    assert_eq!(e.line(), Some(4));
-    let e = err(&link([0.1, 0.0, 0.0, 0.1, 0.0, 0.5]));
-    assert!(e.message().contains("triangle inequality"), "{e}");
+    let warning = |i: [f64; 6]| {
+        let chain = from_urdf_str(&link(i), false).unwrap_or_else(|e| panic!("{i:?}: {e}"));
+        assert_eq!(chain.warnings.len(), 1, "{i:?}: {:?}", chain.warnings);
+        assert_eq!(chain.warnings[0].line, Some(4));
+        // Loaded as written.
+        assert_eq!(chain.model.bodies[0].inertia[0][0], Value::Const(i[0]));
+        chain.warnings[0].message.clone()
+    };
+    let w = warning([1.0, 0.0, 0.0, 1.0, 0.0, -0.5]);
+    assert!(
+        w.contains("link `l1`: its inertia is not positive semi-definite"),
+        "{w}"
+    );
+    let w = warning([0.1, 0.0, 0.0, 0.1, 0.0, 0.5]);
+    assert!(w.contains("triangle inequality"), "{w}");
     // Off-diagonal terms large enough to make it indefinite.
-    let e = err(&link([0.1, 0.2, 0.0, 0.1, 0.0, 0.1]));
-    assert!(e.message().contains("not positive semi-definite"), "{e}");
+    let w = warning([0.1, 0.2, 0.0, 0.1, 0.0, 0.1]);
+    assert!(w.contains("not positive semi-definite"), "{w}");
     for ok in [
         [0.0; 6],
         [0.5, 0.0, 0.0, 0.5, 0.0, 1.0],
         [0.2, 0.01, 0.0, 0.3, 0.0, 0.4],
     ] {
-        from_urdf_str(&link(ok), false).unwrap_or_else(|e| panic!("{ok:?}: {e}"));
+        let chain = from_urdf_str(&link(ok), false).unwrap_or_else(|e| panic!("{ok:?}: {e}"));
+        assert!(chain.warnings.is_empty(), "{ok:?}: {:?}", chain.warnings);
+    }
+}
+
+/// Each moving body is judged once the links welded to it are merged into it: a camera whose
+/// tensor breaks the triangle inequality, welded to a base whose inertia is fine, is fine
+/// (ANYmal C, TIAGo's antenna); rounding noise written as a tensor (iCub's ankle: zero but for
+/// an off-diagonal 1.4e-20, eigenvalues ±1.4e-20) is rounding next to the model's largest
+/// moment and passes silently, while the same shape at the scale of the model warns.
+#[test]
+fn inertias_are_judged_on_merged_bodies_against_the_models_scale() {
+    let two = |camera: [f64; 6], noise: [f64; 6]| {
+        robot(&format!(
+            "<link name=\"base\"/>\n<link name=\"l1\">{}</link>\n\
+             <joint name=\"j1\" type=\"revolute\"><parent link=\"base\"/><child link=\"l1\"/></joint>\n\
+             <link name=\"camera\">{}</link>\n\
+             <joint name=\"weld\" type=\"fixed\"><parent link=\"l1\"/><child link=\"camera\"/><origin xyz=\"0.1 0 0\"/></joint>\n\
+             <link name=\"l2\">{}</link>\n\
+             <joint name=\"j2\" type=\"revolute\"><parent link=\"l1\"/><child link=\"l2\"/></joint>",
+            inertial(1.0, "0 0 0", "0 0 0", [0.1, 0.0, 0.0, 0.1, 0.0, 0.1]),
+            inertial(0.05, "0 0 0", "0 0 0", camera),
+            inertial(0.5, "0 0 0", "0 0 0", noise),
+        ))
+    };
+    let odd_camera = [0.001, 0.0, 0.0, 0.001, 0.0, 0.005];
+    let noise = [0.0, 1.4e-20, 0.0, 0.0, 0.0, 0.0];
+    let chain = from_urdf_str(&two(odd_camera, noise), false).unwrap_or_else(|e| panic!("{e}"));
+    assert!(chain.warnings.is_empty(), "{:?}", chain.warnings);
+    // The same noise at the model's scale is no rounding.
+    let chain = from_urdf_str(&two(odd_camera, [0.0, 0.01, 0.0, 0.0, 0.0, 0.0]), false).unwrap();
+    assert_eq!(chain.warnings.len(), 1, "{:?}", chain.warnings);
+    assert_eq!(chain.warnings[0].line, Some(8));
+    assert!(chain.warnings[0].message.contains("link `l2`"));
+    // A camera heavy enough to dominate its body still warns, naming both links.
+    let heavy = [0.5, 0.0, 0.0, 0.5, 0.0, 5.0];
+    let chain = from_urdf_str(&two(heavy, noise), false).unwrap();
+    assert_eq!(chain.warnings.len(), 1, "{:?}", chain.warnings);
+    assert_eq!(chain.warnings[0].line, Some(4));
+    assert!(
+        chain.warnings[0]
+            .message
+            .contains("link `l1` (with `camera` welded to it): its inertia breaks the triangle"),
+        "{}",
+        chain.warnings[0].message
+    );
+}
+
+/// The `Builder` hands the loader's warnings to cargo (`Builder::warnings`, printed as
+/// `cargo:warning=` by `write`), refuses them with `strict()`, and `balance_inertia()` gives a
+/// body whose principal moments break the triangle inequality their mean about every axis
+/// (MuJoCo's `balanceinertia`).
+#[test]
+fn builder_warnings_strict_and_balance() {
+    use articulated_codegen::load::{load_with, LoadError, LoadOptions};
+    use articulated_codegen::Builder;
+    let path = format!(
+        "{}/../macros/tests/ui/fixtures/odd_inertia.urdf",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let warnings = Builder::new().urdf(&path, false).warnings().unwrap();
+    assert_eq!(warnings.len(), 2, "{warnings:?}");
+    assert!(warnings[0].ends_with(
+        "odd_inertia.urdf:4: warning: link `arm` (with `tool` welded to it): its inertia breaks \
+         the triangle inequality: principal moments 0.01 + 0.01 < 0.05: no rigid body has such \
+         an inertia"
+    ));
+    let strict = Builder::new().urdf(&path, false).strict().to_source();
+    assert!(
+        matches!(&strict, Err(articulated_codegen::build::BuildError::Load(LoadError::Strict { warnings, .. })) if warnings.len() == 2),
+        "{strict:?}"
+    );
+    let warnings = Builder::new()
+        .urdf(&path, false)
+        .balance_inertia()
+        .warnings()
+        .unwrap();
+    assert_eq!(warnings.len(), 1, "only the mimic's: {warnings:?}");
+    let options = LoadOptions {
+        balance_inertia: true,
+        ..LoadOptions::default()
+    };
+    let model = load_with(Path::new(&path), options).unwrap().model;
+    let mean = (0.01 + 0.01 + 0.05) / 3.0;
+    let i = model.bodies[0].inertia;
+    for (r, row) in i.iter().enumerate() {
+        for (c, x) in row.iter().enumerate() {
+            let expected = if r == c { mean } else { 0.0 };
+            assert!(
+                matches!(x, Value::Const(v) if (v - expected).abs() < 1e-15),
+                "{i:?}"
+            );
+        }
     }
 }

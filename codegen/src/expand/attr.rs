@@ -46,13 +46,17 @@ pub(crate) struct Attr {
     pub keep: Option<Vec<Ident>>,
     /// `quasi_static`.
     pub quasi_static: bool,
+    /// `strict`: a warning of the loader refuses the file.
+    pub strict: bool,
+    /// `balance_inertia`: inertias no rigid body has are balanced, not warned about.
+    pub balance_inertia: bool,
 }
 
 const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, \
                     `floating [= euler | quaternion]`, \
                     `scalar = f64 | f32 | generic`, `outputs = [mass_matrix, …]`, \
                     `accuracy = fastest | robust`, `lock = [joint(q, …), …]`, \
-                    `keep = [body, …]` or `quasi_static`";
+                    `keep = [body, …]`, `quasi_static`, `strict` or `balance_inertia`";
 
 /// Reads every `#[chain(…)]` on `input`.
 pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
@@ -65,6 +69,8 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
     let mut locks = Vec::new();
     let mut keep = None;
     let mut quasi_static = false;
+    let mut strict = false;
+    let mut balance_inertia = false;
     let mut seen = false;
     for attr in input.attrs.iter().filter(|a| a.path().is_ident("chain")) {
         seen = true;
@@ -107,6 +113,8 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
                     keep = Some(names.into_iter().collect());
                 }
                 Some("quasi_static") => quasi_static = true,
+                Some("strict") => strict = true,
+                Some("balance_inertia") => balance_inertia = true,
                 _ => return Err(meta.error(format!("unknown key in #[chain(…)]: {KEYS}"))),
             }
             Ok(())
@@ -151,6 +159,8 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
         locks,
         keep,
         quasi_static,
+        strict,
+        balance_inertia,
     })
 }
 

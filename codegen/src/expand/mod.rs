@@ -19,7 +19,7 @@ use attr::{parse_attr, Source};
 use fallback::fallback;
 
 use crate::generate::{generate, generate_impls};
-use crate::load::{load, FloatingBase, LoadError};
+use crate::load::{load_with, FloatingBase, LoadError, LoadOptions};
 use crate::lower::lower;
 use crate::parse::ChainDef;
 
@@ -99,6 +99,17 @@ fn load_error(e: LoadError, path: &Path, lit: &LitStr) -> syn::Error {
                 all
             })
             .unwrap_or_else(|| error(format!("{shown}: cannot be loaded"))),
+        LoadError::Strict { warnings, .. } => warnings
+            .iter()
+            .map(|w| {
+                let at = w.line.map_or(String::new(), |l| format!(":{l}"));
+                error(format!("{shown}{at}: {} (refused: `strict`)", w.message))
+            })
+            .reduce(|mut all, e| {
+                all.combine(e);
+                all
+            })
+            .unwrap_or_else(|| error(format!("{shown}: cannot be loaded"))),
         other => error(
             other
                 .to_string()
@@ -153,13 +164,29 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
     };
     let path = resolve(&lit.value());
     let expected = if is_urdf { "urdf" } else { "chain" };
-    if path.extension().and_then(|e| e.to_str()) != Some(expected) {
+    let found = path.extension().and_then(|e| e.to_str());
+    if found != Some(expected) {
+        // The likely slip: the other key.
+        let hint = match found {
+            Some("urdf") => "; for a URDF write `urdf = \"…\"`",
+            Some("chain") => "; for a `.chain` file write `file = \"…\"`",
+            _ => "",
+        };
         return Err(syn::Error::new(
             lit.span(),
-            format!("expected a `.{expected}` file, found `{}`", lit.value()),
+            format!(
+                "expected a `.{expected}` file, found `{}`{hint}",
+                lit.value()
+            ),
         ));
     }
-    let mut chain = load(&path, floating).map_err(|e| load_error(e, &path, lit))?;
+    let options = LoadOptions {
+        floating,
+        balance_inertia: attr.balance_inertia,
+        strict: attr.strict,
+    };
+    let mut chain = load_with(&path, options).map_err(|e| load_error(e, &path, lit))?;
+    let warnings = warning_items(&chain.warnings, &lit.value(), lit.span());
     chain.model.name = input.ident.to_string();
     // The struct is the user's: its visibility goes on what is generated beside it.
     chain.options.visibility = crate::lower::visibility(&input.vis);
@@ -198,6 +225,34 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
     Ok(quote! {
         // Makes cargo rebuild the crate when the description changes.
         const _: &[u8] = include_bytes!(#abs);
+        #warnings
         #tokens
     })
+}
+
+/// The loader's warnings as compiler warnings at the file's path in the attribute. Stable Rust
+/// has no way for a macro to warn, so each is a deprecated item used right away: rustc prints
+/// `use of deprecated unit struct …: robot.urdf:193: link …`, and `#[deny(warnings)]` or
+/// `strict` in the attribute turns them into errors.
+fn warning_items(
+    warnings: &[crate::options::Warning],
+    shown: &str,
+    span: proc_macro2::Span,
+) -> TokenStream {
+    let items = warnings.iter().map(|w| {
+        let note = match w.line {
+            Some(l) => format!("{shown}:{l}: {}", w.message),
+            None => format!("{shown}: {}", w.message),
+        };
+        let name = syn::Ident::new("articulated_warning", span);
+        quote::quote_spanned! {span=>
+            const _: () = {
+                #[deprecated(note = #note)]
+                #[allow(non_camel_case_types)]
+                struct #name;
+                let _ = #name;
+            };
+        }
+    });
+    quote!(#(#items)*)
 }

@@ -12,9 +12,32 @@ use articulated_dynamics::model::Model;
 
 pub use chain_file::{parse_chain_str, Diagnostic, FileError};
 
-use crate::options::Description;
+use crate::options::{Description, Warning};
 pub use crate::urdf::FloatingBase;
-use crate::urdf::{self, UrdfError};
+use crate::urdf::{self, UrdfError, UrdfOptions};
+
+/// How a file is read: the base under a URDF root, what to do with the inertias of bodies that
+/// no rigid body has, and whether a warning refuses the file.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// The base under a URDF root (ignored for a `.chain` file, which must not ask for one).
+    pub floating: FloatingBase,
+    /// Replace the inertia of each body that breaks the triangle inequality or is not positive
+    /// semi-definite by the mean of its principal moments times the identity, as MuJoCo's
+    /// `balanceinertia` does (where that mean is positive), instead of warning.
+    pub balance_inertia: bool,
+    /// Refuse a file that loads with warnings ([`LoadError::Strict`]).
+    pub strict: bool,
+}
+
+impl From<FloatingBase> for LoadOptions {
+    fn from(floating: FloatingBase) -> Self {
+        LoadOptions {
+            floating,
+            ..LoadOptions::default()
+        }
+    }
+}
 
 /// Why a model file could not be loaded.
 #[derive(Debug)]
@@ -35,6 +58,13 @@ pub enum LoadError {
     UnknownExtension(PathBuf),
     /// `floating` asked for a `.chain` file, where the free base is written in the file itself.
     FloatingChain(PathBuf),
+    /// A strict load ([`LoadOptions::strict`]) of a file that loads with warnings.
+    Strict {
+        /// The file.
+        path: PathBuf,
+        /// Every warning, each an error now.
+        warnings: Vec<Warning>,
+    },
 }
 
 impl std::fmt::Display for LoadError {
@@ -50,6 +80,13 @@ impl std::fmt::Display for LoadError {
                 "{}: error: unknown model format: expected a `.chain` or `.urdf` file",
                 p.display()
             ),
+            LoadError::Strict { path, warnings } => {
+                for w in warnings {
+                    let line = w.display_in(path).replacen(": warning: ", ": error: ", 1);
+                    writeln!(f, "{line}")?;
+                }
+                write!(f, "(refused: a strict load takes no warnings)")
+            }
             LoadError::FloatingChain(p) => write!(
                 f,
                 "{}: error: a free base is added only under a URDF root; in a `.chain` file write \
@@ -69,7 +106,15 @@ impl std::error::Error for LoadError {}
 /// # Errors
 /// A [`LoadError`] naming the file (and, for a problem inside it, the line).
 pub fn load(path: &Path, floating: impl Into<FloatingBase>) -> Result<Description, LoadError> {
-    let floating = floating.into();
+    load_with(path, LoadOptions::from(floating.into()))
+}
+
+/// [`load`] as `options` say.
+///
+/// # Errors
+/// As [`load`], and [`LoadError::Strict`] for a strict load of a file with warnings.
+pub fn load_with(path: &Path, options: LoadOptions) -> Result<Description, LoadError> {
+    let floating = options.floating;
     let ext = path.extension().and_then(|e| e.to_str());
     match ext {
         Some("chain") if floating.is_floating() => {
@@ -82,11 +127,23 @@ pub fn load(path: &Path, floating: impl Into<FloatingBase>) -> Result<Descriptio
         path: path.to_path_buf(),
         error,
     })?;
-    if ext == Some("chain") {
-        parse_chain_str(&text, path).map_err(LoadError::Chain)
+    let chain = if ext == Some("chain") {
+        parse_chain_str(&text, path).map_err(LoadError::Chain)?
     } else {
-        urdf::from_urdf_str(&text, floating).map_err(|e| LoadError::Urdf(e.in_file(path)))
+        let urdf_options = UrdfOptions {
+            floating,
+            balance_inertia: options.balance_inertia,
+        };
+        urdf::from_urdf_str_with(&text, urdf_options)
+            .map_err(|e| LoadError::Urdf(e.in_file(path)))?
+    };
+    if options.strict && !chain.warnings.is_empty() {
+        return Err(LoadError::Strict {
+            path: path.to_path_buf(),
+            warnings: chain.warnings,
+        });
     }
+    Ok(chain)
 }
 
 /// [`load`], keeping only the physics (what the reference dynamics needs).

@@ -157,7 +157,11 @@ impl Lower {
             }
             return None;
         }
-        Some(Description { model, options })
+        Some(Description {
+            model,
+            options,
+            warnings: Vec::new(),
+        })
     }
 }
 

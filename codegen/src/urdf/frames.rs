@@ -82,6 +82,13 @@ pub(super) struct MassProps {
 }
 
 impl MassProps {
+    /// No mass: a frame.
+    pub(super) const ZERO: MassProps = MassProps {
+        m: 0.0,
+        c: Vec3([0.0; 3]),
+        i: Mat3([[0.0; 3]; 3]),
+    };
+
     /// The same properties seen from the frame in which `t` describes their frame.
     pub(super) fn transformed(&self, t: &Transform) -> MassProps {
         if t.identity {

@@ -10,16 +10,24 @@
 //!   `multiplier·q_followed + offset` (defaults 1 and 0), it leaves `q` and `v`, and the dynamics
 //!   are the coupled ones (`M = Gᵀ·M_tree·G`, see [`Mimic`]). Its `<limit>`, damping and
 //!   friction are not used (those of the joint it follows apply); its armature is inertia and
-//!   is kept. Mimicking a fixed joint, a mimic joint, itself or an unknown joint is an error at
-//!   its line.
+//!   is kept. Mimicking a fixed joint, a mimic joint or itself is an error at its line; a
+//!   `<mimic>` naming no joint of the file leaves an independent joint, and one on a fixed
+//!   joint is ignored, each with a warning (as Pinocchio loads such files).
 //! - A joint's `<dynamics damping friction>` and `<limit lower upper effort velocity>` become its
 //!   [`Drive`], and so does `<dynamics armature>` (not URDF 1.0; MuJoCo's and Pinocchio's name
 //!   for the rotor inertia, added to `M`'s diagonal). Absent limit attributes are no limits;
 //!   a negative damping or `lower > upper` is an error at the joint's line.
-//! - `<visual>` and `<collision>` (meshes, materials) are never read: an element there that
-//!   urdf-rs would refuse does not stop the import.
-//! - A link's inertia may not have a negative principal moment or break the triangle inequality
-//!   (the `.chain` rules; zero, a massless frame or a point mass, is allowed).
+//! - `<visual>`, `<collision>` and `<material>` (meshes, textures) are never read: an element
+//!   there that urdf-rs would refuse (Romeo's empty `<texture/>`) does not stop the import.
+//! - Inertias are judged on each moving body once the links welded to it are merged into it
+//!   (`Importer::judge_inertias`): one that breaks the triangle inequality or is not positive
+//!   semi-definite beyond rounding ([`INERTIA_ROUNDING`] of the model's largest principal
+//!   moment) loads as written with a [`Warning`] at the body's link, or is balanced on request
+//!   ([`UrdfOptions::balance_inertia`]); a strict load refuses every warning
+//!   ([`crate::load::LoadOptions::strict`]). Real files hold placeholders and noise (a 1e-6
+//!   base, a camera's odd tensor, ±1e-20), Pinocchio and ROS load them, and the `.chain` rules,
+//!   errors at the token, are for descriptions written for this project. Only a non-finite
+//!   number or a negative mass is an error.
 //! - `floating` joints become [`JointKind::FreeEuler`] with the sequence [`EulerSeq::ZYX`].
 //! - `fixed` joints are merged: the child link's mass properties are added to the nearest body
 //!   above it (masses summed, centres of mass combined, inertias combined with the parallel-axis
@@ -46,13 +54,15 @@
 //! Malformed XML, a missing required element, an unknown link, a link with two parents, two roots,
 //! a cycle, a non-finite number, a negative mass, a zero axis and unsupported joint types are
 //! reported as a [`UrdfError`] that names the file and, where the offending `<link>` or `<joint>`
-//! can be found in the text, its line. The importer does not panic on any input.
+//! can be found in the text, its line; every problem of the links and joints at once. The
+//! importer does not panic on any input.
 //!
 //! # Layout
 //! Here: [`UrdfError`], [`from_urdf_str`], the checks of links and joints, the tree walk that
 //! merges fixed joints. `frames` holds the transforms and mass properties the walk composes,
 //! `lines` finds the lines of elements and of parse errors (urdf-rs gives none) with roxmltree.
 
+use std::cell::RefCell;
 use std::collections::HashMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -62,7 +72,7 @@ use articulated_dynamics::model::{
 };
 use articulated_dynamics::spatial::{Mat3, Vec3};
 
-use crate::options::{Description, Options};
+use crate::options::{Description, Options, Warning};
 
 mod frames;
 mod lines;
@@ -122,6 +132,8 @@ pub struct UrdfError {
     file: Option<PathBuf>,
     line: Option<usize>,
     message: String,
+    /// The file's other problems, each at its line: every problem is reported at once.
+    others: Vec<(Option<usize>, String)>,
 }
 
 impl UrdfError {
@@ -130,7 +142,18 @@ impl UrdfError {
             file: None,
             line: None,
             message: message.into(),
+            others: Vec::new(),
         }
+    }
+    /// The first of `errors` carrying the others (`None` for none).
+    fn all(mut errors: Vec<UrdfError>) -> Option<UrdfError> {
+        let mut first = errors.drain(..1.min(errors.len())).next()?;
+        first.others = errors.into_iter().map(|e| (e.line, e.message)).collect();
+        Some(first)
+    }
+    /// How many problems this error reports (the first and the others).
+    pub fn count(&self) -> usize {
+        1 + self.others.len()
     }
     fn at(mut self, line: Option<usize>) -> Self {
         self.line = line;
@@ -157,14 +180,24 @@ impl UrdfError {
 
 impl fmt::Display for UrdfError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match &self.file {
-            Some(p) => write!(f, "{}", p.display())?,
-            None => write!(f, "<urdf>")?,
+        let first = (self.line, self.message.clone());
+        for (k, (line, message)) in std::iter::once(first)
+            .chain(self.others.clone())
+            .enumerate()
+        {
+            if k > 0 {
+                writeln!(f)?;
+            }
+            match &self.file {
+                Some(p) => write!(f, "{}", p.display())?,
+                None => write!(f, "<urdf>")?,
+            }
+            if let Some(l) = line {
+                write!(f, ":{l}")?;
+            }
+            write!(f, ": {message}")?;
         }
-        if let Some(l) = self.line {
-            write!(f, ":{l}")?;
-        }
-        write!(f, ": {}", self.message)
+        Ok(())
     }
 }
 
@@ -179,7 +212,31 @@ pub fn from_urdf_str(
     xml: &str,
     floating: impl Into<FloatingBase>,
 ) -> Result<Description, UrdfError> {
-    // What the dynamics never reads (`<visual>`, `<collision>`: meshes, materials) is blanked
+    from_urdf_str_with(
+        xml,
+        UrdfOptions {
+            floating: floating.into(),
+            balance_inertia: false,
+        },
+    )
+}
+
+/// How [`from_urdf_str_with`] imports.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct UrdfOptions {
+    /// The base under the root.
+    pub floating: FloatingBase,
+    /// Balance the inertias no rigid body has instead of warning about them (MuJoCo's
+    /// `balanceinertia`; [`crate::load::LoadOptions::balance_inertia`]).
+    pub balance_inertia: bool,
+}
+
+/// [`from_urdf_str`] as `options` say.
+///
+/// # Errors
+/// As [`from_urdf_str`].
+pub fn from_urdf_str_with(xml: &str, options: UrdfOptions) -> Result<Description, UrdfError> {
+    // What the dynamics never reads (`<visual>`, `<collision>`, `<material>`) is blanked
     // out first, newlines kept, so that an element urdf-rs would refuse there (a `<mesh>`
     // without `filename`, as in iCub's description) does not stop the import, and every line
     // number stays the file's.
@@ -187,18 +244,28 @@ pub fn from_urdf_str(
     let robot = read_robot(&kept)
         .map_err(|e| UrdfError::new(format!("malformed URDF: {e}")).at(parse_error_line(xml)))?;
     let lines = ElementLines::new(xml);
-    Importer { lines, robot }.build(floating.into())
+    Importer {
+        lines,
+        robot,
+        warnings: RefCell::new(Vec::new()),
+        balance: options.balance_inertia,
+    }
+    .build(options.floating)
 }
 
-/// `xml` with every `<visual>` and `<collision>` element replaced by spaces (newlines kept); the
-/// text unchanged if it is not well-formed XML (urdf-rs then reports the error).
+/// `xml` with every `<visual>`, `<collision>` and `<material>` element replaced by spaces
+/// (newlines kept; a `<material>` may stand at the top level, with an empty `<texture/>` that
+/// urdf-rs refuses, as in Romeo's description); the text unchanged if it is not well-formed XML
+/// (urdf-rs then reports the error).
 fn without_geometry(xml: &str) -> String {
     let Ok(doc) = roxmltree::Document::parse(xml) else {
         return xml.to_string();
     };
     let mut bytes = xml.as_bytes().to_vec();
     for node in doc.descendants() {
-        if node.is_element() && matches!(node.tag_name().name(), "visual" | "collision") {
+        if node.is_element()
+            && matches!(node.tag_name().name(), "visual" | "collision" | "material")
+        {
             for b in &mut bytes[node.range()] {
                 if *b != b'\n' {
                     *b = b' ';
@@ -223,6 +290,10 @@ fn read_robot(xml: &str) -> Result<urdf_rs::Robot, String> {
 struct Importer {
     lines: ElementLines,
     robot: urdf_rs::Robot,
+    /// What loads but deserves a look, in the order found.
+    warnings: RefCell<Vec<Warning>>,
+    /// Balance the inertias no rigid body has rather than warn ([`UrdfOptions`]).
+    balance: bool,
 }
 
 /// The links' tree as the joints describe it: every joint's links defined, no link the child of
@@ -240,6 +311,8 @@ struct Tree {
 #[derive(Default)]
 struct Built {
     bodies: Vec<(String, MassProps)>,
+    /// Per body, the links it is made of: its own, then those welded to it by fixed joints.
+    body_links: Vec<Vec<usize>>,
     joints: Vec<Joint>,
     /// `(model joint, URDF joint)` of each mimic joint, resolved once every joint is built.
     mimics: Vec<(usize, usize)>,
@@ -267,6 +340,10 @@ impl Importer {
             .iter()
             .filter(|j| j.name == *name)
             .count()
+    }
+    /// Records a warning.
+    fn warn(&self, line: Option<usize>, message: String) {
+        self.warnings.borrow_mut().push(Warning { line, message });
     }
     /// The error `msg` at the `link`-th link's line.
     fn link_error(&self, link: usize, msg: String) -> UrdfError {
@@ -311,43 +388,8 @@ impl Importer {
             [t.ixy, t.iyy, t.iyz],
             [t.ixz, t.iyz, t.izz],
         ]);
-        // The rules of a `.chain` body's inertia, with zero allowed (a frame, a point mass):
-        // no negative principal moment, and the triangle inequality on them.
-        if let Some(e) = crate::lower::principal_moments(&i_frame.0) {
-            let scale = i_frame
-                .0
-                .iter()
-                .flatten()
-                .fold(0.0f64, |a, x| a.max(x.abs()));
-            let num = crate::lower::number;
-            if e[0] < -1e-12 * scale {
-                return Err(self.link_error(
-                    link,
-                    format!(
-                        "link `{}`: its inertia is not positive semi-definite: principal moments \
-                         {}, {}, {}; expected none negative",
-                        l.name,
-                        num(e[0]),
-                        num(e[1]),
-                        num(e[2])
-                    ),
-                ));
-            }
-            if e[0] + e[1] < e[2] - 1e-9 * e[2].abs() {
-                return Err(self.link_error(
-                    link,
-                    format!(
-                        "link `{}`: its inertia breaks the triangle inequality: principal \
-                         moments {} + {} < {}; expected each moment to be at most the sum of \
-                         the other two",
-                        l.name,
-                        num(e[0]),
-                        num(e[1]),
-                        num(e[2])
-                    ),
-                ));
-            }
-        }
+        // The inertia is judged once the links welded together are one body
+        // (`Importer::judge_inertias`).
         let [roll, pitch, yaw] = *inertial.origin.rpy;
         let i = if [roll, pitch, yaw] == [0.0; 3] {
             i_frame
@@ -375,7 +417,16 @@ impl Importer {
                 ),
             ));
         }
-        if let Some(m) = &j.mimic {
+        if let (Some(m), T::Fixed) = (&j.mimic, &j.joint_type) {
+            // TALOS's grippers: a fixed joint has no coordinate to follow anything with.
+            self.warn(
+                self.joint_line(joint),
+                format!(
+                    "joint `{}` is fixed and mimics `{}`: the `<mimic>` is ignored",
+                    j.name, m.joint
+                ),
+            );
+        } else if let Some(m) = &j.mimic {
             let one_axis = matches!(j.joint_type, T::Revolute | T::Continuous | T::Prismatic);
             let (multiplier, offset) = (m.multiplier.unwrap_or(1.0), m.offset.unwrap_or(0.0));
             let problem = if !one_axis {
@@ -486,7 +537,8 @@ impl Importer {
         }
         let tree = self.tree()?;
         let root = self.root(&tree)?;
-        let built = self.walk(&tree, root, floating)?;
+        let mut built = self.walk(&tree, root, floating)?;
+        self.judge_inertias(&mut built);
         let model = Model {
             name: camel_case(&self.robot.name),
             gravity: Some(DEFAULT_GRAVITY),
@@ -513,7 +565,86 @@ impl Importer {
             )],
             ..Options::default()
         };
-        Ok(Description { model, options })
+        let mut warnings = self.warnings.take();
+        warnings.sort_by_key(|w| w.line);
+        Ok(Description {
+            model,
+            options,
+            warnings,
+        })
+    }
+
+    /// Judges each moving body's inertia once the links welded to it are merged into it (a
+    /// camera's or an antenna's odd tensor merges into a base whose inertia is fine): one
+    /// that is not positive semi-definite beyond rounding, or breaks the triangle inequality,
+    /// loads with a warning at the body's link. Pinocchio and ROS load such files, M stays
+    /// positive definite where the rest of the chain dominates, and MuJoCo offers
+    /// `balanceinertia` for them.
+    ///
+    /// Rounding is judged against the largest principal moment of the whole model, not the
+    /// body's own: iCub's ankle holds an otherwise zero tensor with an off-diagonal 1.4e-20,
+    /// whose eigenvalues are ±1.4e-20, which is rounding next to a leg's 1e-3 whatever its
+    /// sign. Negative down to `16·ε` of that passes silently ([`INERTIA_ROUNDING`]).
+    fn judge_inertias(&self, built: &mut Built) {
+        let moments: Vec<Option<[f64; 3]>> = built
+            .bodies
+            .iter()
+            .map(|(_, mp)| crate::lower::principal_moments(&mp.i.0))
+            .collect();
+        let largest = moments
+            .iter()
+            .flatten()
+            .fold(0.0f64, |a, e| a.max(e[2].abs()));
+        let rounding = INERTIA_ROUNDING * largest;
+        let num = crate::lower::number;
+        for ((name, mp), (links, e)) in built
+            .bodies
+            .iter_mut()
+            .zip(built.body_links.iter().zip(&moments))
+        {
+            let Some(e) = e else { continue };
+            let merged = match &links[1..] {
+                [] => String::new(),
+                rest => format!(
+                    " (with {} welded to it)",
+                    rest.iter()
+                        .map(|&l| format!("`{}`", self.robot.links[l].name))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            };
+            let problem = if e[0] < -rounding {
+                format!(
+                    "is not positive semi-definite: principal moments {}, {}, {}",
+                    num(e[0]),
+                    num(e[1]),
+                    num(e[2])
+                )
+            } else if e[0] + e[1] < e[2] - rounding.max(1e-9 * e[2]) {
+                format!(
+                    "breaks the triangle inequality: principal moments {} + {} < {}",
+                    num(e[0]),
+                    num(e[1]),
+                    num(e[2])
+                )
+            } else {
+                continue;
+            };
+            let mean = (e[0] + e[1] + e[2]) / 3.0;
+            if self.balance && mean > 0.0 {
+                // MuJoCo's `balanceinertia`: every principal moment set to their mean, which
+                // is isotropic in any frame.
+                mp.i = Mat3([[mean, 0.0, 0.0], [0.0, mean, 0.0], [0.0, 0.0, mean]]);
+                continue;
+            }
+            self.warn(
+                self.link_line(links[0]),
+                format!(
+                    "link `{name}`{merged}: its inertia {problem}: no rigid body has such \
+                     an inertia"
+                ),
+            );
+        }
     }
 
     /// The tree the joints describe, with every link and joint name defined once, every link a
@@ -627,9 +758,19 @@ impl Importer {
                 stack.push((j, body, t));
             }
         };
+        // Every problem of the file at once: a link or joint in error is noted and the walk
+        // goes on (the joint as if fixed, the link as if massless).
+        let mut errors = Vec::new();
+        let mass_of = |link: usize, errors: &mut Vec<UrdfError>| {
+            self.link_mass(link).unwrap_or_else(|e| {
+                errors.push(e);
+                MassProps::ZERO
+            })
+        };
         let root_body = if floating.is_floating() {
             let name = self.robot.links[root].name.clone();
-            built.bodies.push((name, self.link_mass(root)?));
+            built.bodies.push((name, mass_of(root, &mut errors)));
+            built.body_links.push(vec![root]);
             built.joints.push(Joint {
                 name: "root_joint".into(),
                 kind: match floating {
@@ -643,7 +784,7 @@ impl Importer {
             });
             Some(0)
         } else {
-            self.link_mass(root)?; // checked, then dropped with the world
+            mass_of(root, &mut errors); // checked, then dropped with the world
             None
         };
         push_children(&mut stack, root, root_body, Transform::IDENTITY);
@@ -653,8 +794,11 @@ impl Importer {
                 return Err(self.cycle_error(tree, child));
             }
             reached[child] = true;
-            let kind = self.joint_kind(j)?;
-            let mass = self.link_mass(child)?;
+            let kind = self.joint_kind(j).unwrap_or_else(|e| {
+                errors.push(e);
+                None
+            });
+            let mass = mass_of(child, &mut errors);
             let origin = Transform::from_pose(&joints[j].origin);
             let frame = t.then(&origin);
             match kind {
@@ -662,6 +806,7 @@ impl Importer {
                     if let Some(b) = body {
                         let here = mass.transformed(&frame);
                         built.bodies[b].1 = built.bodies[b].1.merged(&here);
+                        built.body_links[b].push(child);
                     }
                     push_children(&mut stack, child, body, frame);
                 }
@@ -675,7 +820,11 @@ impl Importer {
                     built
                         .bodies
                         .push((self.robot.links[child].name.clone(), mass));
-                    let mut drive = self.drive(j, &kind)?;
+                    built.body_links.push(vec![child]);
+                    let mut drive = self.drive(j, &kind).unwrap_or_else(|e| {
+                        errors.push(e);
+                        Drive::FREE
+                    });
                     if joints[j].mimic.is_some() {
                         // It has no coordinate for limits or losses to act on: those of the
                         // joint it follows apply. Its rotor is inertia and stays.
@@ -698,10 +847,15 @@ impl Importer {
             }
         }
         if let Some(k) = reached.iter().position(|r| !r) {
-            return Err(self.cycle_error(tree, k));
+            errors.push(self.cycle_error(tree, k));
         }
-        self.resolve_mimics(&mut built)?;
-        Ok(built)
+        if let Err(e) = self.resolve_mimics(&mut built) {
+            errors.push(e);
+        }
+        match UrdfError::all(errors) {
+            Some(e) => Err(e),
+            None => Ok(built),
+        }
     }
 
     /// Points each mimic joint at the model joint it follows, once every joint has its place.
@@ -723,7 +877,21 @@ impl Importer {
                          mimicked",
                     ))
                 }
-                None => return Err(error("which is not a joint of this robot")),
+                None => {
+                    // Alex's hands name joints their file does not have. As Pinocchio loads
+                    // it: the joint moves on its own, with its own limits.
+                    self.warn(
+                        self.joint_line(j),
+                        format!(
+                            "joint `{}` mimics `{}`, which is not a joint of this robot: it is \
+                             loaded as an independent joint",
+                            urdf.name, m.joint
+                        ),
+                    );
+                    let kind = built.joints[b].kind;
+                    built.joints[b].drive = self.drive(j, &kind)?;
+                    continue;
+                }
             };
             if followed == b {
                 return Err(error("itself"));
@@ -748,6 +916,10 @@ impl Importer {
         Ok(())
     }
 }
+
+/// A principal moment of a moving body may be negative by this fraction of the model's largest
+/// principal moment and pass as rounding (16 ε).
+pub const INERTIA_ROUNDING: f64 = 16.0 * f64::EPSILON;
 
 /// A placement of constants.
 fn placement(xyz: [f64; 3], rpy: [f64; 3]) -> Placement {
