@@ -23,7 +23,7 @@
 //! - To stabilize (§4): [`control`] (linearization, Riccati/LQR, computed torque).
 //!
 //! # Conventions
-//! Each is checked by the example under it (ARCHITECTURE.md lists them all).
+//! Each is checked by the example under it (the README's "Conventions" lists them all).
 //!
 //! **Spatial vectors are angular first** (Featherstone): a motion is `[ω; v]`, a force `[n; f]`.
 //! Pinocchio orders them linear first; swap the halves when comparing.
