@@ -3,7 +3,7 @@
 //! runs a single call.
 //!
 //! Both the criterion harness (`benches/dynamics.rs`, authoritative) and the `bench_table`
-//! binary (the README's side-by-side table, and exact instruction counts under callgrind) go
+//! binary (a side-by-side table, and exact instruction counts under callgrind) go
 //! through [`each_kernel`], so they measure the same calls on the same inputs.
 //!
 //! - *generated*: `C::mass_matrix(&q)` etc., straight-line code on nalgebra fixed-size types; no

@@ -1,4 +1,4 @@
-//! `articulated eval`: one state in, one JSON object out (the README's `articulated eval`), computed by either
+//! `articulated eval`: one state in, one JSON object out (`docs/guide/cli.md`, `eval`), computed by either
 //! engine: the interpreted reference, or the generator's own expression graphs
 //! (`--engine symbolic`), which checks the generator without compiling what it emits.
 
@@ -348,7 +348,7 @@ fn by_graph(model: &Model, s: &State) -> Fields {
     ]
 }
 
-/// One JSON object, keys in the order given (the README's `articulated eval`), a matrix row per line, numbers
+/// One JSON object, keys in the order given (`docs/guide/cli.md`, `eval`), a matrix row per line, numbers
 /// printed so they read back exactly.
 fn to_json(fields: &[(&str, Value)]) -> String {
     let mut out = String::from("{\n");

@@ -1,5 +1,6 @@
-//! `articulated expand`: the formatted Rust the macros would emit for a model file (the README's
-//! "Generated code"), so users can read generated code without `cargo expand` or a nightly toolchain.
+//! `articulated expand`: the formatted Rust the macros would emit for a model file
+//! (`docs/guide/generated-code.md`, "Reading the generated code"), so users can read generated
+//! code without `cargo expand` or a nightly toolchain.
 
 use articulated_codegen::generate::generate_file;
 use articulated_codegen::load::FloatingBase;

@@ -55,10 +55,9 @@ impl ScalarKind {
 /// accuracy as well as in speed (`accuracy: fastest | robust` in a description).
 ///
 /// Measured against the double-double ground truth (`articulated_dynamics::extended`; the
-/// README's extremes table): every formulation of every output agrees to a few ulps at
-/// well-conditioned states. Forward dynamics is where they part: CRBA + `LᵀDL` loses digits as
-/// `ε·cond(M)` (on the two-link near gimbal lock, 3e-10 relative at `cond(M)` = 7e6), ABA keeps
-/// them (4e-16 there, 6e-14 at `cond(M)` = 7e12).
+/// extremes table, `docs/accuracy.md`): every formulation of every output agrees to a few ulps
+/// at well-conditioned states. Forward dynamics is where they part: CRBA + `LᵀDL` loses digits
+/// as `ε·cond(M)` (the two-link near gimbal lock), ABA keeps them.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Accuracy {
     /// The fewest operations for every output (the default).

@@ -212,13 +212,11 @@ pub trait MassMatrixUpdate<T, const NQ: usize, const NV: usize>: Chain<T> {
 ///
 /// That is the half of `M` that nalgebra's `Cholesky::new` and `sygemv` read, and the half
 /// Pinocchio's `crba` leaves out (it fills the upper triangle). Half the stores of the whole
-/// update: on the 37-coordinate humanoid 386 ns against 503 for
-/// [`MassMatrixUpdate::mass_matrix_update`] (x86-64-v3, `BENCHMARKS.md`; over five code
-/// layouts 385–388 against 428–570: the whole update's 32 KB of code sits at the size of the
-/// instruction cache, the lower triangle's 28 KB below it). Not everywhere faster: arm7 53.4
-/// against 52.0 ns, and the serial chain50 2,939 against 2,450, where LLVM compiles the stores,
-/// strided in memory (one row of `M` is computed at a time, the storage is by column), into
-/// 171 KB of code against 141. Measure it on your chain.
+/// update, so less code: faster where the whole update's code sits at the size of the
+/// instruction cache and the lower triangle's fits below it, as on the 37-coordinate humanoid.
+/// Not everywhere faster: on a long serial chain LLVM compiles the stores, strided in memory
+/// (one row of `M` is computed at a time, the storage is by column), into more code than the
+/// whole update's. `BENCHMARKS.md` times both on four models; measure it on your chain.
 pub trait MassMatrixLower<T, const NQ: usize, const NV: usize>: Chain<T> {
     /// The lower triangle of `M(q)` for the parameters `p`, into `kept`.
     fn mass_matrix_lower_with(
@@ -239,10 +237,8 @@ pub trait MassMatrixLower<T, const NQ: usize, const NV: usize>: Chain<T> {
 /// [`MassMatrix::mass_matrix`] returns a new matrix, so it first zeroes all of it (a `memset`)
 /// and then writes every entry that is not zero for all `q`. Kept, the zeros stay from one call
 /// to the next: on the 37-coordinate humanoid, 700 of the 1,369 entries are zero for every `q`,
-/// and the update takes 503 ns where `mass_matrix` takes 596 (side by side, x86-64-v3, a 2-core
-/// AMD EPYC VM; `BENCHMARKS.md`). On arm7, whose `M` has no zero, 52.0 against 51.7 ns, no
-/// difference (54.8 against 59.0 before the generated `M` was cut into basic blocks, which took
-/// more of the by-value function's spills than of the update's).
+/// and the update is faster than `mass_matrix` (`BENCHMARKS.md` times both). On a chain whose
+/// `M` has no zero, such as arm7, it makes no difference.
 ///
 /// The matrix can only be read (through [`Deref`](core::ops::Deref) or
 /// [`matrix`](KeptMassMatrix::matrix)): that keeps the zeros it starts with, so every update

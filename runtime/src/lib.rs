@@ -23,7 +23,7 @@
 //! - To stabilize (§4): [`control`] (linearization, Riccati/LQR, computed torque).
 //!
 //! # Conventions
-//! Each is checked by the example under it (ARCHITECTURE.md lists them all).
+//! Each is checked by the example under it (the README's "Conventions" lists them all).
 //!
 //! **Spatial vectors are angular first** (Featherstone): a motion is `[ω; v]`, a force `[n; f]`.
 //! Pinocchio orders them linear first; swap the halves when comparing.
@@ -195,3 +195,33 @@ pub mod prelude {
 #[cfg(doctest)]
 #[doc = include_str!("../../README.md")]
 pub struct ReadmeDoctests;
+
+/// The guide's examples (`docs/guide/`), compiled and run as doctests, one item per page.
+#[cfg(doctest)]
+#[doc = include_str!("../../docs/guide/description.md")]
+pub struct GuideDescriptionDoctests;
+
+/// See [`GuideDescriptionDoctests`].
+#[cfg(doctest)]
+#[doc = include_str!("../../docs/guide/generated-code.md")]
+pub struct GuideGeneratedCodeDoctests;
+
+/// See [`GuideDescriptionDoctests`].
+#[cfg(doctest)]
+#[doc = include_str!("../../docs/guide/runtime.md")]
+pub struct GuideRuntimeDoctests;
+
+/// See [`GuideDescriptionDoctests`].
+#[cfg(doctest)]
+#[doc = include_str!("../../docs/guide/cli.md")]
+pub struct GuideCliDoctests;
+
+/// See [`GuideDescriptionDoctests`].
+#[cfg(doctest)]
+#[doc = include_str!("../../docs/guide/checking.md")]
+pub struct GuideCheckingDoctests;
+
+/// See [`GuideDescriptionDoctests`].
+#[cfg(doctest)]
+#[doc = include_str!("../../docs/guide/accuracy-and-speed.md")]
+pub struct GuideAccuracyAndSpeedDoctests;

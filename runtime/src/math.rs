@@ -6,9 +6,8 @@
 //!
 //! [`libm::sincos`] (FreeBSD/musl) is accurate but is an out-of-line call whose reduction
 //! branches on the argument: five size classes of `|x|`, one to three rounds of reduction
-//! depending on the cancellation, a `match` on the quadrant. On the 2-core Zen 4 VM it costs
-//! about 7 ns per angle (105 instructions for angles in [−π, π], loop included), a large part
-//! of the 7-DOF inverse dynamics, which needs six.
+//! depending on the cancellation, a `match` on the quadrant. Measured, it was a large part of
+//! the 7-DOF inverse dynamics, which needs six angles.
 //!
 //! This module computes the same thing as straight-line code: the same polynomial coefficients,
 //! a reduction that does all its steps every time (exact for every argument below
@@ -17,11 +16,13 @@
 //! [`SINCOS_FAST_LIMIT`], infinities and NaN to [`libm::sincos`]; joint angles always take it
 //! the same way.
 //!
-//! What that buys: for several angles ([`sincos_array`]) about 60 instructions per angle
-//! against libm's 105, and the generated dynamics that call it a few per cent faster; for one
-//! angle ([`sincos`]) fewer instructions but **more time** than libm, whose branches the
-//! processor predicts cheaply. The measured figures, with the commands that reproduce them,
-//! are in `bench/README.md` ("Sine and cosine").
+//! What that buys: for several angles ([`sincos_array`]) far fewer instructions per angle than
+//! libm, and the generated dynamics that call it faster; for one angle ([`sincos`]) fewer
+//! instructions but **more time** than libm, whose branches the processor predicts cheaply.
+//! `cargo run --release -p articulated-bench --bin sincos_table [-- --instructions]` and
+//! `cargo bench -p articulated-bench --bench math` measure both against libm and std; the
+//! figures of the session that wrote this module are in the history of `bench/README.md`
+//! ("Sine and cosine", last at commit 4b955c8).
 //!
 //! # The algorithm
 //!
@@ -46,10 +47,10 @@
 //! Tried and dropped (same harnesses): a table-driven reduction to `x = k·π/64 + r` with 128
 //! entries (sine and cosine of `k·π/64` as head and tail, the head of the product by `r` kept
 //! exact), degree-7/8 polynomials in `r`: the polynomials shrink, but the exact recombination
-//! and the table loads cost more than they save, 62.6 instructions per angle. Both polynomials
-//! in Horner's order: 1.3 fewer instructions per angle, 2 % slower in `arm7`, 3 ns more
-//! latency. Estrin's order for both (this module's before): 3.7 more instructions per angle,
-//! no faster. A fallback that returns new arrays (see [`sincos_array`]).
+//! and the table loads cost more than they save. Both polynomials in Horner's order: slightly
+//! fewer instructions, but slower in `arm7` and a longer latency. Estrin's order for both (this
+//! module's before): more instructions, no faster. A fallback that returns new arrays (see
+//! [`sincos_array`]).
 //!
 //! # Accuracy
 //!
@@ -152,9 +153,9 @@ pub fn sincos(x: f64) -> (f64, f64) {
 ///
 /// Always inlined: out of line, the arrays go through memory and the stores of the caller's
 /// copy stall the two-lane loads (in commit a7ea426 it had no attribute and was not inlined
-/// into the generated code; inlining alone takes 4 % off `arm7`'s inverse dynamics).
+/// into the generated code; inlining alone made `arm7`'s inverse dynamics faster).
 /// The fallback writes into the arrays, so they stay in memory even inlined: a fallback that
-/// returns new arrays instead saves 2 instructions per angle but measured 9 % slower in
+/// returns new arrays instead saves a few instructions per angle but measured slower in
 /// `arm7`'s inverse dynamics (the results then stay in registers through the caller's code).
 #[inline(always)]
 pub fn sincos_array<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
@@ -197,14 +198,14 @@ pub fn sincos_array<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
 /// instructions (a byte stored, compared in memory, and the jump).
 ///
 /// Why: the generated mass matrix is one long basic block, and LLVM schedules a basic block as
-/// one region; what it made of the humanoid's `mass_matrix_update` (3,243 statements) kept more
-/// values live than 16 vector registers hold, and 1,412 instructions of its 5,342 moved spilled
-/// values to and from the stack. Cut into blocks of about 200 statements, it compiles to 4,919
-/// instructions, 1,042 of them spill moves, and 32.2 KB instead of 36.5 KB, and runs in 429–525
-/// ns instead of 638–644 (`x86-64-v3`, Zen 4; the spread is the code's placement). Only a branch
-/// does it: a compiler fence or a `black_box` without a branch at the same places left the
-/// function as slow. The generator cuts only the mass matrix, where it measured faster
-/// (`articulated_codegen`'s `emit::with_boundaries` has the figures).
+/// one region; what it made of the humanoid's `mass_matrix_update` (thousands of statements)
+/// kept more values live than 16 vector registers hold, and a large share of its instructions
+/// moved spilled values to and from the stack. Cut into blocks of about 200 statements, it
+/// compiles to fewer instructions, fewer spill moves and fewer bytes, and runs faster
+/// (`x86-64-v3`). Only a branch does it: a compiler fence or a `black_box` without a branch at
+/// the same places left the function as slow. The generator cuts only the mass matrix, where it
+/// measured faster (`articulated_codegen`'s `emit::with_boundaries` says how the spacing was
+/// chosen).
 #[inline(always)]
 pub fn block_boundary() {
     if core::hint::black_box(false) {
@@ -384,10 +385,9 @@ fn lanes<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
 /// Horner's order costs one multiplication and one addition from memory per coefficient, no
 /// register copy; Estrin's (this module's before) needs copies and `z⁴`. The sine's `r` is in
 /// Horner's order; the cosine's `r'`, one coefficient longer and then the critical path, is
-/// Horner's order in `z²` over pairs `Ci + Ci+1·z`: 1.3 more instructions per angle than
-/// Horner's order for both, 3.7 fewer than Estrin's for both, and as fast as the latter
-/// (`arm7`'s inverse dynamics 2 % faster than with Horner's order for both, the latency of
-/// [`sincos`] 25.6 → 22.5 ns).
+/// Horner's order in `z²` over pairs `Ci + Ci+1·z`: slightly more instructions than Horner's
+/// order for both, fewer than Estrin's for both, and as fast as the latter (`arm7`'s inverse
+/// dynamics faster than with Horner's order for both, and a shorter latency of [`sincos`]).
 #[inline(always)]
 fn kernels(x: f64, yn: f64) -> (f64, f64) {
     let z = x * x;

@@ -8,7 +8,8 @@
 //! `nonLinearEffects` and `crba`.
 //!
 //! Their build is also the check that large generated functions compile in reasonable time:
-//! the 50-body chain's mass matrix is 45,771 operations in one function.
+//! the 50-body chain's mass matrix is tens of thousands of operations in one function
+//! (`docs/size.md` has the count).
 //!
 //! `cargo test -p articulated-tests --test generated_scale -- --nocapture` prints the worst
 //! errors.

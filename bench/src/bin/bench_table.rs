@@ -1,6 +1,7 @@
-//! The README's table: per shipped model and output, ns/call of the generated code and of the
+//! Per shipped model and output, ns/call of the generated code and of the
 //! reference, their ratio, and the generator's operation count, measured side by side in one
-//! run. Criterion (`cargo bench -p articulated-bench`) stays the authoritative harness; this is
+//! run (what each engine's figure includes: `docs/guide/accuracy-and-speed.md`, "Against our
+//! own reference"). Criterion (`cargo bench -p articulated-bench`) stays the authoritative harness; this is
 //! a plain loop timing: batches of N calls (N calibrated to about 1 ms), generated and reference
 //! batches alternating, the median batch over 201 repeats (`--min`: the fastest batch, which
 //! stays reproducible to a few per cent on a loaded machine where the median does not).

@@ -112,9 +112,10 @@ pub fn straight_line(
 /// inputs first.
 ///
 /// Why: a result built at the end, `ArrayStorage([[a, b, …], …])`, keeps every entry live from
-/// where it is computed to the end of the function. On the humanoid's mass matrix (669 entries
-/// that are not zero) LLVM kept them on the stack: 796 stores and 882 loads of spilled values
-/// among 6,101 instructions. Stored where they are computed, each entry is dead at once.
+/// where it is computed to the end of the function. On the humanoid's mass matrix (hundreds of
+/// entries that are not zero) LLVM kept them on the stack, and stores and loads of spilled
+/// values were a large share of its instructions. Stored where they are computed, each entry
+/// is dead at once.
 #[derive(Clone, Debug, Default)]
 pub struct Sink {
     /// The places each output goes to, in the order of the outputs.
@@ -168,14 +169,14 @@ pub fn zero(scalar: ScalarKind) -> TokenStream {
 /// recursion they were traced from: the values a body's computation needs are computed next to
 /// it, which keeps few of them live at once. (Binding the values level by level of the graph
 /// instead, as this did before, keeps them far fewer `let`s deep but computes every body's
-/// first step before any body's second: on arm7's 6,400-operation forward dynamics derivatives,
-/// 1,021 ns against 880 ns in this order, x86-64-v3.)
+/// first step before any body's second, and measured slower: arm7's forward dynamics
+/// derivatives, x86-64-v3.)
 ///
 /// An array, not a tuple: rustc's MIR pass `ScalarReplacementOfAggregates` splits every tuple
 /// into one local per field and inserts their statements one at a time into the function's one
-/// huge basic block, which costs time quadratic in the function's size (rustc 1.95: 60 of the
-/// 91 s of a release build of the 50-body chain, `models/chain50.chain`, on the default
-/// target). It leaves arrays alone; LLVM's own SROA splits them as cheaply.
+/// huge basic block, which costs time quadratic in the function's size (rustc 1.95: most of a
+/// release build of the 50-body chain, `models/chain50.chain`, on the default target). It
+/// leaves arrays alone; LLVM's own SROA splits them as cheaply.
 const MAX_LETS: usize = 1000;
 
 /// One statement: its pattern, its value, the values it binds and the values of other
@@ -210,22 +211,14 @@ fn boundary() -> TokenStream {
 /// within a quarter of that spacing (a choice, not measured against evenly spaced cuts: the
 /// difference is smaller than the noise from code placement below).
 ///
-/// The spacing, measured on `mass_matrix_update` (`x86-64-v3`, Zen 4; fastest of 5 rounds × 40
-/// batches, in each of five layouts of one binary, the linker's `--shuffle-sections` seeds 1–5,
-/// because a function of about 32 KB runs at one of two speeds depending on where it lands):
-///
-/// | cut every | humanoid (3,243 statements) | chain50 | arm7 (311) |
-/// |---|---|---|---|
-/// | never | 638–644 ns, 36.5 KB | 3,197–3,215 ns, 185 KB | 53.4–62.1 ns |
-/// | 80 | 519–593 | 2,513–2,538, 144 KB | 50.5–55.6 |
-/// | 120 | 494–523 | 2,526–2,531, 145 KB | |
-/// | 200 | 429–525, 32.2 KB (fast in 2 of 5 layouts of one build, none of another) | 2,464–2,489, 141 KB | |
-/// | 500 | 415–555 (fast in 2–3 of 5), 31.4 KB | 2,666–2,677, 154 KB | |
-/// | 1500 | 546–561 | 2,895–2,913, 166 KB | |
-///
-/// arm7's `mass_matrix` (by value) went from 57.8–68.7 to 51.2–51.4 ns. Below 300 statements it
-/// was a wash: the two-link's (155) 41.1–41.2 → 40.5 ns with one cut, `models/tree.chain`'s
-/// (233) 38.4–39.0 → 39.8–40.1 with two.
+/// The spacing was measured on `mass_matrix_update` of the humanoid, chain50 and arm7
+/// (`x86-64-v3`; cuts every 80, 120, 200, 500 and 1,500 statements against none, each in five
+/// layouts of one binary, the linker's `--shuffle-sections` seeds 1–5, because a function of
+/// about 32 KB runs at one of two speeds depending on where it lands). Every spacing was faster
+/// and smaller than none; about 200 was the best on the long functions (chain50 clearly, the
+/// humanoid tied with 500 within the spread of the layouts), 80 helped arm7 (311 statements),
+/// and below 300 statements a cut changed nothing beyond noise. The figures are in this
+/// comment's history (commit 4b955c8); `BENCHMARKS.md` has the current times.
 fn with_boundaries(stmts: Vec<Statement>, memory: &HashSet<Sym>) -> Vec<Statement> {
     let n = stmts.len();
     if n < 300 {

@@ -91,13 +91,13 @@ struct Sunk {
 /// where storing as computed measured faster; `None` for the others, whose results are built
 /// from their values at the end.
 ///
-/// Measured side by side (x86-64-v3, fastest of 40 batches, 3 alternations), stored as computed
-/// against built at the end: humanoid `M` 780 → 746 ns, centroidal momentum matrix 700 → 560–
-/// 613 ns, Coriolis matrix 2740 → 2682 ns; arm7 `inverse_dynamics_derivatives` 644 → 630 ns,
-/// `mass_matrix_inverse` 101 → 98 ns, `forward_dynamics_derivatives` unchanged. Left at the end:
-/// `mass_matrix_and_nonlinear_effects` (humanoid 1260 → 1370 ns with `M` stored as computed,
-/// whether or not its `nle` was too), the centre-of-mass Jacobian (180 → 190 ns), and the
-/// vectors and scalars, whose few values cost little to keep.
+/// Measured side by side (x86-64-v3), stored as computed against built at the end: faster for
+/// the humanoid's `M`, centroidal momentum matrix and Coriolis matrix and for arm7's
+/// `inverse_dynamics_derivatives` and `mass_matrix_inverse`, no different for
+/// `forward_dynamics_derivatives`. Left at the end: `mass_matrix_and_nonlinear_effects` (slower
+/// on the humanoid with `M` stored as computed, whether or not its `nle` was too), the
+/// centre-of-mass Jacobian (slower), and the vectors and scalars, whose few values cost little
+/// to keep. The figures are in this comment's history (commit 4b955c8).
 #[allow(clippy::type_complexity)]
 fn sunk_layout(
     cx: &Context,
@@ -199,11 +199,10 @@ fn sink(cx: &Context, traced: &Traced) -> Option<Sunk> {
         matrices.iter().zip(&names).map(zeroed).collect()
     };
     // The mass matrix cut into basic blocks (`emit::Sink::boundaries`, measured there). Not the
-    // other outputs, which it made slower or larger (x86-64-v3, Zen 4, five layouts each): the
-    // humanoid's forward dynamics 1,895–1,912 ns uncut, 1,946–2,026 cut every 80 to 500
-    // statements; its inverse dynamics 32.5 → 36.6 KB and nonlinear effects 32.2 → 35.5 KB;
-    // arm7's inverse and forward dynamics derivatives 618–629 → 629–642 and 915–937 →
-    // 964–977 ns, `mass_matrix_inverse` 97.0 → 100.6–102.5.
+    // other outputs, which it made slower or larger (x86-64-v3, five layouts each): the
+    // humanoid's forward dynamics slower at every spacing from 80 to 500 statements, its
+    // inverse dynamics and nonlinear effects larger, arm7's derivatives and `mass_matrix_inverse`
+    // slower (the figures: this comment's history, commit 4b955c8).
     let boundaries = traced.output == Output::MassMatrix || traced.output.is_kept();
     Some(Sunk {
         sink: emit::Sink { places, boundaries },

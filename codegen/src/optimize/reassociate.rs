@@ -21,7 +21,7 @@
 //! reference at 1e-12, as before.
 //!
 //! `reassociate::tests` checks on random trees that the depth of the graphs never grows and
-//! mostly shrinks; the figures per model are in `bench/README.md`.
+//! mostly shrinks.
 
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap, HashSet};

@@ -37,8 +37,8 @@ use articulated_dynamics::Scalar;
 /// inertia and then every column. The emitted code follows the order of tracing, so in the
 /// reference's order every composite inertia (ten values a body) lives from the first pass to
 /// the second. Alone this order measured no faster (LLVM spilled other values instead); with
-/// the entries stored as computed and the hoisting of `codegen::emit`, the humanoid's `M` is
-/// 5,357 instructions against 5,427 in the reference's order.
+/// the entries stored as computed and the hoisting of `codegen::emit`, the humanoid's `M` takes
+/// fewer instructions than in the reference's order.
 pub fn crba<T: Scalar>(
     tree: &Tree<T>,
     q: &[T],
