@@ -21,52 +21,27 @@ use nalgebra::SVector;
 
 /// Hemami's two-link system: two spherical roll-pitch-yaw joints, 6 coordinates.
 #[derive(articulated::Chain)]
-#[chain(file = "../models/two_link.chain", outputs = [
-    mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
-    center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
-    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix,
-    inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse
-])]
+#[chain(file = "../models/two_link.chain", outputs = [dynamics, whole_body, derivatives])]
 pub struct TwoLink;
 
 /// A three-dimensional inverted pendulum on a spherical joint, 3 coordinates.
 #[derive(articulated::Chain)]
-#[chain(file = "../models/inverted_pendulum.chain", outputs = [
-    mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
-    center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
-    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix,
-    inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse
-])]
+#[chain(file = "../models/inverted_pendulum.chain", outputs = [dynamics, whole_body, derivatives])]
 pub struct InvertedPendulum;
 
 /// The planar double pendulum, 2 coordinates.
 #[derive(articulated::Chain)]
-#[chain(file = "../models/double_pendulum.chain", outputs = [
-    mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
-    center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
-    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix,
-    inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse
-])]
+#[chain(file = "../models/double_pendulum.chain", outputs = [dynamics, whole_body, derivatives])]
 pub struct DoublePendulum;
 
 /// The 7-DOF arm, 7 coordinates.
 #[derive(articulated::Chain)]
-#[chain(file = "../models/arm7.chain", outputs = [
-    mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
-    center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
-    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix,
-    inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse
-])]
+#[chain(file = "../models/arm7.chain", outputs = [dynamics, whole_body, derivatives])]
 pub struct Arm7;
 
 /// The branching tree (torso, two three-link arms, fixed head), 7 coordinates.
 #[derive(articulated::Chain)]
-#[chain(file = "../models/tree.chain", outputs = [
-    mass_matrix, bias, gravity, inverse_dynamics, forward_dynamics,
-    center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
-    centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix,
-    inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse
-])]
+#[chain(file = "../models/tree.chain", outputs = [dynamics, whole_body, derivatives])]
 pub struct Tree;
 
 /// The generated functions, named as in the description grammar and the benchmark ids.
@@ -101,25 +76,10 @@ impl Engine {
     }
 }
 
-/// A shipped model whose generated type implements the five basic outputs, the quantities of
-/// the whole system and the derivatives.
+/// A shipped model whose generated type implements the outputs of the groups `dynamics`,
+/// `whole_body` and `derivatives`.
 pub trait Model<const NQ: usize, const NV: usize>:
-    MassMatrix<f64, NQ, NV>
-    + Bias<f64, NQ, NV>
-    + Gravity<f64, NQ, NV>
-    + InverseDynamics<f64, NQ, NV>
-    + ForwardDynamics<f64, NQ, NV>
-    + CenterOfMass<f64, NQ, NV>
-    + CenterOfMassVelocity<f64, NQ, NV>
-    + CenterOfMassJacobian<f64, NQ, NV>
-    + CentroidalMomentum<f64, NQ, NV>
-    + CentroidalMomentumMatrix<f64, NQ, NV>
-    + KineticEnergy<f64, NQ, NV>
-    + PotentialEnergy<f64, NQ, NV>
-    + CoriolisMatrix<f64, NQ, NV>
-    + InverseDynamicsDerivatives<f64, NQ, NV>
-    + ForwardDynamicsDerivatives<f64, NQ, NV>
-    + MassMatrixInverse<f64, NQ, NV>
+    DynamicsOutputs<f64, NQ, NV> + WholeBodyOutputs<f64, NQ, NV> + DerivativeOutputs<f64, NQ, NV>
 {
     /// Its files in `articulated-models` (the generated type comes from `FILES.chain`).
     const FILES: ModelFiles;

@@ -30,13 +30,15 @@ pub fn run(args: &ExpandArgs) -> Result<String, String> {
             .split(',')
             .map(str::trim)
             .map(|name| {
-                Output::from_name(name).ok_or_else(|| {
-                    let names: Vec<&str> = Output::ALL.iter().map(|(_, n)| *n).collect();
-                    format!("error: --outputs `{name}`: expected {}", names.join(", "))
+                Output::named(name).ok_or_else(|| {
+                    format!(
+                        "error: --outputs: {}",
+                        articulated_codegen::options::unknown_output(name)
+                    )
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        chain.options.set_outputs(outputs);
+        chain.options.set_outputs(outputs.into_iter().flatten());
         source.push_str(&format!(" --outputs {list}"));
     }
     if let Some(name) = &args.accuracy {

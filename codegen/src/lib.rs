@@ -57,6 +57,10 @@ pub mod lower;
 #[allow(clippy::indexing_slicing)] // Terms and nodes by the graph's own numbering.
 pub mod optimize;
 pub mod options;
+// Specs by their output's discriminant (the table declares both), and const loops below the
+// table's length.
+#[allow(clippy::indexing_slicing)]
+pub mod outputs;
 pub mod parse;
 #[doc(hidden)]
 #[allow(clippy::indexing_slicing)] // Nodes by the graph's own numbering.

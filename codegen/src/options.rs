@@ -16,6 +16,8 @@ use quote::quote;
 use articulated_dynamics::model::Model;
 use articulated_dynamics::prune::{self, PruneError};
 
+pub use crate::outputs::Output;
+
 /// Which scalar the generated code computes in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ScalarKind {
@@ -85,168 +87,6 @@ impl Accuracy {
             Accuracy::Fastest => "fastest",
             Accuracy::Robust => "robust",
         }
-    }
-}
-
-/// A function the generator can emit for a chain; its name in `outputs:` is the function's.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Output {
-    /// `mass_matrix(q)`: `M(q)`.
-    MassMatrix,
-    /// `mass_matrix_update(q, &mut kept)`: `M(q)` into a `KeptMassMatrix`, only the entries that
-    /// can be non-zero written (the others stay zero from one call to the next).
-    MassMatrixUpdate,
-    /// `mass_matrix_lower(q, &mut kept)`: the lower triangle of `M(q)`, diagonal included, into
-    /// a `KeptMassMatrixLower` (the update's entries on and below the diagonal).
-    MassMatrixLower,
-    /// `bias(q, v)`: `N(q, q̇)·q̇` without gravity.
-    Bias,
-    /// `gravity(q)`: `g(q)`.
-    Gravity,
-    /// `inverse_dynamics(q, v, a)`: `τ = M·a + bias + gravity`.
-    InverseDynamics,
-    /// `forward_dynamics(q, v, tau)`: `q̈`, or an error where `M` is singular.
-    ForwardDynamics,
-    /// `nonlinear_effects(q, v)`: `N(q, q̇)·q̇ + g(q)` in one pass (Pinocchio's
-    /// `nonLinearEffects`).
-    NonlinearEffects,
-    /// `mass_matrix_and_nonlinear_effects(q, v)`: `M(q)` and `N·q̇ + g` from one function that
-    /// computes the kinematics they share once (what a controller asks at every tick).
-    MassMatrixAndNonlinearEffects,
-    /// `joint_wrenches(q, v, a)`: the wrench each joint transmits, from the free ends down.
-    JointWrenches,
-    /// `joint_wrenches_bottom_up(q, v, a, base)`: the same from the base up, starting from the
-    /// wrench the world exerts on the root body (a serial chain only).
-    JointWrenchesBottomUp,
-    /// `center_of_mass(q)`: the centre of mass `x_G`, world frame.
-    CenterOfMass,
-    /// `center_of_mass_velocity(q, v)`: `ẋ_G`, world frame.
-    CenterOfMassVelocity,
-    /// `center_of_mass_jacobian(q)`: `J_G` with `ẋ_G = J_G·v`, `3 × NV`.
-    CenterOfMassJacobian,
-    /// `centroidal_momentum(q, v)`: `h_G = [k_G; p]`, the angular momentum about the centre of
-    /// mass and the linear momentum, world axes.
-    CentroidalMomentum,
-    /// `centroidal_momentum_matrix(q)`: `A_G` with `h_G = A_G·v`, `6 × NV`, angular rows first.
-    CentroidalMomentumMatrix,
-    /// `kinetic_energy(q, v)`: `½·vᵀ·M(q)·v`.
-    KineticEnergy,
-    /// `potential_energy(q)`: `−Σ m_k·gᵀ·x_k`.
-    PotentialEnergy,
-    /// `coriolis_matrix(q, v)`: `N(q, q̇)` of Wieber's eq. 7, with `N·v = bias` and `Ṁ − 2N`
-    /// skew-symmetric.
-    CoriolisMatrix,
-    /// `inverse_dynamics_derivatives(q, v, a)`: `(∂τ/∂q, ∂τ/∂v)`, `NV × NV` each, `∂/∂q` along
-    /// the configuration's tangent (the body-frame increment for quaternions).
-    InverseDynamicsDerivatives,
-    /// `forward_dynamics_derivatives(q, v, tau)`: `(∂q̈/∂q, ∂q̈/∂v, M⁻¹)`, or an error where `M`
-    /// is singular.
-    ForwardDynamicsDerivatives,
-    /// `mass_matrix_inverse(q)`: `M(q)⁻¹`, or an error where `M` is singular.
-    MassMatrixInverse,
-}
-
-impl Output {
-    /// Every output, with its name in the grammar, in the order the generator emits them.
-    pub const ALL: [(Output, &'static str); 22] = [
-        (Output::MassMatrix, "mass_matrix"),
-        (Output::MassMatrixUpdate, "mass_matrix_update"),
-        (Output::MassMatrixLower, "mass_matrix_lower"),
-        (Output::Bias, "bias"),
-        (Output::Gravity, "gravity"),
-        (Output::InverseDynamics, "inverse_dynamics"),
-        (Output::ForwardDynamics, "forward_dynamics"),
-        (Output::NonlinearEffects, "nonlinear_effects"),
-        (
-            Output::MassMatrixAndNonlinearEffects,
-            "mass_matrix_and_nonlinear_effects",
-        ),
-        (Output::JointWrenches, "joint_wrenches"),
-        (Output::JointWrenchesBottomUp, "joint_wrenches_bottom_up"),
-        (Output::CenterOfMass, "center_of_mass"),
-        (Output::CenterOfMassVelocity, "center_of_mass_velocity"),
-        (Output::CenterOfMassJacobian, "center_of_mass_jacobian"),
-        (Output::CentroidalMomentum, "centroidal_momentum"),
-        (
-            Output::CentroidalMomentumMatrix,
-            "centroidal_momentum_matrix",
-        ),
-        (Output::KineticEnergy, "kinetic_energy"),
-        (Output::PotentialEnergy, "potential_energy"),
-        (Output::CoriolisMatrix, "coriolis_matrix"),
-        (
-            Output::InverseDynamicsDerivatives,
-            "inverse_dynamics_derivatives",
-        ),
-        (
-            Output::ForwardDynamicsDerivatives,
-            "forward_dynamics_derivatives",
-        ),
-        (Output::MassMatrixInverse, "mass_matrix_inverse"),
-    ];
-
-    /// The outputs generated when a description names none.
-    pub const DEFAULT: [Output; 5] = [
-        Output::MassMatrix,
-        Output::Bias,
-        Output::Gravity,
-        Output::InverseDynamics,
-        Output::ForwardDynamics,
-    ];
-
-    /// Whether its function writes `M` into a kept matrix argument (`kept`) and returns nothing:
-    /// `mass_matrix_update` and `mass_matrix_lower`.
-    pub fn is_kept(self) -> bool {
-        matches!(self, Output::MassMatrixUpdate | Output::MassMatrixLower)
-    }
-
-    /// Its name in the grammar: the generated function's name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Output::MassMatrix => "mass_matrix",
-            Output::MassMatrixUpdate => "mass_matrix_update",
-            Output::MassMatrixLower => "mass_matrix_lower",
-            Output::Bias => "bias",
-            Output::Gravity => "gravity",
-            Output::InverseDynamics => "inverse_dynamics",
-            Output::ForwardDynamics => "forward_dynamics",
-            Output::NonlinearEffects => "nonlinear_effects",
-            Output::MassMatrixAndNonlinearEffects => "mass_matrix_and_nonlinear_effects",
-            Output::JointWrenches => "joint_wrenches",
-            Output::JointWrenchesBottomUp => "joint_wrenches_bottom_up",
-            Output::CenterOfMass => "center_of_mass",
-            Output::CenterOfMassVelocity => "center_of_mass_velocity",
-            Output::CenterOfMassJacobian => "center_of_mass_jacobian",
-            Output::CentroidalMomentum => "centroidal_momentum",
-            Output::CentroidalMomentumMatrix => "centroidal_momentum_matrix",
-            Output::KineticEnergy => "kinetic_energy",
-            Output::PotentialEnergy => "potential_energy",
-            Output::CoriolisMatrix => "coriolis_matrix",
-            Output::InverseDynamicsDerivatives => "inverse_dynamics_derivatives",
-            Output::ForwardDynamicsDerivatives => "forward_dynamics_derivatives",
-            Output::MassMatrixInverse => "mass_matrix_inverse",
-        }
-    }
-
-    /// Whether it is a quantity of the whole system (centre of mass, momenta, energies, the
-    /// Coriolis matrix; `reference::centroidal`) rather than one of the dynamics' terms.
-    pub fn whole_body(self) -> bool {
-        matches!(
-            self,
-            Output::CenterOfMass
-                | Output::CenterOfMassVelocity
-                | Output::CenterOfMassJacobian
-                | Output::CentroidalMomentum
-                | Output::CentroidalMomentumMatrix
-                | Output::KineticEnergy
-                | Output::PotentialEnergy
-                | Output::CoriolisMatrix
-        )
-    }
-
-    /// The output of that name.
-    pub fn from_name(name: &str) -> Option<Output> {
-        Self::ALL.iter().find(|(_, n)| *n == name).map(|(o, _)| *o)
     }
 }
 
@@ -420,11 +260,13 @@ pub(crate) fn one_of(names: &[&str]) -> String {
 }
 
 /// The message for an unknown output name.
-pub(crate) fn unknown_output(found: &str) -> String {
+pub fn unknown_output(found: &str) -> String {
     let names: Vec<&str> = Output::ALL.iter().map(|(_, n)| *n).collect();
+    let groups: Vec<&str> = crate::outputs::Group::ALL.iter().map(|(_, n)| *n).collect();
     format!(
-        "unknown output `{found}`: expected one of {}",
-        one_of(&names)
+        "unknown output `{found}`: expected one of {}, or a group: {}",
+        one_of(&names),
+        one_of(&groups)
     )
 }
 

@@ -166,7 +166,8 @@ fn unknown_output() {
          `center_of_mass`, `center_of_mass_velocity`, `center_of_mass_jacobian`, \
          `centroidal_momentum`, `centroidal_momentum_matrix`, `kinetic_energy`, \
          `potential_energy`, `coriolis_matrix`, `inverse_dynamics_derivatives`, \
-         `forward_dynamics_derivatives` or `mass_matrix_inverse`",
+         `forward_dynamics_derivatives` or `mass_matrix_inverse`, or a group: `dynamics`, \
+         `kept`, `wrenches`, `whole_body` or `derivatives`",
     );
 }
 

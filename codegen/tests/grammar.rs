@@ -195,6 +195,55 @@ fn outputs_sorted_and_deduplicated() {
         .is_empty());
 }
 
+/// A group's name in `outputs:` stands for its outputs (`articulated_codegen::outputs::Group`),
+/// beside single outputs; the union is sorted and without duplicates.
+#[test]
+fn output_groups_expand_to_their_outputs() {
+    use Output as O;
+    let d = describe_chain(&["outputs: [derivatives, gravity, whole_body];", B, J]);
+    assert_eq!(
+        d.options.outputs,
+        [
+            O::Gravity,
+            O::CenterOfMass,
+            O::CenterOfMassVelocity,
+            O::CenterOfMassJacobian,
+            O::CentroidalMomentum,
+            O::CentroidalMomentumMatrix,
+            O::KineticEnergy,
+            O::PotentialEnergy,
+            O::CoriolisMatrix,
+            O::InverseDynamicsDerivatives,
+            O::ForwardDynamicsDerivatives,
+            O::MassMatrixInverse,
+        ]
+    );
+    let d = describe_chain(&["outputs: [dynamics, mass_matrix, kept];", B, J]);
+    assert_eq!(
+        d.options.outputs,
+        [
+            O::MassMatrix,
+            O::MassMatrixUpdate,
+            O::MassMatrixLower,
+            O::Bias,
+            O::Gravity,
+            O::InverseDynamics,
+            O::ForwardDynamics,
+            O::NonlinearEffects,
+            O::MassMatrixAndNonlinearEffects,
+        ]
+    );
+    // Every output but the serial chains' `joint_wrenches_bottom_up` is in exactly one group.
+    let groups = "dynamics, kept, wrenches, whole_body, derivatives";
+    let d = describe_chain(&[&format!("outputs: [{groups}];"), B, J]);
+    let want: Vec<Output> = Output::ALL
+        .iter()
+        .map(|(o, _)| *o)
+        .filter(|&o| o != O::JointWrenchesBottomUp)
+        .collect();
+    assert_eq!(d.options.outputs, want);
+}
+
 // ---- joint kinds ----
 
 #[test]

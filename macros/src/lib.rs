@@ -27,3 +27,12 @@ pub fn chain(input: TokenStream) -> TokenStream {
 pub fn derive_chain(input: TokenStream) -> TokenStream {
     articulated_codegen::expand::derive(input.into()).into()
 }
+
+/// The runtime's output traits, from the generator's table of outputs
+/// (`articulated_codegen::outputs`): expanded once, inside the `articulated` crate, so that each
+/// output is described in one place.
+#[doc(hidden)]
+#[proc_macro]
+pub fn __output_traits(_input: TokenStream) -> TokenStream {
+    articulated_codegen::outputs::runtime_traits().into()
+}

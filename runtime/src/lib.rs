@@ -183,11 +183,12 @@ pub mod prelude {
     pub use crate::simulate::Simulation;
     pub use crate::{
         Bias, CenterOfMass, CenterOfMassJacobian, CenterOfMassVelocity, CentroidalMomentum,
-        CentroidalMomentumMatrix, Chain, Coordinates, CoriolisMatrix, ForwardDynamics,
-        ForwardDynamicsDerivatives, Gravity, InverseDynamics, InverseDynamicsDerivatives,
-        JointWrenches, JointWrenchesBottomUp, KeptMassMatrix, KeptMassMatrixLower, KineticEnergy,
-        MassMatrix, MassMatrixAndNonlinearEffects, MassMatrixInverse, MassMatrixLower,
-        MassMatrixUpdate, NonlinearEffects, OpCounts, PotentialEnergy, SingularMassMatrix,
+        CentroidalMomentumMatrix, Chain, Coordinates, CoriolisMatrix, DefaultOutputs,
+        DerivativeOutputs, DynamicsOutputs, ForwardDynamics, ForwardDynamicsDerivatives, Gravity,
+        InverseDynamics, InverseDynamicsDerivatives, JointWrenches, JointWrenchesBottomUp,
+        KeptMassMatrix, KeptMassMatrixLower, KeptOutputs, KineticEnergy, MassMatrix,
+        MassMatrixAndNonlinearEffects, MassMatrixInverse, MassMatrixLower, MassMatrixUpdate,
+        NonlinearEffects, OpCounts, PotentialEnergy, SingularMassMatrix, WholeBodyOutputs,
     };
 }
 

@@ -27,7 +27,7 @@ use articulated_dynamics::model::Model;
 use articulated_dynamics::random::{random_state, Rng};
 use common::{
     coriolis_error, read_json, rel_err, row_major, rows_of, vec_of, whole_body_errors,
-    WholeBodyOutputs, WHOLE_BODY_OUTPUTS,
+    WHOLE_BODY_OUTPUTS,
 };
 use serde_json::Value as Json;
 
@@ -121,7 +121,7 @@ type Quantities = [Vec<f64>; 8];
 /// The generated chain's [`Quantities`].
 fn generated<C, const NQ: usize, const NV: usize>(q: &[f64], v: &[f64]) -> Quantities
 where
-    C: WholeBodyOutputs<NQ, NV> + CoriolisMatrix<f64, NQ, NV>,
+    C: WholeBodyOutputs<f64, NQ, NV>,
 {
     let (q, v) = (
         SVector::<f64, NQ>::from_column_slice(q),
@@ -256,7 +256,7 @@ fn floating_models_match_pinocchio() {
 fn floating_models_match_the_reference() {
     fn check<C, const NQ: usize, const NV: usize>(label: &str, model: &Model)
     where
-        C: WholeBodyOutputs<NQ, NV> + CoriolisMatrix<f64, NQ, NV>,
+        C: WholeBodyOutputs<f64, NQ, NV>,
     {
         let r = Reference::new(model).unwrap();
         let mut worst = [0.0f64; 8];

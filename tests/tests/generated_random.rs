@@ -21,9 +21,7 @@ use articulated::nalgebra::SVector;
 use articulated::prelude::*;
 use articulated::reference::Reference;
 use articulated_dynamics::random::{random_model, random_state};
-use common::{
-    check_chain, coriolis_error, rel_err, whole_body_errors, WholeBodyOutputs, WHOLE_BODY_OUTPUTS,
-};
+use common::{check_chain, coriolis_error, rel_err, whole_body_errors, WHOLE_BODY_OUTPUTS};
 
 /// The generated trees, exactly as the Builder wrote them.
 mod trees {
@@ -72,7 +70,7 @@ fn check_whole_body<C, const NQ: usize, const NV: usize>(
     r: &Reference,
     state: impl Fn(u64) -> (Vec<f64>, Vec<f64>, Vec<f64>),
 ) where
-    C: WholeBodyOutputs<NQ, NV>,
+    C: WholeBodyOutputs<f64, NQ, NV>,
 {
     let mut worst = [0.0f64; 7];
     for seed in 0..u64::from(CASES) {

@@ -23,9 +23,7 @@ use articulated::prelude::*;
 use articulated::reference::Reference;
 use articulated_codegen::load::load_model;
 use articulated_dynamics::random::random_state;
-use common::{
-    check_chain, compare_pinocchio, read_json, rel_err, rows_of, vec_of, BasicOutputs, Worst,
-};
+use common::{check_chain, compare_pinocchio, read_json, rel_err, rows_of, vec_of, Worst};
 
 /// Relative to the largest entry of each of Pinocchio's values.
 const TOL: f64 = 1e-10;
@@ -100,7 +98,7 @@ fn humanoid_nonlinear_effects_match_pinocchio() {
 /// Checks the generated chain `C` of the `.chain` file `path` against the reference.
 fn against_reference<C, const NQ: usize, const NV: usize>(path: &str) -> Worst
 where
-    C: BasicOutputs<NQ, NV>,
+    C: DefaultOutputs<f64, NQ, NV>,
 {
     let model = load_model(Path::new(path), false).unwrap_or_else(|e| panic!("{e}"));
     let r = Reference::new(&model).unwrap();

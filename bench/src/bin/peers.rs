@@ -110,22 +110,7 @@ const STEP: f64 = 1e-6;
 
 /// A generated model with the outputs of the comparison.
 trait Peer<const NQ: usize, const NV: usize>:
-    MassMatrix<f64, NQ, NV>
-    + MassMatrixUpdate<f64, NQ, NV>
-    + MassMatrixLower<f64, NQ, NV>
-    + NonlinearEffects<f64, NQ, NV>
-    + Gravity<f64, NQ, NV>
-    + InverseDynamics<f64, NQ, NV>
-    + ForwardDynamics<f64, NQ, NV>
-    + MassMatrixAndNonlinearEffects<f64, NQ, NV>
-    + CenterOfMass<f64, NQ, NV>
-    + CenterOfMassVelocity<f64, NQ, NV>
-    + CenterOfMassJacobian<f64, NQ, NV>
-    + CentroidalMomentum<f64, NQ, NV>
-    + CentroidalMomentumMatrix<f64, NQ, NV>
-    + KineticEnergy<f64, NQ, NV>
-    + PotentialEnergy<f64, NQ, NV>
-    + CoriolisMatrix<f64, NQ, NV>
+    DynamicsOutputs<f64, NQ, NV> + KeptOutputs<f64, NQ, NV> + WholeBodyOutputs<f64, NQ, NV>
 {
     /// The `.chain` file the type is generated from (absolute, for `--layout`).
     const CHAIN: &'static str;
@@ -145,18 +130,12 @@ trait Peer<const NQ: usize, const NV: usize>:
 
 /// What a model marked `derivatives` in `models!` implements besides [`Peer`].
 trait DerivativePeer<const NQ: usize, const NV: usize>:
-    Peer<NQ, NV>
-    + InverseDynamicsDerivatives<f64, NQ, NV>
-    + ForwardDynamicsDerivatives<f64, NQ, NV>
-    + MassMatrixInverse<f64, NQ, NV>
+    Peer<NQ, NV> + DerivativeOutputs<f64, NQ, NV>
 {
 }
 
 impl<C, const NQ: usize, const NV: usize> DerivativePeer<NQ, NV> for C where
-    C: Peer<NQ, NV>
-        + InverseDynamicsDerivatives<f64, NQ, NV>
-        + ForwardDynamicsDerivatives<f64, NQ, NV>
-        + MassMatrixInverse<f64, NQ, NV>
+    C: Peer<NQ, NV> + DerivativeOutputs<f64, NQ, NV>
 {
 }
 
@@ -165,7 +144,7 @@ impl<C, const NQ: usize, const NV: usize> DerivativePeer<NQ, NV> for C where
 macro_rules! peer_type {
     (derivatives $($rest:tt)*) => {
         peer_type!(
-            @outputs [inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse]
+            @outputs [derivatives]
             $($rest)*
         );
     };
@@ -178,25 +157,7 @@ macro_rules! peer_type {
         #[derive(articulated::Chain)]
         #[chain(
             file = $file,
-            outputs = [
-                mass_matrix,
-                mass_matrix_update,
-                mass_matrix_lower,
-                nonlinear_effects,
-                gravity,
-                inverse_dynamics,
-                forward_dynamics,
-                mass_matrix_and_nonlinear_effects,
-                center_of_mass,
-                center_of_mass_velocity,
-                center_of_mass_jacobian,
-                centroidal_momentum,
-                centroidal_momentum_matrix,
-                kinetic_energy,
-                potential_energy,
-                coriolis_matrix
-                $(, $extra)*
-            ]
+            outputs = [dynamics, kept, whole_body $(, $extra)*]
         )]
         struct $ty;
     };

@@ -232,8 +232,8 @@ fn parse_outputs(meta: &ParseNestedMeta) -> syn::Result<Vec<Output>> {
     let mut outputs = Vec::new();
     let mut errors: Option<syn::Error> = None;
     for name in &names {
-        match Output::from_name(&name.to_string()) {
-            Some(o) => outputs.push(o),
+        match Output::named(&name.to_string()) {
+            Some(named) => outputs.extend(named),
             None => {
                 let e = syn::Error::new(name.span(), unknown_output(&name.to_string()));
                 match &mut errors {

@@ -105,7 +105,10 @@ pub(super) fn type_doc(cx: &Context) -> Vec<String> {
 
 /// A generated function's docs.
 pub(super) fn function_doc(cx: &Context, traced: &Traced) -> Vec<String> {
-    let mut paragraphs = vec![equation(traced.output).to_string(), formulation(traced)];
+    let mut paragraphs = vec![
+        traced.output.spec().equation.to_string(),
+        formulation(traced),
+    ];
     paragraphs.extend(accuracy(cx, traced));
     if let Some(k) = traced.pivots.as_ref().and_then(|p| p.singular) {
         paragraphs.push(format!(
@@ -139,96 +142,6 @@ pub(super) fn function_doc(cx: &Context, traced: &Traced) -> Vec<String> {
         lines.extend(wrap(p));
     }
     lines
-}
-
-/// What the function computes.
-fn equation(output: Output) -> &'static str {
-    match output {
-        Output::MassMatrix => "`M(q)`, the joint-space mass matrix (Wieber 2005, eq. 6).",
-        Output::MassMatrixUpdate => {
-            "`M(q)`, the joint-space mass matrix (Wieber 2005, eq. 6), written into `kept`: only \
-             the entries that can be non-zero, the others left as they are, zero \
-             (`articulated::KeptMassMatrix`)."
-        }
-        Output::MassMatrixLower => {
-            "The lower triangle of `M(q)`, the joint-space mass matrix (Wieber 2005, eq. 6), \
-             diagonal included, written into `kept`: the entries on and below the diagonal that \
-             can be non-zero; the strict upper triangle is never written and stays zero \
-             (`articulated::KeptMassMatrixLower`, what nalgebra's `Cholesky::new` reads)."
-        }
-        Output::Bias => {
-            "`N(q, q̇)·q̇`, the velocity-product terms without gravity (Wieber 2005, eq. 7)."
-        }
-        Output::Gravity => "`g(q)`, the generalized force that holds the chain still.",
-        Output::InverseDynamics => {
-            "`τ = M(q)·a + N(q, q̇)·q̇ + g(q)`: the joint forces that produce the acceleration `a`."
-        }
-        Output::ForwardDynamics => {
-            "`q̈ = M(q)⁻¹·(τ − N(q, q̇)·q̇ − g(q))`; an error where `M(q)` is singular."
-        }
-        Output::NonlinearEffects => {
-            "`N(q, q̇)·q̇ + g(q)`, bias and gravity in one pass: inverse dynamics at `a = 0` \
-             (Pinocchio's `nonLinearEffects`)."
-        }
-        Output::MassMatrixAndNonlinearEffects => {
-            "`(M(q), N(q, q̇)·q̇ + g(q))` from one function, the kinematics both need computed \
-             once: what a controller asks at every tick."
-        }
-        Output::JointWrenches => {
-            "The wrench `[n; f]` each joint transmits at `(q, v, a)`, gravity included: what the \
-             parent exerts on the child, in the child's frame about its origin (Hemami's couple \
-             and reaction force), one column per joint in joint order. From the free ends down \
-             (the backward pass of Newton–Euler)."
-        }
-        Output::JointWrenchesBottomUp => {
-            "The wrench `[n; f]` each joint transmits at `(q, v, a)`, from the base up (Hemami, \
-             Dariush & Barin 2005, §5): `base` is the wrench the world exerts on the root body, \
-             in its frame about its origin (a measured ground reaction). With the true base \
-             wrench it equals `joint_wrenches`; on measured motion their difference checks the \
-             data."
-        }
-        Output::CenterOfMass => {
-            "`x_G(q) = Σ m_k·x_k / Σ m_k`, the centre of mass in the world frame."
-        }
-        Output::CenterOfMassVelocity => {
-            "`ẋ_G(q, v) = p / m`, the velocity of the centre of mass in the world frame."
-        }
-        Output::CenterOfMassJacobian => {
-            "`J_G(q)`, `3 × NV`, with `ẋ_G = J_G·v`: the centre of mass Jacobian, world frame."
-        }
-        Output::CentroidalMomentum => {
-            "`h_G = [k_G; p]`: the angular momentum about the centre of mass, then the linear \
-             momentum, world axes (Wieber 2005, §4: the Newton and Euler equations of the whole \
-             system are its rate of change)."
-        }
-        Output::CentroidalMomentumMatrix => {
-            "`A_G(q)`, `6 × NV`, angular rows first, with `h_G = A_G·v`: the centroidal momentum \
-             matrix (Orin, Goswami & Lee 2013)."
-        }
-        Output::KineticEnergy => "`½·vᵀ·M(q)·v = ½·Σ v_kᵀ·I_k·v_k`, the kinetic energy.",
-        Output::PotentialEnergy => {
-            "`−Σ m_k·gᵀ·x_k`, the potential energy of gravity, zero with every centre of mass at \
-             the world origin."
-        }
-        Output::CoriolisMatrix => {
-            "`N(q, q̇)` of Wieber 2005, eq. 7, `NV × NV`: `N·v` is the bias and `Ṁ − 2N` is \
-             skew-symmetric; where `v = q̇` it is the matrix of the Christoffel symbols of `M`."
-        }
-        Output::InverseDynamicsDerivatives => {
-            "`(∂τ/∂q, ∂τ/∂v)` of inverse dynamics at `(q, v, a)`, `NV × NV` each (`∂τ/∂a` is \
-             `M`). Column `k` of `∂τ/∂q` is the derivative along tangent coordinate `k` of the \
-             configuration, `q ⊕ δ`: `q_k + δ_k` for revolute, prismatic and Euler-angle \
-             coordinates; for a quaternion the body-frame increment `q ⊗ exp(δ/2)`, and for a \
-             free quaternion base the position moved by `R(q)·δ_lin` too (as Pinocchio takes \
-             them; `articulated::control::tangent::retract`)."
-        }
-        Output::ForwardDynamicsDerivatives => {
-            "`(∂q̈/∂q, ∂q̈/∂v, M⁻¹)` of forward dynamics at `(q, v, τ)`, `NV × NV` each \
-             (`∂q̈/∂τ = M⁻¹`), `∂/∂q` along the configuration's tangent as in \
-             `inverse_dynamics_derivatives`; an error where `M(q)` is singular."
-        }
-        Output::MassMatrixInverse => "`M(q)⁻¹`; an error where `M(q)` is singular.",
-    }
 }
 
 /// How the function computes it, and which variants the generator compared.

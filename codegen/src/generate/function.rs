@@ -7,6 +7,7 @@ use quote::{format_ident, quote};
 use super::{docs, Context};
 use crate::emit::{self, Emitted};
 use crate::options::{Output, ScalarKind};
+use crate::outputs::{Arg, Dim, Order, Part};
 use crate::sym::{Node, Var};
 use crate::trace::{
     lower_triangle, Traced, PIVOT_TOL_F32, PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_ABA_F32,
@@ -34,18 +35,20 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
     let result = result(cx, traced, &emitted, sunk.as_ref().map(|k| &k.names[..]));
     let function = format_ident!("{}_with", traced.output.name());
     // Each argument, and the `let` that binds the entries the function reads.
+    let types = cx.types();
     let (args, inputs): (Vec<TokenStream>, Vec<TokenStream>) = arguments
         .iter()
         .map(|&arg| {
-            let (ty, used) = match arg {
-                "q" => (cx.vector_type(cx.nq), &used.q),
-                "base" => (cx.vector_type(6), &used.base),
-                "v" => (cx.vector_type(cx.nv), &used.v),
-                "a" => (cx.vector_type(cx.nv), &used.a),
-                _ => (cx.vector_type(cx.nv), &used.tau),
+            let used = match arg {
+                Arg::Q => &used.q,
+                Arg::Base => &used.base,
+                Arg::V => &used.v,
+                Arg::A => &used.a,
+                Arg::Tau => &used.tau,
             };
-            let id = format_ident!("{}", arg);
-            (quote!(#id: &#ty,), destructure(arg, used))
+            let ty = traced.output.spec().arg_type(arg, &types);
+            let id = format_ident!("{}", arg.name());
+            (quote!(#id: &#ty,), destructure(arg.name(), used))
         })
         .unzip();
     let (name, generics, params_ty) = (&cx.name, &cx.impl_generics, &cx.params_ty);
@@ -65,7 +68,7 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
         quote!()
     };
     Ok(quote! {
-        impl #generics ::articulated::#trait_ for #name {
+        impl #generics #trait_ for #name {
             #(#doc)*
             #allow
             fn #function(#(#args)* #p_arg: &#params_ty, #after_params) #ret {
@@ -211,93 +214,24 @@ fn sink(cx: &Context, traced: &Traced) -> Option<Sunk> {
     })
 }
 
-/// What an output's function looks like: its trait, its arguments before the parameters (`q`,
-/// `v`, `a`, `tau`, `base`), those after them, and its return type (`-> …`, or nothing).
+/// What an output's function looks like, from its description ([`crate::outputs::Spec`]): its
+/// trait, its arguments before the parameters (`q`, `v`, `a`, `tau`, `base`), the `kept` one
+/// after them, and its return type (`-> …`, or nothing).
 struct Signature {
     trait_: TokenStream,
-    arguments: &'static [&'static str],
+    arguments: &'static [Arg],
     after_params: TokenStream,
     ret: TokenStream,
 }
 
 fn signature(cx: &Context, output: Output) -> Signature {
-    let scalar = &cx.scalar;
-    let [nq, nv, nb] = [cx.nq, cx.nv, cx.model.nb()].map(Literal::usize_unsuffixed);
-    let sv = cx.vector_type(cx.nv);
-    let matrix = |rows: &Literal, cols: &Literal| quote!(::articulated::nalgebra::SMatrix<#scalar, #rows, #cols>);
-    let (six, three) = (Literal::usize_unsuffixed(6), Literal::usize_unsuffixed(3));
-    let m_ty = matrix(&nv, &nv);
-    let fallible =
-        |ok: TokenStream| quote!(::core::result::Result<#ok, ::articulated::SingularMassMatrix>);
-    let (trait_, arguments, ret): (_, &'static [&'static str], _) = match output {
-        Output::MassMatrix => (quote!(MassMatrix), &["q"], m_ty),
-        // Returns nothing: it writes into its `kept` argument (below).
-        Output::MassMatrixUpdate => (quote!(MassMatrixUpdate), &["q"], quote!()),
-        Output::MassMatrixLower => (quote!(MassMatrixLower), &["q"], quote!()),
-        Output::Bias => (quote!(Bias), &["q", "v"], sv),
-        Output::Gravity => (quote!(Gravity), &["q"], sv),
-        Output::InverseDynamics => (quote!(InverseDynamics), &["q", "v", "a"], sv),
-        Output::NonlinearEffects => (quote!(NonlinearEffects), &["q", "v"], sv),
-        Output::MassMatrixAndNonlinearEffects => (
-            quote!(MassMatrixAndNonlinearEffects),
-            &["q", "v"],
-            quote!((#m_ty, #sv)),
-        ),
-        Output::JointWrenches => (quote!(JointWrenches), &["q", "v", "a"], matrix(&six, &nb)),
-        Output::JointWrenchesBottomUp => (
-            quote!(JointWrenchesBottomUp),
-            &["q", "v", "a", "base"],
-            matrix(&six, &nb),
-        ),
-        Output::CenterOfMass => (quote!(CenterOfMass), &["q"], cx.vector_type(3)),
-        Output::CenterOfMassVelocity => {
-            (quote!(CenterOfMassVelocity), &["q", "v"], cx.vector_type(3))
-        }
-        Output::CenterOfMassJacobian => (quote!(CenterOfMassJacobian), &["q"], matrix(&three, &nv)),
-        Output::CentroidalMomentum => (quote!(CentroidalMomentum), &["q", "v"], cx.vector_type(6)),
-        Output::CentroidalMomentumMatrix => {
-            (quote!(CentroidalMomentumMatrix), &["q"], matrix(&six, &nv))
-        }
-        Output::KineticEnergy => (quote!(KineticEnergy), &["q", "v"], scalar.clone()),
-        Output::PotentialEnergy => (quote!(PotentialEnergy), &["q"], scalar.clone()),
-        Output::CoriolisMatrix => (quote!(CoriolisMatrix), &["q", "v"], m_ty),
-        Output::ForwardDynamics => (quote!(ForwardDynamics), &["q", "v", "tau"], fallible(sv)),
-        Output::InverseDynamicsDerivatives => (
-            quote!(InverseDynamicsDerivatives),
-            &["q", "v", "a"],
-            quote!((#m_ty, #m_ty)),
-        ),
-        Output::ForwardDynamicsDerivatives => (
-            quote!(ForwardDynamicsDerivatives),
-            &["q", "v", "tau"],
-            fallible(quote!((#m_ty, #m_ty, #m_ty))),
-        ),
-        Output::MassMatrixInverse => (quote!(MassMatrixInverse), &["q"], fallible(m_ty)),
-    };
-    // Every trait is generic over the scalar and the sizes, and the joint wrenches over the
-    // number of bodies too.
-    let trait_ = match output {
-        Output::JointWrenches | Output::JointWrenchesBottomUp => {
-            quote!(#trait_<#scalar, #nq, #nv, #nb>)
-        }
-        _ => quote!(#trait_<#scalar, #nq, #nv>),
-    };
-    let (after_params, ret) = match output {
-        Output::MassMatrixUpdate => (
-            quote!(kept: &mut ::articulated::KeptMassMatrix<Self, #scalar, #nv>,),
-            quote!(),
-        ),
-        Output::MassMatrixLower => (
-            quote!(kept: &mut ::articulated::KeptMassMatrixLower<Self, #scalar, #nv>,),
-            quote!(),
-        ),
-        _ => (quote!(), quote!(-> #ret)),
-    };
+    let spec = output.spec();
+    let t = cx.types();
     Signature {
-        trait_,
-        arguments,
-        after_params,
-        ret,
+        trait_: spec.trait_path(&t),
+        arguments: spec.args,
+        after_params: spec.kept_arg(&t).map(|k| quote!(#k,)).unwrap_or_default(),
+        ret: spec.ret(&t),
     }
 }
 
@@ -325,46 +259,51 @@ fn result(
         let finite = finite_checks(finite);
         quote!(#(#checks)* #(#finite)* Ok(#built))
     };
-    match traced.output {
-        Output::ForwardDynamics => ok(values),
-        // q̈ comes first and is not returned: a non-finite q̈ (a NaN in `v` or `tau`) is refused
-        // like forward dynamics refuses it.
-        Output::ForwardDynamicsDerivatives => ok(&values[..nv]),
-        Output::MassMatrixInverse => ok(&[]),
-        _ => built,
+    let spec = traced.output.spec();
+    if !spec.fallible {
+        return built;
+    }
+    // The accelerations, returned or not (forward dynamics' derivatives compute q̈ first): a
+    // non-finite q̈ (a NaN in `v` or `tau`) is refused like a singular `M`.
+    match spec.parts.first() {
+        Some(Part::Hidden | Part::Vector(Dim::Nv)) => ok(&values[..nv]),
+        _ => ok(&[]),
     }
 }
 
-/// An output's result from its values (see [`crate::trace`] for their order).
+/// An output's result from its values (see [`crate::trace`] for their order), part by part as
+/// its description says ([`crate::outputs::Part`]).
 fn built(cx: &Context, output: Output, values: &[TokenStream]) -> TokenStream {
-    let nv = cx.nv;
-    match output {
-        // nalgebra stores columns; M is symmetric, so its row-major entries are its columns.
-        Output::MassMatrix => columns(cx, values, nv),
-        // Written into its `kept` argument.
-        Output::MassMatrixUpdate | Output::MassMatrixLower => quote!(),
-        Output::MassMatrixAndNonlinearEffects => {
-            let (m, nle) = values.split_at(nv * nv);
-            let (m, nle) = (columns(cx, m, nv), vector(cx, nle));
-            quote!((#m, #nle))
-        }
-        Output::JointWrenches | Output::JointWrenchesBottomUp => columns(cx, values, 6),
-        Output::CenterOfMassJacobian => columns(cx, &transposed(values, 3), 3),
-        Output::CentroidalMomentumMatrix => columns(cx, &transposed(values, 6), 6),
-        Output::CoriolisMatrix | Output::MassMatrixInverse => {
-            columns(cx, &transposed(values, nv), nv)
-        }
-        Output::KineticEnergy | Output::PotentialEnergy => values[0].clone(),
-        Output::InverseDynamicsDerivatives => {
-            let (dq, dv) = values.split_at(nv * nv);
-            square_matrices(cx, &[dq, dv])
-        }
-        Output::ForwardDynamicsDerivatives => {
-            let (dq, rest) = values[nv..].split_at(nv * nv);
-            let (dv, minv) = rest.split_at(nv * nv);
-            square_matrices(cx, &[dq, dv, minv])
-        }
-        _ => vector(cx, values),
+    let size = |d: Dim| match d {
+        Dim::Nv => cx.nv,
+        Dim::Nb => cx.model.nb(),
+        Dim::N(n) => n,
+    };
+    let mut rest = values;
+    let mut parts = Vec::new();
+    for &part in output.spec().parts {
+        let n = match part {
+            Part::Scalar => 1,
+            Part::Vector(d) => size(d),
+            Part::Matrix(r, c, _) => size(r) * size(c),
+            Part::Hidden => cx.nv,
+            Part::Kept { .. } => 0,
+        };
+        let (these, after) = rest.split_at(n);
+        rest = after;
+        parts.push(match part {
+            Part::Scalar => these[0].clone(),
+            Part::Vector(_) => vector(cx, these),
+            // nalgebra stores columns.
+            Part::Matrix(r, _, Order::Columns) => columns(cx, these, size(r)),
+            Part::Matrix(r, _, Order::Rows) => columns(cx, &transposed(these, size(r)), size(r)),
+            Part::Hidden | Part::Kept { .. } => continue,
+        });
+    }
+    match &parts[..] {
+        [] => TokenStream::new(),
+        [one] => one.clone(),
+        many => quote!((#(#many),*)),
     }
 }
 
@@ -381,14 +320,6 @@ fn finite_checks(qdd: &[TokenStream]) -> Vec<TokenStream> {
             }
         })
         .collect()
-}
-
-/// A tuple of square matrices from their row-major entries.
-fn square_matrices(cx: &Context, parts: &[&[TokenStream]]) -> TokenStream {
-    let ms = parts
-        .iter()
-        .map(|x| columns(cx, &transposed(x, cx.nv), cx.nv));
-    quote!((#(#ms),*))
 }
 
 /// A row-major matrix of `rows` rows as its entries column by column.

@@ -172,9 +172,19 @@ impl<'a> Context<'a> {
     }
 
     /// `SVector<scalar, n>`.
-    fn vector_type(&self, n: usize) -> TokenStream {
-        let (scalar, n) = (&self.scalar, Literal::usize_unsuffixed(n));
-        quote!(::articulated::nalgebra::SVector<#scalar, #n>)
+    /// The scalar and sizes of this chain, for the signatures ([`crate::outputs::Types`]).
+    fn types(&self) -> crate::outputs::Types {
+        let [nq, nv, nb] = [self.nq, self.nv, self.model.nb()].map(|n| {
+            let n = Literal::usize_unsuffixed(n);
+            quote!(#n)
+        });
+        crate::outputs::Types {
+            scalar: self.scalar.clone(),
+            nq,
+            nv,
+            nb,
+            krate: quote!(::articulated),
+        }
     }
 
     /// The expression that reads an input of a traced graph.

@@ -199,12 +199,12 @@ impl Lower {
                 };
                 let mut outputs = Vec::new();
                 for e in elems {
-                    let output = match e {
-                        Expr::Name(n) => Output::from_name(&n.to_string()),
+                    let named = match e {
+                        Expr::Name(n) => Output::named(&n.to_string()),
                         _ => None,
                     };
-                    match output {
-                        Some(output) => outputs.push(output),
+                    match named {
+                        Some(named) => outputs.extend(named),
                         None => self.cx.error(e, unknown_output(&e.to_string())),
                     }
                 }

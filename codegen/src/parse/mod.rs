@@ -50,7 +50,7 @@
 //! |---|---|---|
 //! | `gravity` | `[gx, gy, gz]` (m/s², world frame) or `none` | `[0.0, 0.0, -9.81]` |
 //! | `scalar` | `f64`, `f32` or `generic` | `f64` |
-//! | `outputs` | a list of names from [`Output::ALL`](crate::options::Output::ALL): `mass_matrix`, `bias`, `gravity`, `inverse_dynamics`, `forward_dynamics` | [`Output::DEFAULT`](crate::options::Output::DEFAULT) |
+//! | `outputs` | a list of names from [`Output::ALL`](crate::options::Output::ALL) (`mass_matrix`, `bias`, `gravity`, `inverse_dynamics`, `forward_dynamics`, …) or of groups ([`Group`](crate::outputs::Group): `dynamics`, `kept`, `wrenches`, `whole_body`, `derivatives`) | [`Output::DEFAULT`](crate::options::Output::DEFAULT) |
 //!
 //! Outputs are sorted and duplicates dropped.
 //!

@@ -18,25 +18,6 @@ use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
 use serde_json::Value as Json;
 
-/// The five basic outputs in `f64`, which every chain generated with the default outputs has.
-pub trait BasicOutputs<const NQ: usize, const NV: usize>:
-    MassMatrix<f64, NQ, NV>
-    + Bias<f64, NQ, NV>
-    + Gravity<f64, NQ, NV>
-    + InverseDynamics<f64, NQ, NV>
-    + ForwardDynamics<f64, NQ, NV>
-{
-}
-
-impl<C, const NQ: usize, const NV: usize> BasicOutputs<NQ, NV> for C where
-    C: MassMatrix<f64, NQ, NV>
-        + Bias<f64, NQ, NV>
-        + Gravity<f64, NQ, NV>
-        + InverseDynamics<f64, NQ, NV>
-        + ForwardDynamics<f64, NQ, NV>
-{
-}
-
 /// The rows of a matrix stored as a JSON list of rows, concatenated (row-major).
 pub fn rows_of(j: &Json) -> Vec<f64> {
     j.as_array().unwrap().iter().flat_map(vec_of).collect()
@@ -232,7 +213,7 @@ pub fn compare_state<C, const NQ: usize, const NV: usize>(
     a: &[f64],
 ) -> Errors
 where
-    C: BasicOutputs<NQ, NV>,
+    C: DefaultOutputs<f64, NQ, NV>,
 {
     assert_eq!((r.nq(), r.nv()), (NQ, NV), "the reference's sizes");
     let (qs, vs, as_) = (
@@ -329,7 +310,7 @@ pub fn check_chain<C, const NQ: usize, const NV: usize>(
     state: impl Fn(u64) -> (Vec<f64>, Vec<f64>, Vec<f64>),
 ) -> Worst
 where
-    C: BasicOutputs<NQ, NV>,
+    C: DefaultOutputs<f64, NQ, NV>,
 {
     check_coordinates::<C>(label, r);
     // A fixed seed: the same states on every run, so a failure reproduces.
@@ -375,7 +356,7 @@ pub fn compare_pinocchio<C, const NQ: usize, const NV: usize>(
     tol: f64,
 ) -> Vec<String>
 where
-    C: BasicOutputs<NQ, NV>,
+    C: DefaultOutputs<f64, NQ, NV>,
 {
     assert_eq!(case["nq"].as_u64(), Some(NQ as u64), "{label}: nq");
     assert_eq!(case["nv"].as_u64(), Some(NV as u64), "{label}: nv");
@@ -447,29 +428,6 @@ where
     failures
 }
 
-/// The whole-system outputs in `f64` (centre of mass, momenta, energies, Coriolis matrix).
-pub trait WholeBodyOutputs<const NQ: usize, const NV: usize>:
-    CenterOfMass<f64, NQ, NV>
-    + CenterOfMassVelocity<f64, NQ, NV>
-    + CenterOfMassJacobian<f64, NQ, NV>
-    + CentroidalMomentum<f64, NQ, NV>
-    + CentroidalMomentumMatrix<f64, NQ, NV>
-    + KineticEnergy<f64, NQ, NV>
-    + PotentialEnergy<f64, NQ, NV>
-{
-}
-
-impl<C, const NQ: usize, const NV: usize> WholeBodyOutputs<NQ, NV> for C where
-    C: CenterOfMass<f64, NQ, NV>
-        + CenterOfMassVelocity<f64, NQ, NV>
-        + CenterOfMassJacobian<f64, NQ, NV>
-        + CentroidalMomentum<f64, NQ, NV>
-        + CentroidalMomentumMatrix<f64, NQ, NV>
-        + KineticEnergy<f64, NQ, NV>
-        + PotentialEnergy<f64, NQ, NV>
-{
-}
-
 /// The whole-system outputs in the order of `Output::ALL`: the names of [`whole_body_errors`]'
 /// entries, then `coriolis_matrix` ([`coriolis_error`]).
 pub const WHOLE_BODY_OUTPUTS: [&str; 8] = [
@@ -501,7 +459,7 @@ pub fn whole_body_errors<C, const NQ: usize, const NV: usize>(
     v: &[f64],
 ) -> [f64; 7]
 where
-    C: WholeBodyOutputs<NQ, NV>,
+    C: WholeBodyOutputs<f64, NQ, NV>,
 {
     let (qs, vs) = (SVector::from_column_slice(q), SVector::from_column_slice(v));
     let row_major = |m: DMatrix<f64>| m.transpose().as_slice().to_vec();
