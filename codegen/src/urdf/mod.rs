@@ -589,14 +589,14 @@ impl Importer {
         let moments: Vec<Option<[f64; 3]>> = built
             .bodies
             .iter()
-            .map(|(_, mp)| crate::lower::principal_moments(&mp.i.0))
+            .map(|(_, mp)| crate::check::principal_moments(&mp.i.0))
             .collect();
         let largest = moments
             .iter()
             .flatten()
             .fold(0.0f64, |a, e| a.max(e[2].abs()));
         let rounding = INERTIA_ROUNDING * largest;
-        let num = crate::lower::number;
+        let num = crate::check::num;
         for ((name, mp), (links, e)) in built
             .bodies
             .iter_mut()
