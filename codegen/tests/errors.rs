@@ -1282,3 +1282,29 @@ fn every_rule_of_the_check_stage_is_reported_at_once() {
     let got: Vec<(usize, usize, &str)> = got.iter().map(|(l, c, m)| (*l, *c, m.as_str())).collect();
     assert_eq!(got, want);
 }
+
+/// A `Builder` given options that do not go with a description's model (it has no token to
+/// point at) reports every problem at once, one line each, naming the description.
+#[test]
+fn a_builder_reports_every_problem_of_its_options_at_once() {
+    use articulated_codegen::options::{Accuracy, Output};
+    use articulated_codegen::Builder;
+    let d = parse_chain_str(&chain(&HUB), Path::new("hub.chain")).unwrap_or_else(|e| panic!("{e}"));
+    let e = Builder::new()
+        .description(d)
+        .outputs([Output::ForwardDynamics, Output::JointWrenchesBottomUp])
+        .accuracy(Accuracy::Robust)
+        .to_source()
+        .unwrap_err()
+        .to_string();
+    let lines: Vec<&str> = e.lines().collect();
+    assert_eq!(lines.len(), 2, "{e}");
+    assert!(
+        lines[0].starts_with("the model `C`: `joint_wrenches_bottom_up` needs a serial chain"),
+        "{e}"
+    );
+    assert!(
+        lines[1].starts_with("the model `C`: `accuracy: robust` keeps forward dynamics to ABA"),
+        "{e}"
+    );
+}
