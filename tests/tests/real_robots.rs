@@ -124,6 +124,9 @@ fn every_robot_pinocchio_loads_loads_and_agrees() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-    assert_eq!(loaded, 130, "65 robots (68 less Alex's three), fixed and floating");
+    assert_eq!(
+        loaded, 130,
+        "65 robots (68 less Alex's three), fixed and floating"
+    );
     assert!(compared >= 124, "only {compared} compared");
 }
