@@ -68,6 +68,11 @@ pub fn run(args: &ExpandArgs) -> Result<String, String> {
         chain.options.quasi_static = true;
         source.push_str(" --quasi-static");
     }
-    generate_file(&chain.model, &chain.options, &source)
-        .map_err(|e| format!("{}: error: {e}", args.model.display()))
+    generate_file(&chain.model, &chain.options, &source).map_err(|e| {
+        // Every problem the check stage found with the options given, one per line.
+        e.into_iter()
+            .map(|e| format!("{}: error: {e}", args.model.display()))
+            .collect::<Vec<_>>()
+            .join("\n")
+    })
 }

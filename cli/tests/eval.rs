@@ -545,11 +545,23 @@ fn warnings_reach_stderr_and_strict_refuses_them() {
         .filter(|l| l.contains(": warning: "))
         .collect();
     assert_eq!(warnings.len(), 2, "{stderr}");
-    assert!(warnings[0].starts_with(&format!("{romeo}:547: warning: link `RShoulderYawLink`")));
-    assert!(warnings[1].starts_with(&format!("{romeo}:585: warning: link `RElbowYawLink`")));
+    let warned =
+        |line: usize, link: &str| format!("{romeo}:{line}: warning: inertia of link `{link}`");
+    assert!(
+        warnings[0].starts_with(&warned(547, "RShoulderYawLink")),
+        "{stderr}"
+    );
+    assert!(
+        warnings[1].starts_with(&warned(585, "RElbowYawLink")),
+        "{stderr}"
+    );
     let (ok, stdout, stderr) = eval(&[romeo, "--strict"]);
     assert!(!ok && stdout.is_empty(), "{stdout}");
-    assert_eq!(stderr.matches(": error: link `").count(), 2, "{stderr}");
+    assert_eq!(
+        stderr.matches(": error: inertia of link `").count(),
+        2,
+        "{stderr}"
+    );
     let (ok, _, stderr) = eval(&[romeo, "--balance-inertia"]);
     assert!(ok, "{stderr}");
     assert!(!stderr.contains("warning"), "{stderr}");

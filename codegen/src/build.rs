@@ -62,7 +62,8 @@ enum Source {
 pub enum BuildError {
     /// A description file does not load (its message names the file and line).
     Load(LoadError),
-    /// The generator refused a description.
+    /// The generator refused a description: the check stage's problems with the options the
+    /// builder gave it (each one, at once), or a limit of the generator.
     Generate {
         /// The file, or the model's name.
         source: String,
@@ -84,7 +85,16 @@ impl fmt::Display for BuildError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             BuildError::Load(e) => write!(f, "{e}"),
-            BuildError::Generate { source, error } => write!(f, "{source}: {error}"),
+            BuildError::Generate { source, error } => {
+                // Every problem the check stage found, one per line.
+                for (k, e) in error.clone().into_iter().enumerate() {
+                    if k > 0 {
+                        writeln!(f)?;
+                    }
+                    write!(f, "{source}: {e}")?;
+                }
+                Ok(())
+            }
             BuildError::NoOutDir => write!(f, "OUT_DIR is not set: call this from build.rs"),
             BuildError::Write { path, error } => write!(f, "{}: {error}", path.display()),
         }

@@ -15,7 +15,8 @@
 //! 1. `load`: read a file, choose the front end by extension;
 //! 2. `parse`: tokens to a [`parse::ChainDef`], spans kept;
 //! 3. `lower`: every check at once, then a `Description` (physics [`model::Model`] +
-//!    [`options::Options`]); `urdf` builds the same from a URDF;
+//!    [`options::Options`]); `urdf` builds the same from a URDF; both have the rules that are
+//!    not syntax judged by `check`, written once, and put each problem at its own location;
 //! 4. `trace`: the recursions run on the symbolic scalar of `sym` into an expression graph, each
 //!    output several ways, the fewest operations kept;
 //! 5. `optimize`: sums regrouped by arrival time, constants rounded for `f32`;
@@ -40,6 +41,10 @@
 )]
 
 pub mod build;
+#[doc(hidden)]
+// 3×3 inertias by counters below 3.
+#[allow(clippy::indexing_slicing)]
+pub mod check;
 #[doc(hidden)]
 #[allow(clippy::indexing_slicing)] // Variables indexed by the graph's own numbering.
 pub mod emit;

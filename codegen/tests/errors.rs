@@ -487,7 +487,8 @@ fn inertia_not_positive_definite_diag() {
         &["body a { mass: 1.0, inertia: diag(1.0, 0.0, 1.0) }", J],
         2,
         40,
-        "inertia of body `a` is not positive definite: principal moment 0 must be positive",
+        "inertia of body `a` is not positive definite: its principal moments are 0, 1, 1; \
+         expected all positive",
     );
 }
 
@@ -1083,7 +1084,7 @@ fn mimic_of_itself() {
         ],
         5,
         52,
-        "joint `k`: a joint cannot mimic itself",
+        "joint `k` mimics `k`, itself: a joint cannot mimic itself",
     );
 }
 
@@ -1098,7 +1099,8 @@ fn mimic_of_a_spherical_joint() {
         ],
         5,
         52,
-        "joint `k`: only revolute and prismatic joints mimic and are mimicked (`j` and joint `k`)",
+        "joint `k` mimics `j`, which is not revolute or prismatic: only revolute and prismatic \
+         joints mimic and are mimicked",
     );
 }
 
@@ -1115,8 +1117,8 @@ fn mimic_of_a_mimic_joint() {
         ],
         7,
         52,
-        "joint `l`: `k` mimics a joint itself: mimic the joint it follows, with the multipliers \
-         and offsets composed",
+        "joint `l` mimics `k`, which is a mimic joint itself: mimic the joint that one follows, \
+         with the multipliers and offsets composed",
     );
 }
 
@@ -1146,8 +1148,8 @@ fn limits_on_a_mimic_joint() {
         ],
         5,
         52,
-        "joint `k`: a mimic joint has no coordinate, so no damping, friction or limits of its \
-         own (its armature is allowed: it is inertia)",
+        "joint `k` mimics `j`, but a mimic joint has no coordinate, so no damping, friction or \
+         limits of its own (its armature is allowed: it is inertia)",
     );
 }
 
@@ -1165,5 +1167,145 @@ fn lock_of_a_mimic_joint() {
         8,
         "joint `k` mimics another joint, which moves: a mimic joint is locked with the joint it \
          follows (lock or drop that one) and moves with it",
+    );
+}
+
+// ---- the check stage: outputs and options that do not go with the model ----
+
+/// A hub with two arms, the second following the first (a branching tree with a mimic joint).
+const HUB: [&str; 6] = [
+    "body hub { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }",
+    "body left { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }",
+    "body right { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }",
+    "joint base: revolute(z) { parent: world, child: hub }",
+    "joint l: revolute(y) { parent: hub, child: left }",
+    "joint r: revolute(y) { parent: hub, child: right, mimic: l }",
+];
+
+#[test]
+fn bottom_up_wrenches_on_a_branching_tree() {
+    let mut items = vec!["outputs: [mass_matrix, joint_wrenches_bottom_up];"];
+    items.extend(HUB);
+    check(
+        &items,
+        2,
+        24,
+        "`joint_wrenches_bottom_up` needs a serial chain, and `C` branches: where a body has two \
+         children, how the wrench splits between them is not determined; use `joint_wrenches` \
+         (from the free ends down)",
+    );
+}
+
+#[test]
+fn robust_forward_dynamics_with_a_mimic_joint() {
+    let mut items = vec!["accuracy: robust;"];
+    items.extend(HUB);
+    check(
+        &items,
+        2,
+        11,
+        "`accuracy: robust` keeps forward dynamics to ABA, which cannot run with mimic joints \
+         (`r` follows another joint, so one coordinate moves two branches); use `accuracy: \
+         fastest` (CRBA + LᵀDL of the coupled M)",
+    );
+}
+
+/// What a scene leaves is what the options are judged on: bottom-up wrenches on the hub's
+/// trunk alone, with both arms locked, are fine.
+#[test]
+fn bottom_up_wrenches_on_a_scene_that_is_serial() {
+    let mut items = vec!["outputs: [joint_wrenches_bottom_up];", "lock: [l(0.0)];"];
+    items.extend(HUB);
+    parse_chain_str(&chain(&items), Path::new("t.chain")).unwrap_or_else(|e| panic!("{e}"));
+}
+
+/// Every rule of the check stage a description breaks is reported at once, each at its token,
+/// with the errors of names and values: an inertia that breaks the triangle inequality, a cycle
+/// (so no model can be built, and the options are judged on the joints as declared), a mimic
+/// joint under `accuracy: robust`, bottom-up wrenches on a branching tree, an unknown body.
+#[test]
+fn every_rule_of_the_check_stage_is_reported_at_once() {
+    let src = "chain Broken {
+    outputs: [forward_dynamics, joint_wrenches_bottom_up];
+    accuracy: robust;
+    body hub { mass: 1.0, inertia: diag(1.0, 1.0, 3.0) }
+    body left { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }
+    body right { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }
+    body p { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }
+    body q { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }
+    body s { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }
+    joint base: revolute(z) { parent: world, child: hub }
+    joint l: revolute(y) { parent: hub, child: left }
+    joint r: revolute(y) { parent: hub, child: right, mimic: l }
+    joint pq: revolute(x) { parent: p, child: q }
+    joint qp: revolute(x) { parent: q, child: p }
+    joint ghost: revolute(x) { parent: nowhere, child: s }
+}
+";
+    let got: Vec<(usize, usize, String)> = diagnostics(src)
+        .into_iter()
+        .map(|d| (d.line, d.column, d.message))
+        .collect();
+    let want: Vec<(usize, usize, &str)> = vec![
+        (
+            2,
+            33,
+            "`joint_wrenches_bottom_up` needs a serial chain, and `Broken` branches: where a body \
+             has two children, how the wrench splits between them is not determined; use \
+             `joint_wrenches` (from the free ends down)",
+        ),
+        (
+            3,
+            15,
+            "`accuracy: robust` keeps forward dynamics to ABA, which cannot run with mimic joints \
+             (`r` follows another joint, so one coordinate moves two branches); use `accuracy: \
+             fastest` (CRBA + LᵀDL of the coupled M)",
+        ),
+        (
+            4,
+            36,
+            "inertia of body `hub` breaks the triangle inequality: principal moments 1 + 1 < 3; \
+             expected each moment to be at most the sum of the other two",
+        ),
+        (
+            13,
+            37,
+            "joints form a cycle `q` → `p` → `q`: none of these bodies is reachable from \
+             `world`; expected a tree hanging from `world`",
+        ),
+        (
+            15,
+            40,
+            "unknown body `nowhere` as parent of joint `ghost`: expected `world` or a body \
+             (`hub`, `left`, `right`, `p`, `q`, `s`)",
+        ),
+    ];
+    let got: Vec<(usize, usize, &str)> = got.iter().map(|(l, c, m)| (*l, *c, m.as_str())).collect();
+    assert_eq!(got, want);
+}
+
+/// A `Builder` given options that do not go with a description's model (it has no token to
+/// point at) reports every problem at once, one line each, naming the description.
+#[test]
+fn a_builder_reports_every_problem_of_its_options_at_once() {
+    use articulated_codegen::options::{Accuracy, Output};
+    use articulated_codegen::Builder;
+    let d = parse_chain_str(&chain(&HUB), Path::new("hub.chain")).unwrap_or_else(|e| panic!("{e}"));
+    let e = Builder::new()
+        .description(d)
+        .outputs([Output::ForwardDynamics, Output::JointWrenchesBottomUp])
+        .accuracy(Accuracy::Robust)
+        .to_source()
+        .unwrap_err()
+        .to_string();
+    let lines: Vec<&str> = e.lines().collect();
+    assert_eq!(lines.len(), 2, "{e}");
+    assert!(
+        lines[0].starts_with("the model `C`: `joint_wrenches_bottom_up` needs a serial chain"),
+        "{e}"
+    );
+    assert!(
+        lines[1].starts_with("the model `C`: `accuracy: robust` keeps forward dynamics to ABA"),
+        "{e}"
     );
 }

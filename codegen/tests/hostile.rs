@@ -8,6 +8,7 @@ use articulated_codegen::load::parse_chain_str;
 use articulated_codegen::options::{Description, Output};
 use articulated_codegen::sym::Var;
 use articulated_codegen::trace::trace;
+use articulated_dynamics::model::{Body, Joint};
 use articulated_dynamics::random::random_state;
 use articulated_dynamics::reference::Reference;
 
@@ -68,17 +69,40 @@ fn agrees_with_reference(d: &Description) {
     }
 }
 
+/// Refused by the check stage, at the chain's name, before anything is traced; and by the
+/// generator, at the call site, for a model a program built.
 #[test]
 fn a_deep_chain_past_the_limit_is_refused_naming_it() {
-    let d = chain(&serial(MAX_NV + 40));
-    let Err(e) = generate(&d.model, &d.options) else {
+    let text = serial(MAX_NV + 40);
+    let Err(e) = parse_chain_str(&text, Path::new("hostile.chain")) else {
         panic!("expected a refusal");
     };
-    let e = e.to_string();
+    let [d] = &e.diagnostics[..] else {
+        panic!("expected one error: {e}");
+    };
+    assert_eq!((d.line, d.column), (1, 7), "{e}");
     assert!(
-        e.contains("200 velocity coordinates") && e.contains(&format!("limit of {MAX_NV}")),
+        d.message.contains("200 velocity coordinates")
+            && d.message.contains(&format!("limit of {MAX_NV}")),
         "{e}"
     );
+    let smaller = chain(&serial(MAX_NV));
+    let mut model = smaller.model.clone();
+    let extra = model.joints.last().cloned().unwrap();
+    let body = model.bodies.last().cloned().unwrap();
+    model.joints.push(Joint {
+        name: "one_more".into(),
+        parent: Some(model.nb() - 1),
+        ..extra
+    });
+    model.bodies.push(Body {
+        name: "b_more".into(),
+        ..body
+    });
+    let Err(e) = generate(&model, &smaller.options) else {
+        panic!("expected a refusal");
+    };
+    assert!(e.to_string().contains("161 velocity coordinates"), "{e}");
 }
 
 #[test]

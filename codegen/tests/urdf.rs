@@ -344,9 +344,9 @@ fn errors_name_the_problem_and_the_line() {
             "parent link `nowhere` is not defined",
         ),
         (
-            "<link name=\"b\"/>\n<joint name=\"jb\" type=\"revolute\"><parent link=\"base\"/><child link=\"a\"/></joint>",
-            7,
-            "link `a` has two parents",
+            "<joint name=\"jb\" type=\"revolute\"><parent link=\"base\"/><child link=\"a\"/></joint>",
+            6,
+            "link `a` has two parents: it is already the child of joint `ja`",
         ),
         ("<link name=\"lonely\"/>", 6, "two root links"),
         (
@@ -360,7 +360,7 @@ fn errors_name_the_problem_and_the_line() {
             "<link name=\"b\"><inertial><mass value=\"-1\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial></link>\n\
              <joint name=\"jb\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/></joint>",
             6,
-            "link `b`: negative mass -1",
+            "mass of link `b` is -1: expected zero or a positive number",
         ),
         (
             "<link name=\"b\"><inertial><mass value=\"NaN\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial></link>\n\
@@ -409,6 +409,18 @@ fn errors_name_the_problem_and_the_line() {
             );
         }
     }
+    // A second root and a second parent, at once, each at its line.
+    let e = err(&chain_with(
+        "<link name=\"b\"/>\n<joint name=\"jb\" type=\"revolute\"><parent link=\"base\"/><child link=\"a\"/></joint>",
+    ));
+    let text = e.to_string();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 2, "{text}");
+    assert!(lines[0].starts_with("<urdf>:6: two root links"), "{text}");
+    assert!(
+        lines[1].starts_with("<urdf>:7: link `a` has two parents"),
+        "{text}"
+    );
     // A cycle: the line of one of its joints.
     let e = err(&chain_with(
         "<link name=\"b\"/>\n<link name=\"c\"/>\n\
@@ -726,12 +738,44 @@ fn every_problem_is_reported_at_once() {
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), 2, "{text}");
     assert!(
-        lines[0].starts_with("<urdf>:4: ") && lines[0].contains("negative mass"),
+        lines[0].starts_with("<urdf>:4: ") && lines[0].contains("mass of link `l1` is -1"),
         "{text}"
     );
     assert!(
         lines[1].starts_with("<urdf>:7: ") && lines[1].contains("is zero"),
         "{text}"
+    );
+}
+
+/// The check stage's problems (a cycle, a mimic of a mimic joint) come with the walk's (a
+/// negative mass), at once, in line order, each at the line of the link or joint it is about.
+#[test]
+fn the_check_stages_problems_come_with_the_others_at_once() {
+    let xml = chain_with(&format!(
+        "<link name=\"b\">{}</link>\n\
+         <joint name=\"jb\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/></joint>\n\
+         <link name=\"c\"/>\n\
+         <joint name=\"m1\" type=\"revolute\"><parent link=\"b\"/><child link=\"c\"/><mimic joint=\"ja\"/></joint>\n\
+         <link name=\"d\"/>\n\
+         <joint name=\"m2\" type=\"revolute\"><parent link=\"c\"/><child link=\"d\"/><mimic joint=\"m1\"/></joint>\n\
+         <link name=\"x\"/>\n\
+         <link name=\"y\"/>\n\
+         <joint name=\"xy\" type=\"revolute\"><parent link=\"x\"/><child link=\"y\"/></joint>\n\
+         <joint name=\"yx\" type=\"revolute\"><parent link=\"y\"/><child link=\"x\"/></joint>",
+        inertial(-1.0, "0 0 0", "0 0 0", [0.1, 0.0, 0.0, 0.1, 0.0, 0.1]),
+    ));
+    let e = err(&xml);
+    let text = e.to_string();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(
+        lines,
+        [
+            "<urdf>:6: mass of link `b` is -1: expected zero or a positive number",
+            "<urdf>:11: joint `m2` mimics `m1`, which is a mimic joint itself: mimic the joint \
+             that one follows, with the multipliers and offsets composed",
+            "<urdf>:14: joints form a cycle `y` → `x` → `y`: none of these links is reachable \
+             from a root link; expected a tree hanging from a root link",
+        ]
     );
 }
 
@@ -844,7 +888,7 @@ fn inertias_that_no_body_has_load_with_a_warning_at_the_link() {
     };
     let w = warning([1.0, 0.0, 0.0, 1.0, 0.0, -0.5]);
     assert!(
-        w.contains("link `l1`: its inertia is not positive semi-definite"),
+        w.contains("inertia of link `l1` is not positive semi-definite"),
         "{w}"
     );
     let w = warning([0.1, 0.0, 0.0, 0.1, 0.0, 0.5]);
@@ -899,7 +943,7 @@ fn inertias_are_judged_on_merged_bodies_against_the_models_scale() {
     assert!(
         chain.warnings[0]
             .message
-            .contains("link `l1` (with `camera` welded to it): its inertia breaks the triangle"),
+            .contains("inertia of link `l1` (with `camera` welded to it) breaks the triangle"),
         "{}",
         chain.warnings[0].message
     );
@@ -920,9 +964,9 @@ fn builder_warnings_strict_and_balance() {
     let warnings = Builder::new().urdf(&path, false).warnings().unwrap();
     assert_eq!(warnings.len(), 2, "{warnings:?}");
     assert!(warnings[0].ends_with(
-        "odd_inertia.urdf:4: warning: link `arm` (with `tool` welded to it): its inertia breaks \
-         the triangle inequality: principal moments 0.01 + 0.01 < 0.05: no rigid body has such \
-         an inertia"
+        "odd_inertia.urdf:4: warning: inertia of link `arm` (with `tool` welded to it) breaks \
+         the triangle inequality: principal moments 0.01 + 0.01 < 0.05; expected each moment to \
+         be at most the sum of the other two"
     ));
     let strict = Builder::new().urdf(&path, false).strict().to_source();
     assert!(

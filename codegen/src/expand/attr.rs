@@ -36,10 +36,10 @@ pub(crate) struct Attr {
     pub source: Source,
     /// `scalar = …`, if given.
     pub scalar: Option<ScalarKind>,
-    /// `outputs = […]`, if given.
-    pub outputs: Option<Vec<Output>>,
-    /// `accuracy = fastest | robust`, if given.
-    pub accuracy: Option<Accuracy>,
+    /// `outputs = […]`, if given, sorted, without duplicates, each with its name's token.
+    pub outputs: Option<Vec<(Output, Ident)>>,
+    /// `accuracy = fastest | robust`, if given, with its token.
+    pub accuracy: Option<(Accuracy, Ident)>,
     /// `lock = [joint(q…), …]`: the joints locked, each with its name's token.
     pub locks: Vec<(Ident, Vec<f64>)>,
     /// `keep = [body, …]`, if given.
@@ -209,10 +209,11 @@ fn number(e: &syn::Expr) -> syn::Result<f64> {
     }
 }
 
-/// `accuracy = fastest | robust`.
-fn parse_accuracy(meta: &ParseNestedMeta) -> syn::Result<Accuracy> {
+/// `accuracy = fastest | robust`, with its token.
+fn parse_accuracy(meta: &ParseNestedMeta) -> syn::Result<(Accuracy, Ident)> {
     let name: Ident = meta.value()?.parse()?;
     Accuracy::from_name(&name.to_string())
+        .map(|a| (a, name.clone()))
         .ok_or_else(|| syn::Error::new(name.span(), unknown_accuracy(&name.to_string())))
 }
 
@@ -223,8 +224,8 @@ fn parse_scalar(meta: &ParseNestedMeta) -> syn::Result<ScalarKind> {
         .ok_or_else(|| syn::Error::new(name.span(), unknown_scalar(&name.to_string())))
 }
 
-/// `outputs = [name, …]`, sorted, without duplicates.
-fn parse_outputs(meta: &ParseNestedMeta) -> syn::Result<Vec<Output>> {
+/// `outputs = [name, …]`, sorted, without duplicates, each with its token (the first).
+fn parse_outputs(meta: &ParseNestedMeta) -> syn::Result<Vec<(Output, Ident)>> {
     let value = meta.value()?;
     let content;
     syn::bracketed!(content in value);
@@ -233,7 +234,7 @@ fn parse_outputs(meta: &ParseNestedMeta) -> syn::Result<Vec<Output>> {
     let mut errors: Option<syn::Error> = None;
     for name in &names {
         match Output::named(&name.to_string()) {
-            Some(named) => outputs.extend(named),
+            Some(named) => outputs.extend(named.into_iter().map(|o| (o, name.clone()))),
             None => {
                 let e = syn::Error::new(name.span(), unknown_output(&name.to_string()));
                 match &mut errors {
@@ -246,7 +247,7 @@ fn parse_outputs(meta: &ParseNestedMeta) -> syn::Result<Vec<Output>> {
     if let Some(e) = errors {
         return Err(e);
     }
-    outputs.sort();
-    outputs.dedup();
+    outputs.sort_by_key(|(o, _)| *o);
+    outputs.dedup_by_key(|(o, _)| *o);
     Ok(outputs)
 }

@@ -18,6 +18,7 @@ use syn::{Attribute, Data, DeriveInput, Fields, Ident, LitStr, Visibility};
 use attr::{parse_attr, Source};
 use fallback::fallback;
 
+use crate::check::{self, About};
 use crate::generate::{generate, generate_impls};
 use crate::load::{load_with, FloatingBase, LoadError, LoadOptions};
 use crate::lower::lower;
@@ -193,30 +194,26 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
     if let Some(scalar) = attr.scalar {
         chain.options.scalar = scalar;
     }
-    if let Some(outputs) = attr.outputs {
-        chain.options.outputs = outputs;
+    if let Some(outputs) = &attr.outputs {
+        chain.options.outputs = outputs.iter().map(|(o, _)| *o).collect();
     }
-    if let Some(accuracy) = attr.accuracy {
+    if let Some((accuracy, _)) = attr.accuracy {
         chain.options.accuracy = accuracy;
     }
     chain.options.quasi_static |= attr.quasi_static;
-    let mut names: Vec<&Ident> = Vec::new();
     for (name, q) in &attr.locks {
         chain.options.locks.push((name.to_string(), q.clone()));
-        names.push(name);
     }
     if let Some(keep) = &attr.keep {
         chain.options.keep = Some(keep.iter().map(Ident::to_string).collect());
-        names.extend(keep);
     }
-    // A lock or a kept body that does not fit the model: an error at its name.
-    if let Err(e) = chain.options.scene_model(&chain.model) {
-        let text = e.to_string();
-        let at = names
-            .iter()
-            .find(|n| text.contains(&format!("`{n}`")))
-            .map_or(lit.span(), |n| n.span());
-        return Err(syn::Error::new(at, text));
+    // The check stage on the options the attribute gives the file's model, every problem at the
+    // key that asked for it (at the file's path where the file asked).
+    let problems = check::options(&chain.model, &chain.options);
+    if let Some(e) = check::combined(problems, |about| {
+        attr_span(&attr, about).unwrap_or(lit.span())
+    }) {
+        return Err(e);
     }
     let g = generate_impls(&chain.model, &chain.options, &lit.value())
         .map_err(|e| syn::Error::new(lit.span(), e.to_string()))?;
@@ -228,6 +225,29 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
         #warnings
         #tokens
     })
+}
+
+/// Where in `#[chain(…)]` the problem about `about` was asked for: the name of an output, the
+/// accuracy, a joint locked or a body kept; `None` for what the file says.
+fn attr_span(attr: &attr::Attr, about: &About) -> Option<proc_macro2::Span> {
+    let named = |name: &str| -> Option<&Ident> {
+        let locked = attr.locks.iter().map(|(n, _)| n);
+        locked
+            .chain(attr.keep.iter().flatten())
+            .find(|n| *n == name)
+    };
+    match about {
+        About::Output(o) => attr
+            .outputs
+            .iter()
+            .flatten()
+            .find(|(x, _)| x == o)
+            .map(|(_, n)| n),
+        About::Accuracy => attr.accuracy.as_ref().map(|(_, n)| n),
+        About::Scene(name) => named(name),
+        _ => None,
+    }
+    .map(Ident::span)
 }
 
 /// The loader's warnings as compiler warnings at the file's path in the attribute. Stable Rust

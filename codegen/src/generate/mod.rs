@@ -11,8 +11,9 @@ use articulated_dynamics::model::{Drive, JointKind, Model};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
+use crate::check;
 use crate::emit;
-use crate::options::{Accuracy, Options, Output, ScalarKind};
+use crate::options::{Options, Output, ScalarKind};
 use crate::sym::{OpCounts, Var};
 use crate::trace::{trace_with, Variant};
 
@@ -38,9 +39,9 @@ pub struct FunctionReport {
     pub candidates: Vec<(Variant, OpCounts)>,
 }
 
-/// The most velocity coordinates the generator emits straight-line code for.
-pub const MAX_NV: usize = 160;
-/// The most operations one generated function may take.
+pub use crate::check::MAX_NV;
+/// The most operations one generated function may take (measured once traced: the one size the
+/// check stage cannot judge beforehand).
 pub const MAX_OPS: usize = 150_000;
 
 /// Generates the type and trait impls for `model` (the outputs of `options`, in its scalar).
@@ -52,17 +53,15 @@ pub fn generate(model: &Model, options: &Options) -> syn::Result<Generated> {
     Context::new(&model, options, None).generate(true)
 }
 
-/// The model of the scene `options` describes ([`Options::scene_model`]), as a `syn::Error` at
-/// the call site if it does not fit (the front ends report it at its token first). The model is
-/// checked first ([`Model::check`]): one built by a program (`Builder::model`) has had no front
-/// end to refuse a parent or a mimic joint out of range.
+/// The model of the scene `options` describes ([`Options::scene_model`]), once the check stage
+/// has found nothing wrong with the two ([`check::program`]). The front ends run the check stage
+/// themselves and report its problems at the user's tokens, so what it refuses here, at the call
+/// site, is a description no front end checked: a model a program built (`Builder::model`), or
+/// options changed after loading.
 fn scene(model: &Model, options: &Options) -> syn::Result<Model> {
-    model.check().map_err(|e| {
-        syn::Error::new(
-            Span::call_site(),
-            format!("the model `{}` is invalid: {e}", model.name),
-        )
-    })?;
+    if let Some(e) = check::combined(check::program(model, options), |_| Span::call_site()) {
+        return Err(e);
+    }
     options
         .scene_model(model)
         .map_err(|e| syn::Error::new(Span::call_site(), e.to_string()))
@@ -237,49 +236,16 @@ impl<'a> Context<'a> {
 
     /// The type, its constants, its parameters, its `Chain` impl and one impl per output.
     fn generate(&self, with_struct: bool) -> syn::Result<Generated> {
-        let bottom_up = self
-            .options
-            .outputs
-            .contains(&Output::JointWrenchesBottomUp);
-        if bottom_up && !self.model.is_serial() {
-            return Err(syn::Error::new(
-                Span::call_site(),
-                format!(
-                    "`joint_wrenches_bottom_up` needs a serial chain, and `{}` branches: where a \
-                     body has two children, how the wrench splits between them is not \
-                     determined; use `joint_wrenches` (from the free ends down)",
-                    self.model.name
-                ),
-            ));
-        }
-        let robust_fd = self.options.accuracy == Accuracy::Robust
-            && self.options.outputs.contains(&Output::ForwardDynamics);
-        if let Some(j) = self.model.joints.iter().find(|j| j.mimic.is_some()) {
-            if robust_fd {
-                return Err(syn::Error::new(
-                    Span::call_site(),
-                    format!(
-                        "`accuracy: robust` keeps forward dynamics to ABA, which cannot run with \
-                         mimic joints (`{}` follows another joint, so one coordinate moves two \
-                         branches); use `accuracy: fastest` (CRBA + LᵀDL of the coupled M)",
-                        j.name
-                    ),
-                ));
-            }
-        }
-        if self.nv > MAX_NV {
-            return Err(syn::Error::new(
-                Span::call_site(),
-                format!(
-                    "`{}` has {} velocity coordinates, past the generator's limit of {MAX_NV}: \
-                     straight-line code grows as their square (200 serial joints: a mass matrix \
-                     of 235,000 operations, 1.8 GB to generate); generate what the scene moves \
-                     (`keep: […]`, `lock: […]`) or use the interpreted reference \
-                     (`articulated::interpreted`)",
-                    self.model.name, self.nv
-                ),
-            ));
-        }
+        // The check stage has refused what cannot be generated ([`check::program`]), on the
+        // scene this `model` is.
+        debug_assert!(
+            self.model.is_serial()
+                || !self
+                    .options
+                    .outputs
+                    .contains(&Output::JointWrenchesBottomUp)
+        );
+        debug_assert!(self.nv <= MAX_NV);
         let mut items = Vec::new();
         let mut consts = Vec::new();
         let mut functions = Vec::new();

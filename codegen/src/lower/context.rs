@@ -1,6 +1,6 @@
 //! The error context of lowering: [`Ctxt`] collects every problem found, each spanned at the
 //! offending token, and combines them into one `syn::Error` in source order (as serde_derive's
-//! `internals::Ctxt` does); [`num`] prints the numbers the messages quote.
+//! `internals::Ctxt` does).
 
 use std::fmt;
 
@@ -36,19 +36,4 @@ impl Ctxt {
         }
         Err(first)
     }
-}
-
-/// A number for a message: shortest form, rounded to 9 significant decimals to hide round-off.
-pub(super) fn num(x: f64) -> String {
-    if x == 0.0 {
-        return "0".to_string();
-    }
-    let digits = 9 - x.abs().log10().floor() as i32;
-    let rounded = if (0..=300).contains(&digits) {
-        let p = 10f64.powi(digits);
-        (x * p).round() / p
-    } else {
-        x
-    };
-    format!("{rounded}")
 }

@@ -14,8 +14,9 @@ use syn::punctuated::Punctuated;
 use syn::{Lit, Token};
 
 use super::numbers::NumCtx;
-use super::{visibility, BodyDecl, InertiaDecl, JointDecl, Lower, MimicDecl, Parent};
-use crate::model::{Drive, JointKind, Mimic, Placement, Value, DEFAULT_GRAVITY};
+use super::{visibility, BodyDecl, InertiaDecl, JointDecl, Lower, MimicDecl};
+use crate::check::{self, End};
+use crate::model::{Drive, JointKind, Placement, Value, DEFAULT_GRAVITY};
 use crate::options::{
     one_of, unknown_accuracy, unknown_output, unknown_scalar, Accuracy, Options, Output, ScalarKind,
 };
@@ -175,7 +176,10 @@ impl Lower {
                     _ => None,
                 };
                 match accuracy {
-                    Some(a) => options.accuracy = a,
+                    Some(a) => {
+                        options.accuracy = a;
+                        self.accuracy_token = Some(v.to_token_stream());
+                    }
                     None => self.cx.error(v, unknown_accuracy(&v.to_string())),
                 }
             }
@@ -204,7 +208,15 @@ impl Lower {
                         _ => None,
                     };
                     match named {
-                        Some(named) => outputs.extend(named),
+                        Some(named) => {
+                            for output in named {
+                                // A group's outputs are at the group's name.
+                                self.output_tokens
+                                    .entry(output)
+                                    .or_insert_with(|| e.to_token_stream());
+                                outputs.push(output);
+                            }
+                        }
                         None => self.cx.error(e, unknown_output(&e.to_string())),
                     }
                 }
@@ -418,7 +430,7 @@ impl Lower {
         let (parent, parent_expr) = match f[0] {
             None => {
                 self.missing(&j.name, &owner, "parent");
-                (Parent::Bad, None)
+                (End::Unknown, None)
             }
             Some(f) => (
                 self.parent(&f.value, &owner, body_index, bodies),
@@ -439,7 +451,7 @@ impl Lower {
         let rpy = f[3]
             .and_then(|f| self.vec3(&f.value, "`rpy`", ""))
             .unwrap_or(zero);
-        let drive = self.drive(&f[4..11], kind.as_ref(), &owner);
+        let drive = self.drive(&f[4..11], kind.as_ref(), &j.name.to_string());
         let mimic = self.mimic(&f[11..], &owner);
         JointDecl {
             def: j,
@@ -489,48 +501,44 @@ impl Lower {
         })
     }
 
-    /// Checks each joint's `mimic` against the declared joints: a joint that exists, is not the
-    /// joint itself, mimics nothing itself, and, like the mimic joint, is revolute or prismatic.
-    /// Returns, per joint, the declaration index of the joint it follows.
+    /// Resolves each joint's `mimic` among the declared joints, and checks what it follows
+    /// ([`check::mimic`]). Returns, per joint, the declaration index of the joint it follows.
     pub(super) fn resolve_mimics(&mut self, joints: &[JointDecl]) -> Vec<Option<usize>> {
-        let one_axis = |k: &Option<JointKind>| k.is_some_and(|k| k.has_one_axis());
         let mut out = vec![None; joints.len()];
         for (i, j) in joints.iter().enumerate() {
             let Some(m) = &j.mimic else { continue };
-            let owner = format!("joint `{}`", j.def.name);
             let Some(f) = joints.iter().position(|x| x.def.name == *m.name) else {
                 let names: Vec<String> =
                     joints.iter().map(|x| format!("`{}`", x.def.name)).collect();
                 self.cx.error(
                     m.name,
                     format!(
-                        "{owner} mimics `{}`, which is not a joint: expected one of {}",
+                        "joint `{}` mimics `{}`, which is not a joint: expected one of {}",
+                        j.def.name,
                         m.name,
                         names.join(", ")
                     ),
                 );
                 continue;
             };
-            let problem = if f == i {
-                Some("a joint cannot mimic itself".to_string())
-            } else if joints[f].mimic.is_some() {
-                Some(format!(
-                    "`{}` mimics a joint itself: mimic the joint it follows, with the \
-                     multipliers and offsets composed",
-                    m.name
-                ))
-            } else if !one_axis(&j.kind) || !one_axis(&joints[f].kind) {
-                Some(format!(
-                    "only revolute and prismatic joints mimic and are mimicked (`{}` and {owner})",
-                    m.name
-                ))
-            } else if j.drive.acts_beyond_inertia() {
-                Some(Mimic::DRIVE_PROBLEM.to_string())
-            } else {
-                None
+            // A kind in error is reported already.
+            let (Some(kind), Some(followed_kind)) = (j.kind, joints[f].kind) else {
+                continue;
             };
+            let (joint, followed) = (j.def.name.to_string(), m.name.to_string());
+            let problem = check::mimic(&check::Follow {
+                joint: &joint,
+                kind,
+                followed: &followed,
+                followed_kind,
+                itself: f == i,
+                followed_mimics: joints[f].mimic.is_some(),
+                multiplier: m.multiplier,
+                offset: m.offset,
+                drive: j.drive,
+            });
             match problem {
-                Some(p) => self.cx.error(m.name, format!("{owner}: {p}")),
+                Some(p) => self.cx.error(m.name, p),
                 None => out[i] = Some(f),
             }
         }
@@ -541,7 +549,7 @@ impl Lower {
     /// `velocity`, `effort` (in [`JOINT_FIELDS`]' order; each optional, constants only), checked
     /// by [`Drive::problem`] at the field the problem is about (the other bound if that one is
     /// not given).
-    fn drive(&mut self, f: &[Option<&Field>], kind: Option<&JointKind>, owner: &str) -> Drive {
+    fn drive(&mut self, f: &[Option<&Field>], kind: Option<&JointKind>, name: &str) -> Drive {
         let mut read = |i: usize| {
             let field = f[i]?;
             let name = JOINT_FIELDS[4 + i];
@@ -557,10 +565,10 @@ impl Lower {
             velocity: read(5).unwrap_or(free.velocity),
             effort: read(6).unwrap_or(free.effort),
         };
-        if let Some((about, problem)) = kind.and_then(|kind| drive.problem(kind)) {
+        if let Some((about, problem)) = kind.and_then(|kind| check::drive(name, kind, &drive)) {
             let at = |name: &str| f.iter().flatten().find(|field| field.key == name);
             if let Some(field) = at(about).or_else(|| at("upper")).or_else(|| at("lower")) {
-                self.cx.error(&field.key, format!("{owner}: {problem}"));
+                self.cx.error(&field.key, problem);
             }
         }
         drive
@@ -573,11 +581,11 @@ impl Lower {
         owner: &str,
         body_index: &HashMap<String, usize>,
         bodies: &[BodyDecl],
-    ) -> Parent {
+    ) -> End {
         match e {
-            Expr::Name(n) if n == "world" => Parent::World,
+            Expr::Name(n) if n == "world" => End::World,
             Expr::Name(n) => match body_index.get(&n.to_string()) {
-                Some(&i) => Parent::Body(i),
+                Some(&i) => End::Body(i),
                 None => {
                     self.cx.error(
                         n,
@@ -587,7 +595,7 @@ impl Lower {
                             body_list(bodies)
                         ),
                     );
-                    Parent::Bad
+                    End::Unknown
                 }
             },
             other => {
@@ -598,7 +606,7 @@ impl Lower {
                          `{other}`"
                     ),
                 );
-                Parent::Bad
+                End::Unknown
             }
         }
     }

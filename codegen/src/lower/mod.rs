@@ -1,38 +1,41 @@
-//! Lowering: check a [`ChainDef`] and build the [`Model`] it describes.
+//! Lowering: resolve a [`ChainDef`]'s names and values, have the check stage judge them
+//! ([`crate::check`]), and build the [`Model`] it describes.
 //!
 //! Every problem is reported, not just the first: errors are collected as `syn::Error`s, each at
 //! the offending token, and combined into one (as serde_derive's `Ctxt` does), so the macro
 //! shows them all and [`parse_chain_str`](crate::load::parse_chain_str) lists them all with their
 //! line and column. Messages quote the user's names and say what was expected and what was found.
 //!
-//! What is checked: names (settings, fields, bodies, parameters, outputs, joint kinds, scalars,
-//! axes, Euler sequences), duplicates, the tree (every body the child of exactly one joint and
-//! reachable from `world`), numbers (finite; parameters only standing alone and never in an
-//! axis), masses (positive on every body that moves, never negative), and inertias (symmetric,
-//! positive definite, triangle inequality). Parameters are checked at their default values.
+//! What is checked here: names (settings, fields, bodies, parameters, outputs, joint kinds,
+//! scalars, axes, Euler sequences, the joints mimic joints follow), duplicates, and numbers
+//! (finite; parameters only standing alone and never in an axis). The check stage judges the
+//! rest, at the parameters' defaults: the tree (every body the child of exactly one joint and
+//! reachable from `world`), masses (positive on every body that moves, never negative),
+//! inertias (symmetric, positive definite, triangle inequality), mimic joints, drives, and which
+//! outputs and options go together with the model; `locate` puts each of its problems at the
+//! token it is about. A `.chain` file is written for this project: every problem is an error.
 //!
 //! Here: [`lower`] and the assembly of the [`Description`]. By concern: `context` (the error
-//! context and the numbers messages print), `numbers` (constant folding, parameters, vectors),
-//! `items` (settings, fields, bodies, joints), `kinds` (joint kinds, axes, Euler sequences),
-//! `tree` (parents, cycles, depth-first order) and `mass` (masses, inertias).
+//! context), `numbers` (constant folding, parameters, vectors), `items` (settings, fields,
+//! bodies, joints), `kinds` (joint kinds, axes, Euler sequences), `locate` (the check stage's
+//! problems at their tokens: the tree, masses, inertias).
 
 mod context;
 mod items;
 mod kinds;
-mod mass;
+mod locate;
 mod numbers;
-mod tree;
 
 use std::collections::HashMap;
 
+use proc_macro2::{Ident, TokenStream};
 use quote::ToTokens;
 
+use crate::check::{self, End};
 use crate::model::{Body, Drive, Joint, JointKind, Mimic, Model, Param, Placement, Value};
-use crate::options::{Description, Visibility};
+use crate::options::{Description, Output, Visibility};
 use crate::parse::{BodyDef, ChainDef, Expr, JointDef};
-use articulated_dynamics::prune::PruneError;
 use context::Ctxt;
-use proc_macro2::Ident;
 
 /// Checks `def` and builds its [`Model`]: bodies and joints in depth-first pre-order from the
 /// world (children in joint declaration order), outputs sorted and deduplicated.
@@ -56,14 +59,10 @@ struct Lower {
     param_index: HashMap<String, usize>,
     /// The joints named in `lock` and the bodies named in `keep`, for errors at their tokens.
     scene_names: HashMap<String, Ident>,
-}
-
-/// A parent as resolved: the world, a body (declaration index), or an error already reported.
-#[derive(Clone, Copy, PartialEq)]
-enum Parent {
-    World,
-    Body(usize),
-    Bad,
+    /// Each output named in `outputs`, for errors at its token.
+    output_tokens: HashMap<Output, TokenStream>,
+    /// The value of `accuracy`, for errors at its token.
+    accuracy_token: Option<TokenStream>,
 }
 
 /// A body as declared, with its values read (`None` where an error was reported).
@@ -86,7 +85,8 @@ struct InertiaDecl<'a> {
 struct JointDecl<'a> {
     def: &'a JointDef,
     kind: Option<JointKind>,
-    parent: Parent,
+    /// Its parent: the world, a body (declaration index), or an error already reported.
+    parent: End,
     parent_expr: Option<&'a Expr>,
     child: Option<usize>,
     placement: Placement,
@@ -123,46 +123,64 @@ impl Lower {
             );
         }
 
-        let (order, moving) = self.tree(&bodies, &joints);
-        for (i, b) in bodies.iter().enumerate() {
-            self.mass_properties(b, moving[i]);
+        let tree = self.tree(&bodies, &joints);
+        for (b, &moving) in bodies.iter().zip(&tree.moving) {
+            self.mass_properties(b, moving);
         }
         let followed = self.resolve_mimics(&joints);
-        if self.cx.has_errors() {
-            return None;
-        }
-
-        let (bodies, joints) = renumber(&bodies, &joints, &order, &followed)?;
-        let model = Model {
+        // The model, where the tree is one; the options are judged on it (its scene), or on the
+        // joints as declared where it is not.
+        let built = if tree.problems.is_empty() {
+            renumber(&bodies, &joints, &tree.order, &followed)
+        } else {
+            None
+        };
+        let model = built.map(|(bodies, joints)| Model {
             name: def.name.to_string(),
             gravity,
             params: std::mem::take(&mut self.params),
             bodies,
             joints,
-        };
-        // The scene's pruning must fit the model: a lock or a kept body that does not is an
-        // error at its name.
-        if let Err(e) = options.scene_model(&model) {
-            let name = match &e {
-                PruneError::UnknownJoint(n) | PruneError::UnknownBody(n) => n.clone(),
-                PruneError::Coordinates { joint, .. }
-                | PruneError::Value { joint }
-                | PruneError::Parameter { joint }
-                | PruneError::Mimic { joint } => joint.clone(),
-                PruneError::NotConnected { body, .. } => body.clone(),
-            };
-            match self.scene_names.get(&name) {
-                Some(ident) => self.cx.error(ident, e.to_string()),
-                None => self.cx.error(&def.name, e.to_string()),
+        });
+        let option_problems = match &model {
+            Some(model) => check::options(model, &options),
+            None => {
+                let names: Vec<String> = joints.iter().map(|j| j.def.name.to_string()).collect();
+                check::declared(&def.name.to_string(), &shape(&joints, &names), &options)
             }
+        };
+        let problems = tree.problems.into_iter().chain(option_problems);
+        self.report(problems, def, &bodies, &joints);
+        if self.cx.has_errors() {
             return None;
         }
         Some(Description {
-            model,
+            model: model?,
             options,
             warnings: Vec::new(),
         })
     }
+}
+
+/// The joints as declared, named `names`, for the options' rules where the tree is broken.
+fn shape<'a>(joints: &[JointDecl], names: &'a [String]) -> Vec<check::JointShape<'a>> {
+    joints
+        .iter()
+        .zip(names)
+        .map(|(j, name)| check::JointShape {
+            name,
+            parent: match j.parent {
+                End::World => Some(None),
+                End::Body(p) => Some(Some(p)),
+                End::Unknown => None,
+            },
+            nv: match (&j.mimic, j.kind) {
+                (None, Some(kind)) => kind.nv(),
+                _ => 0,
+            },
+            mimic: j.mimic.is_some(),
+        })
+        .collect()
 }
 
 /// The model's bodies and joints, checked: the depth-first `order` of the joints is the order of
@@ -197,9 +215,9 @@ fn renumber(
             name: decl.def.name.to_string(),
             kind: decl.kind?,
             parent: match decl.parent {
-                Parent::World => None,
-                Parent::Body(p) => Some(new_index[p]),
-                Parent::Bad => return None,
+                End::World => None,
+                End::Body(p) => Some(new_index[p]),
+                End::Unknown => return None,
             },
             placement: decl.placement,
             drive: decl.drive,
@@ -217,17 +235,6 @@ fn renumber(
 }
 
 /// The visibility as written: none, `pub`, `pub(crate)`, `pub(in a::b)`.
-/// The principal moments of a symmetric 3×3 inertia, ascending (for the URDF importer's checks,
-/// the `.chain` rules).
-pub(crate) fn principal_moments(m: &[[f64; 3]; 3]) -> Option<[f64; 3]> {
-    mass::eigenvalues(m)
-}
-
-/// A number as messages print it.
-pub(crate) fn number(x: f64) -> String {
-    context::num(x)
-}
-
 pub(crate) fn visibility(vis: &syn::Visibility) -> Visibility {
     match vis {
         syn::Visibility::Public(_) => Visibility::Public,

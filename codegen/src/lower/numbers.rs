@@ -7,8 +7,8 @@
 use proc_macro2::Ident;
 use syn::Lit;
 
-use super::context::num;
 use super::Lower;
+use crate::check::num;
 use crate::model::{Param, Value};
 use crate::options::one_of;
 use crate::parse::{BinOp, Expr};

@@ -58,8 +58,10 @@
 //! importer does not panic on any input.
 //!
 //! # Layout
-//! Here: [`UrdfError`], [`from_urdf_str`], the checks of links and joints, the tree walk that
-//! merges fixed joints. `frames` holds the transforms and mass properties the walk composes,
+//! Here: [`UrdfError`], [`from_urdf_str`], the links' and joints' names and numbers, the tree
+//! walk that merges fixed joints, and the policy that puts the check stage's problems
+//! ([`crate::check`]: the tree, masses, inertias, mimic joints, drives) at their lines, as
+//! errors or, for the inertias of merged bodies, warnings. `frames` holds the transforms and mass properties the walk composes,
 //! `lines` finds the lines of elements and of parse errors (urdf-rs gives none) with roxmltree.
 
 use std::cell::RefCell;
@@ -72,7 +74,10 @@ use articulated_dynamics::model::{
 };
 use articulated_dynamics::spatial::{Mat3, Vec3};
 
+use crate::check::{self, About, Edge, End, Inertia, Noun, Problem, Roots, Strictness};
 use crate::options::{Description, Options, Warning};
+
+pub use crate::check::INERTIA_ROUNDING;
 
 mod frames;
 mod lines;
@@ -296,13 +301,10 @@ struct Importer {
     balance: bool,
 }
 
-/// The links' tree as the joints describe it: every joint's links defined, no link the child of
-/// two joints.
+/// The links' tree as the joints describe it ([`check::tree`]), with each joint's links.
 struct Tree {
-    /// Per link, the joint whose child it is.
-    parent_joint: Vec<Option<usize>>,
-    /// Per link, the joints whose parent it is, in document order.
-    children: Vec<Vec<usize>>,
+    /// The links' parents, children, roots, and what is wrong with them.
+    checked: check::Tree,
     /// Per joint, its parent link and its child link.
     joint_links: Vec<(usize, usize)>,
 }
@@ -377,11 +379,9 @@ impl Importer {
                 format!("link `{}`: its inertial has a non-finite number", l.name),
             ));
         }
-        if inertial.mass.value < 0.0 {
-            return Err(self.link_error(
-                link,
-                format!("link `{}`: negative mass {}", l.name, inertial.mass.value),
-            ));
+        let m = inertial.mass.value;
+        if let Some(problem) = check::mass("link", &l.name, &check::num(m), m, None) {
+            return Err(self.link_error(link, problem));
         }
         let i_frame = Mat3([
             [t.ixx, t.ixy, t.ixz],
@@ -426,24 +426,6 @@ impl Importer {
                     j.name, m.joint
                 ),
             );
-        } else if let Some(m) = &j.mimic {
-            let one_axis = matches!(j.joint_type, T::Revolute | T::Continuous | T::Prismatic);
-            let (multiplier, offset) = (m.multiplier.unwrap_or(1.0), m.offset.unwrap_or(0.0));
-            let problem = if !one_axis {
-                Some("only revolute, continuous and prismatic joints can mimic".to_string())
-            } else if !(multiplier.is_finite() && offset.is_finite()) {
-                Some(format!(
-                    "its multiplier {multiplier} and offset {offset} must be finite"
-                ))
-            } else {
-                None
-            };
-            if let Some(problem) = problem {
-                return Err(self.joint_error(
-                    joint,
-                    format!("joint `{}` mimics `{}`: {problem}", j.name, m.joint),
-                ));
-            }
         }
         let axis = || -> Result<[f64; 3], UrdfError> {
             let a = *j.axis.xyz;
@@ -519,11 +501,9 @@ impl Importer {
         if l.velocity != 0.0 {
             drive.velocity = l.velocity;
         }
-        match drive.problem(kind) {
+        match check::drive(&j.name, kind, &drive) {
             None => Ok(drive),
-            Some((_, problem)) => {
-                Err(self.joint_error(joint, format!("joint `{}`: {problem}", j.name)))
-            }
+            Some((_, problem)) => Err(self.joint_error(joint, problem)),
         }
     }
 
@@ -536,8 +516,26 @@ impl Importer {
             )));
         }
         let tree = self.tree()?;
-        let root = self.root(&tree)?;
-        let mut built = self.walk(&tree, root, floating)?;
+        // Every problem of the file at once: the tree's, then those the walk finds from the
+        // root (there is none where every link is in a cycle).
+        let mut errors: Vec<UrdfError> = tree
+            .checked
+            .problems
+            .iter()
+            .map(|p| self.located(p))
+            .collect();
+        let built = tree
+            .checked
+            .roots
+            .first()
+            .map(|&root| self.walk(&tree, root, floating, &mut errors));
+        errors.sort_by_key(|e| e.line.unwrap_or(usize::MAX));
+        if let Some(e) = UrdfError::all(errors) {
+            return Err(e);
+        }
+        let Some(mut built) = built else {
+            return Err(UrdfError::new("the robot has no root link"));
+        };
         self.judge_inertias(&mut built);
         let model = Model {
             name: camel_case(&self.robot.name),
@@ -589,20 +587,26 @@ impl Importer {
         let moments: Vec<Option<[f64; 3]>> = built
             .bodies
             .iter()
-            .map(|(_, mp)| crate::lower::principal_moments(&mp.i.0))
+            .map(|(_, mp)| check::principal_moments(&mp.i.0))
             .collect();
         let largest = moments
             .iter()
             .flatten()
             .fold(0.0f64, |a, e| a.max(e[2].abs()));
-        let rounding = INERTIA_ROUNDING * largest;
-        let num = crate::lower::number;
-        for ((name, mp), (links, e)) in built
-            .bodies
-            .iter_mut()
-            .zip(built.body_links.iter().zip(&moments))
-        {
-            let Some(e) = e else { continue };
+        for ((name, mp), links) in built.bodies.iter_mut().zip(&built.body_links) {
+            let Some(problem) =
+                check::inertia(&Inertia::Full(mp.i.0), Strictness::Model { largest })
+            else {
+                continue;
+            };
+            let [a, b, c] = problem.moments();
+            let mean = (a + b + c) / 3.0;
+            if self.balance && mean > 0.0 {
+                // MuJoCo's `balanceinertia`: every principal moment set to their mean, which
+                // is isotropic in any frame.
+                mp.i = Mat3([[mean, 0.0, 0.0], [0.0, mean, 0.0], [0.0, 0.0, mean]]);
+                continue;
+            }
             let merged = match &links[1..] {
                 [] => String::new(),
                 rest => format!(
@@ -613,42 +617,14 @@ impl Importer {
                         .join(", ")
                 ),
             };
-            let problem = if e[0] < -rounding {
-                format!(
-                    "is not positive semi-definite: principal moments {}, {}, {}",
-                    num(e[0]),
-                    num(e[1]),
-                    num(e[2])
-                )
-            } else if e[0] + e[1] < e[2] - rounding.max(1e-9 * e[2]) {
-                format!(
-                    "breaks the triangle inequality: principal moments {} + {} < {}",
-                    num(e[0]),
-                    num(e[1]),
-                    num(e[2])
-                )
-            } else {
-                continue;
-            };
-            let mean = (e[0] + e[1] + e[2]) / 3.0;
-            if self.balance && mean > 0.0 {
-                // MuJoCo's `balanceinertia`: every principal moment set to their mean, which
-                // is isotropic in any frame.
-                mp.i = Mat3([[mean, 0.0, 0.0], [0.0, mean, 0.0], [0.0, 0.0, mean]]);
-                continue;
-            }
-            self.warn(
-                self.link_line(links[0]),
-                format!(
-                    "link `{name}`{merged}: its inertia {problem}: no rigid body has such \
-                     an inertia"
-                ),
-            );
+            let subject = format!("link `{name}`{merged}");
+            self.warn(self.link_line(links[0]), problem.message(&subject));
         }
     }
 
-    /// The tree the joints describe, with every link and joint name defined once, every link a
-    /// joint names defined, and no link the child of two joints.
+    /// The tree the joints describe, with every link and joint name defined once and every link
+    /// a joint names defined (the first problem of these names); then judged by the check stage
+    /// ([`check::tree`]: one root link, no link the child of two joints, no cycle).
     fn tree(&self) -> Result<Tree, UrdfError> {
         let links = &self.robot.links;
         let joints = &self.robot.joints;
@@ -664,11 +640,8 @@ impl Importer {
                 return Err(self.joint_error(k, format!("joint `{}` is defined twice", j.name)));
             }
         }
-        let mut tree = Tree {
-            parent_joint: vec![None; links.len()],
-            children: vec![Vec::new(); links.len()],
-            joint_links: Vec::with_capacity(joints.len()),
-        };
+        let mut joint_links = Vec::with_capacity(joints.len());
+        let mut edges = Vec::with_capacity(joints.len());
         for (k, j) in joints.iter().enumerate() {
             let find = |name: &str, role: &str| {
                 link_index.get(name).copied().ok_or_else(|| {
@@ -683,84 +656,63 @@ impl Importer {
             };
             let p = find(&j.parent.link, "parent")?;
             let c = find(&j.child.link, "child")?;
-            if let Some(other) = tree.parent_joint[c] {
-                return Err(self.joint_error(
-                    k,
-                    format!(
-                        "link `{}` has two parents: joints `{}` and `{}` both name it as child",
-                        links[c].name, joints[other].name, j.name
-                    ),
-                ));
-            }
-            tree.parent_joint[c] = Some(k);
-            tree.children[p].push(k);
-            tree.joint_links.push((p, c));
+            joint_links.push((p, c));
+            edges.push(Edge {
+                parent: End::Body(p),
+                child: Some(c),
+                fixed: matches!(j.joint_type, urdf_rs::JointType::Fixed),
+                duplicate: false,
+            });
         }
-        Ok(tree)
+        let link_names: Vec<String> = links.iter().map(|l| l.name.clone()).collect();
+        let joint_names: Vec<String> = joints.iter().map(|j| j.name.clone()).collect();
+        let checked = check::tree(
+            &edges,
+            &link_names,
+            &joint_names,
+            Roots::OneBody,
+            Noun::Link,
+        );
+        Ok(Tree {
+            checked,
+            joint_links,
+        })
     }
 
-    /// The one link that is no joint's child.
-    fn root(&self, tree: &Tree) -> Result<usize, UrdfError> {
-        let links = &self.robot.links;
-        let roots: Vec<usize> = (0..links.len())
-            .filter(|&k| tree.parent_joint[k].is_none())
-            .collect();
-        match roots.as_slice() {
-            [] => Err(self.cycle_error(tree, 0)),
-            [r] => Ok(*r),
-            [a, b, ..] => Err(self.link_error(
-                *b,
-                format!(
-                    "two root links (links that are no joint's child): `{}` and `{}`; a \
-                     URDF robot is one tree",
-                    links[*a].name, links[*b].name
-                ),
-            )),
-        }
-    }
-
-    /// The error for a cycle above link `start`: follow parents until a link repeats; that link
-    /// is on the cycle.
-    fn cycle_error(&self, tree: &Tree, start: usize) -> UrdfError {
-        let joints = &self.robot.joints;
-        let mut seen = vec![false; self.robot.links.len()];
-        let mut l = start;
-        while !seen[l] {
-            seen[l] = true;
-            match tree.parent_joint[l] {
-                Some(j) => l = tree.joint_links[j].0,
-                None => break,
-            }
-        }
-        let j = tree.parent_joint[l].unwrap_or(0);
-        self.joint_error(
-            j,
-            format!(
-                "the joints form a cycle through link `{}` (joint `{}`)",
-                self.robot.links[l].name,
-                joints.get(j).map_or("", |j| j.name.as_str())
-            ),
-        )
+    /// A problem of the check stage as an error at the line of the link or joint it is about.
+    fn located(&self, p: &Problem) -> UrdfError {
+        let line = match p.about {
+            About::Body(l) if l < self.robot.links.len() => self.link_line(l),
+            About::Parent(j) | About::Child(j) if j < self.robot.joints.len() => self.joint_line(j),
+            _ => None,
+        };
+        UrdfError::new(p.message.clone()).at(line)
     }
 
     /// The bodies and joints in depth-first order from `root`, children in document order:
     /// a movable joint starts a body, a fixed joint welds its child link to the body above (or,
     /// above the first movable joint of a fixed base, to the world, dropping its mass).
-    fn walk(&self, tree: &Tree, root: usize, floating: FloatingBase) -> Result<Built, UrdfError> {
+    ///
+    /// Every problem of the links and joints reached is pushed to `errors`: a link or joint in
+    /// error is noted and the walk goes on (the joint as if fixed, the link as if massless).
+    /// The check stage has judged the tree: each link is the child of one listed joint at
+    /// most, and is reached once.
+    fn walk(
+        &self,
+        tree: &Tree,
+        root: usize,
+        floating: FloatingBase,
+        errors: &mut Vec<UrdfError>,
+    ) -> Built {
         let joints = &self.robot.joints;
         let mut built = Built::default();
-        let mut reached = vec![false; self.robot.links.len()];
-        reached[root] = true;
         // (joint, body the joint's parent link is welded to, that link's frame in the body's).
         let mut stack: Vec<(usize, Option<usize>, Transform)> = Vec::new();
         let push_children = |stack: &mut Vec<_>, link: usize, body: Option<usize>, t: Transform| {
-            for &j in tree.children[link].iter().rev() {
+            for &j in tree.checked.children[link].iter().rev() {
                 stack.push((j, body, t));
             }
         };
-        // Every problem of the file at once: a link or joint in error is noted and the walk
-        // goes on (the joint as if fixed, the link as if massless).
-        let mut errors = Vec::new();
         let mass_of = |link: usize, errors: &mut Vec<UrdfError>| {
             self.link_mass(link).unwrap_or_else(|e| {
                 errors.push(e);
@@ -769,7 +721,7 @@ impl Importer {
         };
         let root_body = if floating.is_floating() {
             let name = self.robot.links[root].name.clone();
-            built.bodies.push((name, mass_of(root, &mut errors)));
+            built.bodies.push((name, mass_of(root, errors)));
             built.body_links.push(vec![root]);
             built.joints.push(Joint {
                 name: "root_joint".into(),
@@ -784,21 +736,17 @@ impl Importer {
             });
             Some(0)
         } else {
-            mass_of(root, &mut errors); // checked, then dropped with the world
+            mass_of(root, errors); // checked, then dropped with the world
             None
         };
         push_children(&mut stack, root, root_body, Transform::IDENTITY);
         while let Some((j, body, t)) = stack.pop() {
             let child = tree.joint_links[j].1;
-            if reached[child] {
-                return Err(self.cycle_error(tree, child));
-            }
-            reached[child] = true;
             let kind = self.joint_kind(j).unwrap_or_else(|e| {
                 errors.push(e);
                 None
             });
-            let mass = mass_of(child, &mut errors);
+            let mass = mass_of(child, errors);
             let origin = Transform::from_pose(&joints[j].origin);
             let frame = t.then(&origin);
             match kind {
@@ -846,37 +794,21 @@ impl Importer {
                 }
             }
         }
-        if let Some(k) = reached.iter().position(|r| !r) {
-            errors.push(self.cycle_error(tree, k));
-        }
-        if let Err(e) = self.resolve_mimics(&mut built) {
-            errors.push(e);
-        }
-        match UrdfError::all(errors) {
-            Some(e) => Err(e),
-            None => Ok(built),
-        }
+        self.resolve_mimics(&mut built, errors);
+        built
     }
 
     /// Points each mimic joint at the model joint it follows, once every joint has its place.
-    fn resolve_mimics(&self, built: &mut Built) -> Result<(), UrdfError> {
+    /// Every problem is pushed to `errors` ([`check::mimic`], at the mimic joint's line).
+    fn resolve_mimics(&self, built: &mut Built, errors: &mut Vec<UrdfError>) {
         for &(b, j) in &built.mimics {
             let urdf = &self.robot.joints[j];
             let Some(m) = &urdf.mimic else { continue };
-            let error = |why: &str| {
-                self.joint_error(
-                    j,
-                    format!("joint `{}` mimics `{}`, {why}", urdf.name, m.joint),
-                )
-            };
-            let followed = match built.joints.iter().position(|x| x.name == m.joint) {
-                Some(f) => f,
-                None if self.robot.joints.iter().any(|x| x.name == m.joint) => {
-                    return Err(error(
-                        "which is fixed: only revolute, continuous and prismatic joints can be \
-                         mimicked",
-                    ))
-                }
+            // A joint of the file that is not one of the model's is fixed (merged away).
+            let followed = built.joints.iter().position(|x| x.name == m.joint);
+            let followed_kind = match followed {
+                Some(f) => built.joints[f].kind,
+                None if self.robot.joints.iter().any(|x| x.name == m.joint) => JointKind::Fixed,
                 None => {
                     // Alex's hands name joints their file does not have. As Pinocchio loads
                     // it: the joint moves on its own, with its own limits.
@@ -889,37 +821,39 @@ impl Importer {
                         ),
                     );
                     let kind = built.joints[b].kind;
-                    built.joints[b].drive = self.drive(j, &kind)?;
+                    match self.drive(j, &kind) {
+                        Ok(drive) => built.joints[b].drive = drive,
+                        Err(e) => errors.push(e),
+                    }
                     continue;
                 }
             };
-            if followed == b {
-                return Err(error("itself"));
-            }
-            if built.mimics.iter().any(|&(other, _)| other == followed) {
-                return Err(error(
-                    "which is a mimic joint itself: mimic the joint that one follows, with the \
-                     multipliers and offsets composed",
-                ));
-            }
-            if !built.joints[followed].kind.has_one_axis() {
-                return Err(error(
-                    "which is not revolute, continuous or prismatic: only those can be mimicked",
-                ));
-            }
-            built.joints[b].mimic = Some(Mimic {
-                joint: followed,
+            let mimic = Mimic {
+                joint: followed.unwrap_or(b),
                 multiplier: m.multiplier.unwrap_or(1.0),
                 offset: m.offset.unwrap_or(0.0),
+            };
+            let problem = check::mimic(&check::Follow {
+                joint: &urdf.name,
+                kind: built.joints[b].kind,
+                followed: &m.joint,
+                followed_kind,
+                itself: followed == Some(b),
+                followed_mimics: built
+                    .mimics
+                    .iter()
+                    .any(|&(other, _)| Some(other) == followed),
+                multiplier: mimic.multiplier,
+                offset: mimic.offset,
+                drive: built.joints[b].drive,
             });
+            match problem {
+                Some(p) => errors.push(self.joint_error(j, p)),
+                None => built.joints[b].mimic = Some(mimic),
+            }
         }
-        Ok(())
     }
 }
-
-/// A principal moment of a moving body may be negative by this fraction of the model's largest
-/// principal moment and pass as rounding (16 ε).
-pub const INERTIA_ROUNDING: f64 = 16.0 * f64::EPSILON;
 
 /// A placement of constants.
 fn placement(xyz: [f64; 3], rpy: [f64; 3]) -> Placement {
