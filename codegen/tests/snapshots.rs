@@ -1,0 +1,55 @@
+//! The emitted code of four small descriptions, as `articulated expand` prints it, locked by
+//! snapshots (`insta`), beside the two-link's (`tests/tests/generated_scalar.rs`): every change to
+//! generated code shows in review as a diff of these files. Each covers what the others do not:
+//! a branching tree (the tree's `M` and its sparse `LᵀDL`), a free quaternion base (the falling
+//! cat: the quaternion's normalization and the base's body-frame velocities), `f32` (literals,
+//! `mul_add` and the pivot tolerances in that scalar) and a derivative output.
+//!
+//! After an intended change: `cargo insta review` (or `INSTA_UPDATE=always cargo test -p
+//! articulated-codegen --test snapshots`), then read the diff.
+
+use std::path::Path;
+
+use articulated_codegen::generate::generate_file;
+use articulated_codegen::load::load;
+use articulated_codegen::options::{Output, ScalarKind};
+
+/// `articulated expand MODEL` with the given scalar and outputs (the file's own where `None`).
+fn expand(rel: &str, scalar: Option<ScalarKind>, outputs: Option<&[Output]>) -> String {
+    let path = format!("{}/../{rel}", env!("CARGO_MANIFEST_DIR"));
+    let mut chain = load(Path::new(&path), false).unwrap_or_else(|e| panic!("{e}"));
+    if let Some(scalar) = scalar {
+        chain.options.scalar = scalar;
+    }
+    if let Some(outputs) = outputs {
+        chain.options.set_outputs(outputs.iter().copied());
+    }
+    generate_file(&chain.model, &chain.options, rel).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn branching_tree() {
+    insta::assert_snapshot!(expand("models/tree.chain", None, None));
+}
+
+#[test]
+fn free_quaternion_base() {
+    let outputs = [Output::MassMatrix, Output::Bias, Output::ForwardDynamics];
+    insta::assert_snapshot!(expand("models/falling_cat.chain", None, Some(&outputs)));
+}
+
+#[test]
+fn f32_forward_dynamics() {
+    let outputs = [Output::Gravity, Output::ForwardDynamics];
+    insta::assert_snapshot!(expand(
+        "models/double_pendulum.chain",
+        Some(ScalarKind::F32),
+        Some(&outputs)
+    ));
+}
+
+#[test]
+fn inverse_dynamics_derivatives() {
+    let outputs = [Output::InverseDynamicsDerivatives];
+    insta::assert_snapshot!(expand("models/double_pendulum.chain", None, Some(&outputs)));
+}
