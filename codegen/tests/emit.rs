@@ -87,6 +87,7 @@ fn q_input(v: Var) -> TokenStream {
 fn wrap(name: &str, scalar: ScalarKind, e: &Emitted) -> TokenStream {
     let name = format_ident!("{}", name);
     let Emitted {
+        uses,
         statements,
         outputs,
         ..
@@ -103,6 +104,7 @@ fn wrap(name: &str, scalar: ScalarKind, e: &Emitted) -> TokenStream {
     quote! {
         /// Mass matrix of the planar two-link arm (generated).
         pub fn #name #generics (q: &[#ty; 2]) -> [[#ty; 2]; 2] {
+            #uses
             #statements
             [[#m00, #m01], [#m10, #m11]]
         }

@@ -39,6 +39,9 @@ use sines::{MathFn, Trig};
 /// Straight-line code for some outputs of a graph (see [`straight_line`]).
 #[derive(Clone, Debug)]
 pub struct Emitted {
+    /// The `use` of the fused multiply-add the statements call (`use …::mul_add;`), if any: the
+    /// function states it first, before its statements.
+    pub uses: TokenStream,
     /// One `let` per live operation (constants and inputs are used in place), in dependency
     /// order; a sine and a cosine of the same argument share one `let (s, c) = …;`.
     pub statements: TokenStream,
@@ -527,15 +530,18 @@ impl<'g> Writer<'g> {
             true => with_boundaries(stmts, &batch),
             false => stmts,
         };
-        let mut statements = self.bind(stmts, &kept)?;
-        if !self.fused.is_empty() {
-            let path = match self.scalar {
-                ScalarKind::F32 => quote!(::articulated::math::mul_addf),
-                _ => quote!(::articulated::math::mul_add),
-            };
-            statements = quote!(use #path; #statements);
-        }
+        let statements = self.bind(stmts, &kept)?;
+        let uses = match (self.fused.is_empty(), self.scalar) {
+            (true, _) => TokenStream::new(),
+            (false, ScalarKind::F32) => quote!(
+                use ::articulated::math::mul_addf;
+            ),
+            (false, _) => quote!(
+                use ::articulated::math::mul_add;
+            ),
+        };
         Ok(Emitted {
+            uses,
             statements,
             outputs: outputs
                 .iter()

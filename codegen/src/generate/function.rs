@@ -8,9 +8,9 @@ use super::{docs, Context};
 use crate::emit::{self, Emitted};
 use crate::options::{Output, ScalarKind};
 use crate::outputs::{Arg, Dim, Order, Part};
-use crate::sym::{Node, Var};
+use crate::sym::{Node, Sym, Var};
 use crate::trace::{
-    lower_triangle, Traced, PIVOT_TOL_F32, PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_ABA_F32,
+    lower_triangle, Pivots, Traced, PIVOT_TOL_F32, PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_ABA_F32,
     PIVOT_TOL_GLOBAL_ABA_F64, PIVOT_TOL_GLOBAL_F64,
 };
 
@@ -19,12 +19,12 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
     let sunk = sink(cx, traced);
     let emitted = emit::straight_line_into(
         &traced.graph,
-        &traced.all_outputs(),
+        &outputs(cx, traced),
         cx.options.scalar,
         &|var| cx.input(var),
         sunk.as_ref().map(|k| &k.sink),
     )?;
-    let used = Used::of(traced, cx.nq, cx.nv);
+    let used = Used::of(traced, &outputs(cx, traced), cx.nq, cx.nv);
     let Signature {
         trait_,
         arguments,
@@ -56,7 +56,7 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
         .into_iter()
         .map(|d| quote!(#[doc = #d]));
     let p_arg = if used.params { quote!(p) } else { quote!(_p) };
-    let statements = &emitted.statements;
+    let (uses, statements) = (&emitted.uses, &emitted.statements);
     // A scalar result is the last `let`, named after what it is (`kinetic_energy`): returning
     // the name reads better than inlining its expression, which is what clippy would have.
     let allow = if matches!(
@@ -72,6 +72,7 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
             #(#doc)*
             #allow
             fn #function(#(#args)* #p_arg: &#params_ty, #after_params) #ret {
+                #uses
                 #(#inputs)*
                 #declare
                 #statements
@@ -355,6 +356,32 @@ fn columns(cx: &Context, values: &[TokenStream], rows: usize) -> TokenStream {
     }
 }
 
+/// The pivots' tolerances in this scalar: against each unreduced value, and against their sum
+/// (the trace), which an `f32` `LᵀDL` has none of (see `PIVOT_TOL_GLOBAL_F64`).
+fn tolerances(cx: &Context, pivots: &Pivots) -> (f64, Option<f64>) {
+    let f32 = cx.options.scalar == ScalarKind::F32;
+    match (f32, pivots.aba) {
+        (true, false) => (PIVOT_TOL_F32, None),
+        (true, true) => (PIVOT_TOL_F32, Some(PIVOT_TOL_GLOBAL_ABA_F32)),
+        (false, false) => (PIVOT_TOL_F64, Some(PIVOT_TOL_GLOBAL_F64)),
+        (false, true) => (PIVOT_TOL_F64, Some(PIVOT_TOL_GLOBAL_ABA_F64)),
+    }
+}
+
+/// What the function computes: the values, each pivot and its unreduced value, and the sum of
+/// those where a check reads it.
+fn outputs(cx: &Context, traced: &Traced) -> Vec<Sym> {
+    let mut all = traced.all_outputs();
+    if traced
+        .pivots
+        .as_ref()
+        .is_some_and(|p| tolerances(cx, p).1.is_none())
+    {
+        all.pop();
+    }
+    all
+}
+
 /// One `if` per pivot that can fail: positive relative to its unreduced value and to the sum of
 /// them all. A check whose outcome the constants already settle is decided here: a pivot that is
 /// a constant passing against a constant needs no local test, and one that is its own unreduced
@@ -363,23 +390,21 @@ fn pivot_checks(cx: &Context, traced: &Traced, emitted: &Emitted) -> Vec<TokenSt
     let Some(pivots) = &traced.pivots else {
         return Vec::new();
     };
-    let f32 = cx.options.scalar == ScalarKind::F32;
-    // An `f32` `LᵀDL` has no test against the trace: see `PIVOT_TOL_GLOBAL_F64`.
-    let (tol, tol_global) = match (f32, pivots.aba) {
-        (true, false) => (PIVOT_TOL_F32, None),
-        (true, true) => (PIVOT_TOL_F32, Some(PIVOT_TOL_GLOBAL_ABA_F32)),
-        (false, false) => (PIVOT_TOL_F64, Some(PIVOT_TOL_GLOBAL_F64)),
-        (false, true) => (PIVOT_TOL_F64, Some(PIVOT_TOL_GLOBAL_ABA_F64)),
-    };
+    let (tol, tol_global) = tolerances(cx, pivots);
     let constant = |s| match traced.graph.node(s) {
         Node::Const(x) => Some(x),
         _ => None,
     };
     let n = traced.values.len();
     let exprs = &emitted.outputs[n..];
-    let scale_expr = &exprs[2 * pivots.pairs.len()];
+    // Emitted only where a check reads it (`outputs`).
+    let scale_expr = exprs
+        .get(2 * pivots.pairs.len())
+        .cloned()
+        .unwrap_or_default();
     let scale_const = constant(pivots.scale);
     let mut checks = Vec::new();
+    let (mut uses_local, mut uses_global) = (false, false);
     if let Some(k) = pivots.singular {
         // Decided by the generator (`trace::singular_everywhere`); the function's docs say so.
         let k = Literal::usize_unsuffixed(k);
@@ -399,8 +424,8 @@ fn pivot_checks(cx: &Context, traced: &Traced, emitted: &Emitted) -> Vec<TokenSt
                 Some(quote!(#pe > #zero))
             }
             _ => {
-                let t = cx.lit(tol);
-                Some(quote!(::articulated::__private::positive_pivot(#pe, #de, #t)))
+                uses_local = true;
+                Some(quote!(::articulated::__private::positive_pivot(#pe, #de, PIVOT_TOL)))
             }
         };
         let global = match (p_const, scale_const, tol_global) {
@@ -410,9 +435,13 @@ fn pivot_checks(cx: &Context, traced: &Traced, emitted: &Emitted) -> Vec<TokenSt
             // slender leaf 1e12 below the rest passes.
             _ if pivots.exact[k] => None,
             (Some(pv), Some(sv), Some(tol_global)) if pv > tol_global * sv => None,
-            (_, _, Some(tol_global)) => {
-                let t = cx.lit(tol_global);
-                Some(quote!(::articulated::__private::positive_pivot(#pe, #scale_expr, #t)))
+            (_, _, Some(_)) => {
+                uses_global = true;
+                Some(quote!(::articulated::__private::positive_pivot(
+                    #pe,
+                    #scale_expr,
+                    PIVOT_TOL_TRACE
+                )))
             }
         };
         let condition = match (local, global) {
@@ -427,7 +456,26 @@ fn pivot_checks(cx: &Context, traced: &Traced, emitted: &Emitted) -> Vec<TokenSt
             }
         });
     }
-    checks
+    // The tolerances by name where a check reads them (`M` is singular where a pivot is not
+    // above `PIVOT_TOL` of its unreduced value, or `PIVOT_TOL_TRACE` of the trace): constants,
+    // or in a generic scalar the values converted once.
+    let scalar = &cx.scalar;
+    let declare = |name: TokenStream, tol: f64| {
+        let value = cx.lit(tol);
+        match cx.options.scalar {
+            ScalarKind::Generic => quote!(#[allow(non_snake_case)] let #name: #scalar = #value;),
+            _ => quote!(const #name: #scalar = #value;),
+        }
+    };
+    let mut declared = Vec::new();
+    if uses_local {
+        declared.push(declare(quote!(PIVOT_TOL), tol));
+    }
+    if let (true, Some(tol_global)) = (uses_global, tol_global) {
+        declared.push(declare(quote!(PIVOT_TOL_TRACE), tol_global));
+    }
+    declared.extend(checks);
+    declared
 }
 
 /// `let [[q0, _, q2]] = q.data.0;` binding the inputs a function uses (`_` for the others, so
@@ -456,7 +504,7 @@ struct Used {
 }
 
 impl Used {
-    fn of(t: &Traced, nq: usize, nv: usize) -> Used {
+    fn of(t: &Traced, outputs: &[Sym], nq: usize, nv: usize) -> Used {
         let mut u = Used {
             q: vec![false; nq],
             v: vec![false; nv],
@@ -472,7 +520,7 @@ impl Used {
             ],
             params: false,
         };
-        for s in t.graph.live(&t.all_outputs()) {
+        for s in t.graph.live(outputs) {
             if let Node::Input(var) = t.graph.node(s) {
                 match var {
                     Var::Q(i) => u.q[i] = true,
