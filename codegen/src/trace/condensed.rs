@@ -34,7 +34,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use articulated_dynamics::model::Model;
-use articulated_dynamics::reference::Tree;
+use articulated_dynamics::reference::{ltdl_factor_of, Tree};
 use articulated_dynamics::spatial::{Force, Inertia, Mat6, Motion, Transform};
 use articulated_dynamics::Scalar;
 
@@ -110,28 +110,10 @@ fn subtree_coordinates(tree: &Tree<Sym>, c: usize) -> core::ops::Range<usize> {
 }
 
 /// `LᵀDL` of the rows and columns `idx` of `m` (row-major `nv × nv`, its lower triangle read),
-/// eliminating from the last of `idx`: `L` below the diagonal and `D` on it, in place, labelled
-/// with the global coordinates.
+/// eliminating from the last of `idx`: the reference's factorization, its structural zeros
+/// skipped.
 fn factor(m: &mut [Sym], nv: usize, idx: &[usize]) {
-    for (a, &k) in idx.iter().enumerate().rev() {
-        let d = m[k * nv + k].label(format_args!("d_{k}"));
-        m[k * nv + k] = d;
-        for (bi, &i) in idx[..a].iter().enumerate().rev() {
-            let mki = m[k * nv + i];
-            if mki.constant() == Some(0.0) {
-                continue;
-            }
-            let l = (mki / d).label(format_args!("l_{k}_{i}"));
-            for &j in &idx[..=bi] {
-                let mkj = m[k * nv + j];
-                if mkj.constant() == Some(0.0) {
-                    continue;
-                }
-                m[i * nv + j] = (m[i * nv + j] - mkj * l).label(format_args!("m_{i}_{j}_less_{k}"));
-            }
-            m[k * nv + i] = l;
-        }
-    }
+    ltdl_factor_of(m, nv, idx, |x| x.constant() == Some(0.0));
 }
 
 /// `L⁻ᵀ·b` for the factor of `idx` ([`factor`]): `w_i = b_i − Σ_{k > i} L_ki·w_k`.

@@ -50,22 +50,39 @@ pub fn ltdl_solve<T: Scalar>(m: Vec<T>, b: Vec<T>, n: usize) -> (Vec<T>, Vec<(T,
 /// it came from (RBDA Table 6.3).
 pub fn ltdl_factor<T: Scalar>(mut m: Vec<T>, n: usize) -> (Vec<T>, Vec<(T, T)>) {
     let unreduced: Vec<T> = (0..n).map(|k| m[k * n + k]).collect();
-    for k in (0..n).rev() {
-        let d = m[k * n + k];
-        // `i` descends, as in RBDA Table 6.3: row k's entries left of `i` are still unscaled
-        // when the update of row `i` reads them.
-        for i in (0..k).rev() {
-            let a = m[k * n + i] / d;
-            for j in 0..=i {
-                m[i * n + j] =
-                    (m[i * n + j] - m[k * n + j] * a).label(format_args!("m_{i}_{j}_less_{k}"));
-            }
-            m[k * n + i] = a.label(format_args!("l_{k}_{i}"));
-        }
-        m[k * n + k] = d.label(format_args!("d_{k}"));
-    }
+    let all: Vec<usize> = (0..n).collect();
+    ltdl_factor_of(&mut m, n, &all, |_| false);
     let pivots = (0..n).map(|k| (m[k * n + k], unreduced[k])).collect();
     (m, pivots)
+}
+
+/// [`ltdl_factor`] of the rows and columns `idx` of `m` (row-major `n × n`, its lower triangle
+/// read; `idx` ascending), in place: `L` below the diagonal and `D` on it, labelled with the
+/// coordinates of `m`. An entry `zero` says is zero is skipped (the generator's symbolic zeros:
+/// the same result, traced faster). The condensed forward dynamics factors each subtree this
+/// way (`articulated_codegen::trace::condensed`).
+pub fn ltdl_factor_of<T: Scalar>(m: &mut [T], n: usize, idx: &[usize], zero: impl Fn(T) -> bool) {
+    for (a, &k) in idx.iter().enumerate().rev() {
+        let d = m[k * n + k].label(format_args!("d_{k}"));
+        m[k * n + k] = d;
+        // `i` descends, as in RBDA Table 6.3: row k's entries left of `i` are still unscaled
+        // when the update of row `i` reads them.
+        for (b, &i) in idx[..a].iter().enumerate().rev() {
+            let mki = m[k * n + i];
+            if zero(mki) {
+                continue;
+            }
+            let l = (mki / d).label(format_args!("l_{k}_{i}"));
+            for &j in &idx[..=b] {
+                let mkj = m[k * n + j];
+                if zero(mkj) {
+                    continue;
+                }
+                m[i * n + j] = (m[i * n + j] - mkj * l).label(format_args!("m_{i}_{j}_less_{k}"));
+            }
+            m[k * n + i] = l;
+        }
+    }
 }
 
 /// A factorization from [`ltdl_factor`] with the reciprocals of its pivots, to solve many

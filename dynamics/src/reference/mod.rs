@@ -38,7 +38,7 @@ use nalgebra::{DMatrix, DVector, Vector3, Vector6};
 
 pub use aba::{aba, AbaOutput};
 pub use crba::{composite_inertias_with, crba, crba_columns, crba_with};
-pub use ltdl::{ltdl_factor, ltdl_solve, Ltdl};
+pub use ltdl::{ltdl_factor, ltdl_factor_of, ltdl_solve, Ltdl};
 pub use rnea::{bottom_up, inertial_forces, joint_forces, node_forces, project, rnea, transmit};
 pub use tree::{Node, NodeJoint, Tree};
 
