@@ -18,6 +18,11 @@ use articulated_dynamics::prune::{self, PruneError};
 
 pub use crate::outputs::Output;
 
+/// The name of `x` in a table of every value with its name (each value stands in it once).
+fn name_in<T: PartialEq>(all: &[(T, &'static str)], x: T) -> &'static str {
+    all.iter().find(|(y, _)| *y == x).map_or("", |(_, n)| n)
+}
+
 /// Which scalar the generated code computes in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ScalarKind {
@@ -45,11 +50,7 @@ impl ScalarKind {
 
     /// Its name in the grammar.
     pub fn name(self) -> &'static str {
-        match self {
-            ScalarKind::F64 => "f64",
-            ScalarKind::F32 => "f32",
-            ScalarKind::Generic => "generic",
-        }
+        name_in(&Self::ALL, self)
     }
 }
 
@@ -83,10 +84,7 @@ impl Accuracy {
 
     /// Its name in the grammar.
     pub fn name(self) -> &'static str {
-        match self {
-            Accuracy::Fastest => "fastest",
-            Accuracy::Robust => "robust",
-        }
+        name_in(&Self::ALL, self)
     }
 }
 
