@@ -21,8 +21,12 @@
 //!    output several ways, the fewest operations kept;
 //! 5. `optimize`: sums regrouped by arrival time, constants rounded for `f32`;
 //! 6. `emit`: straight-line Rust, one named `let` per operation;
-//! 7. `generate`: the type and its trait impls;
+//! 7. `generate`: the type and its trait impls; stages 4–6 run inside it, one output at a time
+//!    (`generate::Context::function` reads as that pipeline, in one short function);
 //! 8. `expand`: the macros' expansions, with a stand-in after an error.
+//!
+//! Each output is described once, in [`outputs`]: its name, trait, arguments, result and docs;
+//! stages 7 and 8 and the runtime's traits read it there.
 //!
 //! The modules of stages 3–6 and 8 are internals, public for the CLI, the tests and the
 //! benchmarks, and hidden from these docs.

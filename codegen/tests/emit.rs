@@ -448,12 +448,13 @@ fn emitted_code_builds_passes_clippy_and_matches_eval() {
             ]
         });
         let ce = emit::straight_line(&cg, &co, ScalarKind::F64, &q_input).unwrap();
-        let (cs, cv) = (&ce.statements, &ce.outputs);
+        let (cu, cs, cv) = (&ce.uses, &ce.statements, &ce.outputs);
         quote! {
             #f64s
             #f32s
             /// Constants (generated).
             pub fn constants(q: &[f64; 1]) -> [f64; 10] {
+                #cu
                 #cs
                 [#(#cv),*]
             }

@@ -250,36 +250,10 @@ impl<'a> Context<'a> {
         let mut consts = Vec::new();
         let mut functions = Vec::new();
         for &output in &self.options.outputs {
-            let traced = trace_with(
-                self.model,
-                output,
-                self.options.accuracy,
-                self.options.quasi_static,
-            );
-            let ops = traced.ops();
-            if ops.total() > MAX_OPS {
-                return Err(syn::Error::new(
-                    Span::call_site(),
-                    format!(
-                        "`{}` of `{}` takes {} operations, past the generator's limit of \
-                         {MAX_OPS} per function (the compiler would take minutes on it); \
-                         generate fewer outputs, or what the scene moves (`keep: […]`, \
-                         `lock: […]`)",
-                        output.name(),
-                        self.model.name,
-                        ops.total()
-                    ),
-                ));
-            }
-            self.finite_at_rest(&traced)?;
-            items.push(function::item(self, &traced)?);
-            consts.push(ops_const(output, &ops));
-            functions.push(FunctionReport {
-                output,
-                ops,
-                variant: traced.variant,
-                candidates: traced.candidates,
-            });
+            let (item, ops, report) = self.function(output)?;
+            items.push(item);
+            consts.push(ops);
+            functions.push(report);
         }
         let the_struct = if with_struct {
             self.struct_item()
@@ -310,6 +284,40 @@ impl<'a> Context<'a> {
             #(#items)*
         };
         Ok(Generated { tokens, functions })
+    }
+
+    /// One output through the pipeline: traced every way there is, each trace optimized and
+    /// the fewest operations kept ([`trace_with`]: the recursions over a symbolic scalar, then
+    /// `crate::optimize`), held to the size limit and to finite constants, then emitted as
+    /// straight-line code in its trait impl ([`function::item`]: `crate::emit`, the signature
+    /// and result from `crate::outputs`, the docs). Returns the impl, its `*_OPS` constant and
+    /// its figures.
+    fn function(&self, output: Output) -> syn::Result<(TokenStream, TokenStream, FunctionReport)> {
+        let (accuracy, quasi_static) = (self.options.accuracy, self.options.quasi_static);
+        let traced = trace_with(self.model, output, accuracy, quasi_static);
+        let ops = traced.ops();
+        if ops.total() > MAX_OPS {
+            return Err(syn::Error::new(
+                Span::call_site(),
+                format!(
+                    "`{}` of `{}` takes {} operations, past the generator's limit of {MAX_OPS} \
+                     per function (the compiler would take minutes on it); generate fewer \
+                     outputs, or what the scene moves (`keep: […]`, `lock: […]`)",
+                    output.name(),
+                    self.model.name,
+                    ops.total()
+                ),
+            ));
+        }
+        self.finite_at_rest(&traced)?;
+        let item = function::item(self, &traced)?;
+        let report = FunctionReport {
+            output,
+            ops,
+            variant: traced.variant,
+            candidates: traced.candidates,
+        };
+        Ok((item, ops_const(output, &ops), report))
     }
 
     /// The unit struct, with the user's docs and a summary.
