@@ -23,10 +23,38 @@ use std::time::Duration;
 
 use articulated::OpCounts;
 use articulated_bench::{batch, calibrate, each_model, Engine, Output, Visit, STATES};
+use clap::{CommandFactory, Parser};
 
-const USAGE: &str = "usage: bench_table [--repeats R] [--batch-ms T] [--min]
+/// Per shipped model and output, ns/call (or instructions/call) of the generated code and of the
+/// reference, side by side.
+#[derive(Parser)]
+#[command(
+    name = "bench_table",
+    override_usage = "bench_table [--repeats R] [--batch-ms T] [--min]
        bench_table --instructions [--calls K]
-       bench_table --calls K MODEL OUTPUT ENGINE   (ENGINE: generated, reference, reference_aba)";
+       bench_table --calls K MODEL OUTPUT ENGINE   (ENGINE: generated, reference, reference_aba)"
+)]
+struct Cli {
+    /// Batches per kernel; the median (or, with --min, the fastest) is reported. At least 1.
+    #[arg(long, value_name = "R", default_value_t = 201)]
+    repeats: usize,
+    /// Target duration of one batch in milliseconds.
+    #[arg(long, value_name = "T", default_value_t = 1)]
+    batch_ms: u64,
+    /// Report the fastest batch instead of the median.
+    #[arg(long)]
+    min: bool,
+    /// Instructions per call under callgrind instead of timing.
+    #[arg(long)]
+    instructions: bool,
+    /// With MODEL OUTPUT ENGINE: make exactly K calls of that kernel, then exit. With
+    /// --instructions: the calls per callgrind run (default 1024).
+    #[arg(long, value_name = "K")]
+    calls: Option<usize>,
+    /// With --calls: MODEL OUTPUT ENGINE, the kernel to call.
+    #[arg(value_names = ["MODEL", "OUTPUT", "ENGINE"])]
+    kernel: Vec<String>,
+}
 
 fn median(mut xs: Vec<f64>) -> f64 {
     xs.sort_by(f64::total_cmp);
@@ -271,38 +299,17 @@ fn instructions(calls: usize) -> Result<(), String> {
     Ok(())
 }
 
-fn run(args: &[String]) -> Result<(), String> {
-    let mut repeats = 201;
-    let mut batch_ms = 1u64;
-    let mut calls: Option<usize> = None;
-    let mut instr = false;
-    let mut min = false;
-    let mut rest = Vec::new();
-    let mut it = args.iter();
-    let num = |x: Option<&String>, what: &str| -> Result<usize, String> {
-        x.and_then(|s| s.parse().ok())
-            .ok_or_else(|| format!("{what} needs a number\n{USAGE}"))
-    };
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--repeats" => repeats = num(it.next(), "--repeats")?.max(1),
-            "--batch-ms" => batch_ms = num(it.next(), "--batch-ms")? as u64,
-            "--calls" => calls = Some(num(it.next(), "--calls")?),
-            "--instructions" => instr = true,
-            "--min" => min = true,
-            "-h" | "--help" => {
-                println!("{USAGE}");
-                return Ok(());
-            }
-            _ => rest.push(a.clone()),
+fn run(cli: Cli) -> Result<(), String> {
+    let usage = || Cli::command().render_usage().to_string();
+    if cli.instructions {
+        if !cli.kernel.is_empty() {
+            return Err(usage());
         }
+        return instructions(cli.calls.unwrap_or(STATES * 64).max(1));
     }
-    if instr {
-        return instructions(calls.unwrap_or(STATES * 64).max(1));
-    }
-    if let Some(calls) = calls {
-        let [model, output, engine] = rest.as_slice() else {
-            return Err(USAGE.to_string());
+    if let Some(calls) = cli.calls {
+        let [model, output, engine] = cli.kernel.as_slice() else {
+            return Err(usage());
         };
         let output =
             Output::from_name(output).ok_or_else(|| format!("unknown output `{output}`"))?;
@@ -322,13 +329,14 @@ fn run(args: &[String]) -> Result<(), String> {
             Err(format!("unknown model `{model}`"))
         };
     }
-    if !rest.is_empty() {
-        return Err(USAGE.to_string());
+    if !cli.kernel.is_empty() {
+        return Err(usage());
     }
+    let (repeats, min) = (cli.repeats.max(1), cli.min);
     let mut timer = Timer {
         repeats,
         min,
-        batch_time: Duration::from_millis(batch_ms),
+        batch_time: Duration::from_millis(cli.batch_ms),
         rows: Vec::new(),
     };
     each_model(&mut timer);
@@ -338,8 +346,7 @@ fn run(args: &[String]) -> Result<(), String> {
 }
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    match run(&args) {
+    match run(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("bench_table: {e}");

@@ -26,6 +26,7 @@ use articulated_codegen::load::{load, parse_chain_str};
 use articulated_codegen::model::Model;
 use articulated_codegen::options::Output;
 use articulated_codegen::trace::{trace, FdMethod, Traced};
+use articulated_dynamics::random::Rng;
 use plotters::prelude::*;
 
 /// The chain lengths of the table (the figure has every n up to [`MAX_N`]).
@@ -41,27 +42,10 @@ fn root() -> PathBuf {
         .to_path_buf()
 }
 
-/// SplitMix64: a fixed, dependency-free stream of numbers for the chains' parameters (the
-/// state).
-struct SplitMix(u64);
-
-/// Draws.
-impl SplitMix {
-    /// The next 64 random bits.
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[lo, hi)`, rounded to `digits` decimals (so the text stays short).
-    fn uniform(&mut self, lo: f64, hi: f64, digits: i32) -> f64 {
-        let u = (self.next() >> 11) as f64 / (1u64 << 53) as f64;
-        let scale = 10f64.powi(digits);
-        ((lo + (hi - lo) * u) * scale).round() / scale
-    }
+/// Uniform in `[lo, hi)` from `rng`, rounded to `digits` decimals (so the text stays short).
+fn uniform(rng: &mut Rng, lo: f64, hi: f64, digits: i32) -> f64 {
+    let scale = 10f64.powi(digits);
+    (rng.range(lo, hi) * scale).round() / scale
 }
 
 /// `R = Rz(yaw)·Ry(pitch)·Rx(roll)`, URDF's convention.
@@ -102,22 +86,22 @@ pub fn chain_text(n: usize) -> String {
     const AXES: [char; 4] = ['z', 'y', 'x', 'y'];
     /// Every link's length (m).
     const LENGTH: f64 = 0.1;
-    let mut rng = SplitMix(0x5eed_0000 + n as u64);
+    let mut rng = Rng::new(0x5eed_0000 + n as u64);
     let mut text = format!(
         "/// A generic serial chain of {n} revolute joints (bench/src/bin/op_counts.rs).\n\
          pub chain Serial{n} {{\n    gravity: [0.0, 0.0, -9.81];\n"
     );
     for i in 1..=n {
-        let mass = rng.uniform(0.25, 2.0, 3);
+        let mass = uniform(&mut rng, 0.25, 2.0, 3);
         let com = [
-            rng.uniform(-0.01, 0.01, 4),
-            rng.uniform(-0.01, 0.01, 4),
+            uniform(&mut rng, -0.01, 0.01, 4),
+            uniform(&mut rng, -0.01, 0.01, 4),
             LENGTH / 2.0,
         ];
         // A solid cylinder of radius 3 cm along z, tilted by up to 0.3 rad.
         let (radius, along) = (0.03_f64, 0.5 * mass * 0.03 * 0.03);
         let across = mass * (3.0 * radius * radius + LENGTH * LENGTH) / 12.0;
-        let tilt = [0; 3].map(|_| rng.uniform(-0.3, 0.3, 3));
+        let tilt = [0; 3].map(|_| uniform(&mut rng, -0.3, 0.3, 3));
         let inertia = tilted([across, across, along], tilt);
         let _ = writeln!(
             text,
@@ -134,7 +118,7 @@ pub fn chain_text(n: usize) -> String {
         } else {
             format!("link{}", i - 1)
         };
-        let rpy = [0; 3].map(|_| rng.uniform(-0.1, 0.1, 3));
+        let rpy = [0; 3].map(|_| uniform(&mut rng, -0.1, 0.1, 3));
         let _ = writeln!(
             text,
             "    joint j{i}: revolute({}) {{ parent: {parent}, child: link{i}, xyz: [0.0, 0.0, {LENGTH:?}], rpy: {} }}",
@@ -465,19 +449,28 @@ fn markdown(rows: &[Row], shipped: &Row) -> String {
     s
 }
 
+/// Operation counts of the generated code against the number of joints: writes
+/// `docs/figures/op_counts.svg` and `bench/size/op_counts.csv`, prints the section of
+/// `docs/size.md`.
+#[derive(clap::Parser)]
+#[command(name = "op_counts")]
+struct Cli {
+    /// Trace the chains of 1 to N joints only (a quick look); N in 1..=50.
+    #[arg(long, value_name = "N", default_value_t = MAX_N, value_parser = chain_length)]
+    max: usize,
+}
+
+/// A chain length in `1..=MAX_N` (`--max`).
+fn chain_length(text: &str) -> Result<usize, String> {
+    text.parse()
+        .ok()
+        .filter(|n| (1..=MAX_N).contains(n))
+        .ok_or_else(|| format!("want a number in 1..={MAX_N}"))
+}
+
 /// Traces every chain, writes the figure and the CSV, prints the section.
 fn main() -> ExitCode {
-    let mut max = MAX_N;
-    let mut args = std::env::args().skip(1);
-    while let Some(arg) = args.next() {
-        match (arg.as_str(), args.next().and_then(|v| v.parse().ok())) {
-            ("--max", Some(m)) if (1..=MAX_N).contains(&m) => max = m,
-            _ => {
-                eprintln!("usage: op_counts [--max N]   (N in 1..={MAX_N})");
-                return ExitCode::FAILURE;
-            }
-        }
-    }
+    let max = <Cli as clap::Parser>::parse().max;
     let mut rows = Vec::new();
     for n in 1..=max {
         eprint!("\rop_counts: tracing n = {n:2}/{max}");

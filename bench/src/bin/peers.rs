@@ -56,11 +56,8 @@ use articulated::model::JointKind;
 use articulated::nalgebra::{SMatrix, SVector};
 use articulated::prelude::*;
 use articulated_bench::{batch, calibrate, Output};
-
-const USAGE: &str = "usage: peers --layout MODEL
-       peers --states FILE --values MODEL
-       peers --states FILE --time [--batches N] [--batch-ms T] MODEL
-       peers --states FILE --calls K MODEL OUTPUT";
+use clap::Parser;
+use serde::{Serialize, Serializer};
 
 /// The outputs of the comparison, in the order they are timed: the six dynamics outputs, then
 /// the eight quantities of the whole system.
@@ -121,10 +118,9 @@ trait Peer<const NQ: usize, const NV: usize>:
     /// Hands `visitor` the closures of the [`DERIVATIVE_OUTPUTS`] and the [`DIFFERENCES`], for a
     /// model generated with them ([`each_derivative`]); nothing otherwise.
     fn each_derivative<V: Visit>(_states: &[State<NQ, NV>], _visitor: &mut V) {}
-    /// The derivative outputs at `x` as JSON members, each after a comma ([`derivative_values`]);
-    /// empty for a model without them.
-    fn derivative_values(_x: &State<NQ, NV>) -> String {
-        String::new()
+    /// The derivative outputs at `x` ([`derivative_values`]); `None` for a model without them.
+    fn derivative_values(_x: &State<NQ, NV>) -> Option<DerivativeValues> {
+        None
     }
 }
 
@@ -170,8 +166,8 @@ macro_rules! derivative_members {
         fn each_derivative<V: Visit>(states: &[State<{ $ty::NQ }, { $ty::NV }>], visitor: &mut V) {
             each_derivative::<$ty, V, { $ty::NQ }, { $ty::NV }>(states, visitor);
         }
-        fn derivative_values(x: &State<{ $ty::NQ }, { $ty::NV }>) -> String {
-            derivative_values::<$ty, { $ty::NQ }, { $ty::NV }>(x)
+        fn derivative_values(x: &State<{ $ty::NQ }, { $ty::NV }>) -> Option<DerivativeValues> {
+            Some(derivative_values::<$ty, { $ty::NQ }, { $ty::NV }>(x))
         }
     };
     (plain $ty:ident) => {};
@@ -251,6 +247,47 @@ models! {
     #[cfg(not(feature = "humanoid-derivatives"))]
     "humanoid" => Humanoid, "../models/humanoid.chain", plain;
     "chain50" => Chain50, "../models/chain50.chain", plain;
+}
+
+/// Our side of the comparison against Pinocchio and MuJoCo (`bench/peers/run.py` runs it):
+/// the generated functions of one model on the states of a file, as JSON.
+#[derive(Parser)]
+#[command(
+    name = "peers",
+    override_usage = "peers --layout MODEL
+       peers --states FILE --values MODEL
+       peers --states FILE --time [--batches N] [--batch-ms T] MODEL
+       peers --states FILE --calls K MODEL OUTPUT",
+    group = clap::ArgGroup::new("mode").required(true).args(["layout", "values", "time", "calls"])
+)]
+struct Cli {
+    /// Print the model's joints, coordinates and op counts (JSON).
+    #[arg(long)]
+    layout: bool,
+    /// Print the outputs at the first state of the states file (JSON).
+    #[arg(long, requires = "states")]
+    values: bool,
+    /// Time every output on the states of the states file: ns per call (JSON).
+    #[arg(long, requires = "states")]
+    time: bool,
+    /// Make exactly K calls of OUTPUT on the states of the states file, then exit (callgrind).
+    #[arg(long, value_name = "K", requires_all = ["states", "output"])]
+    calls: Option<usize>,
+    /// The states file: `nq nv count`, then per state the lines q, v, a, tau (our convention).
+    #[arg(long, value_name = "FILE")]
+    states: Option<String>,
+    /// Batches per output (--time); at least 1.
+    #[arg(long, value_name = "N", default_value_t = 200)]
+    batches: usize,
+    /// Target duration of one batch in milliseconds (--time).
+    #[arg(long, value_name = "T", default_value_t = 1.0)]
+    batch_ms: f64,
+    /// The model: arm7, arm7_floating, humanoid, chain50.
+    model: String,
+    /// With --calls: the output or kernel to call (an output's name, mass_matrix_update,
+    /// mass_matrix_lower, inverse_dynamics_differences, forward_dynamics_differences).
+    #[arg(requires = "calls")]
+    output: Option<String>,
 }
 
 /// What the command line asks for.
@@ -511,8 +548,33 @@ struct Timer {
     batches: usize,
     /// Target duration of one batch.
     batch: Duration,
-    /// One JSON member per output.
-    json: Vec<String>,
+    /// One member per output.
+    timings: Members<Timing>,
+}
+
+/// The timing of one output (`--time`), in ns per call.
+#[derive(Serialize)]
+struct Timing {
+    /// The fastest batch, to 3 decimals.
+    min: f64,
+    /// The median batch, to 3 decimals.
+    median: f64,
+    /// Calls in each batch.
+    calls_per_batch: usize,
+}
+
+/// A JSON object whose members keep their order (a `serde_json::Map` sorts them).
+struct Members<V>(Vec<(&'static str, V)>);
+
+impl<V: Serialize> Serialize for Members<V> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_map(self.0.iter().map(|(k, v)| (k, v)))
+    }
+}
+
+/// `x` rounded to 3 decimals as printed (`{:.3}`), the precision of a timing.
+fn three_decimals(x: f64) -> f64 {
+    format!("{x:.3}").parse().unwrap_or(x)
 }
 
 impl Visit for Timer {
@@ -522,10 +584,13 @@ impl Visit for Timer {
             .map(|_| batch(&mut f, n).as_secs_f64() * 1e9 / n as f64)
             .collect();
         ns.sort_by(f64::total_cmp);
-        self.json.push(format!(
-            "\"{name}\": {{\"min\": {:.3}, \"median\": {:.3}, \"calls_per_batch\": {n}}}",
-            ns[0],
-            ns[ns.len() / 2]
+        self.timings.0.push((
+            name,
+            Timing {
+                min: three_decimals(ns[0]),
+                median: three_decimals(ns[ns.len() / 2]),
+                calls_per_batch: n,
+            },
         ));
     }
 }
@@ -549,15 +614,54 @@ impl Visit for Only<'_> {
     }
 }
 
-/// `xs` as a JSON array, with every digit.
-fn json_array(xs: impl IntoIterator<Item = f64>) -> String {
-    let items: Vec<String> = xs.into_iter().map(|x| format!("{x:e}")).collect();
-    format!("[{}]", items.join(", "))
+/// A matrix row by row (how the JSON holds matrices).
+type Rows = Vec<Vec<f64>>;
+
+/// `m` row by row.
+fn rows<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> Rows {
+    m.row_iter().map(|r| r.iter().copied().collect()).collect()
+}
+
+/// `v` as a list.
+fn vector<const N: usize>(v: &SVector<f64, N>) -> Vec<f64> {
+    v.iter().copied().collect()
+}
+
+/// One joint with coordinates (`--layout`).
+#[derive(Serialize)]
+struct Joint {
+    /// Its name in the `.chain` file.
+    name: String,
+    /// `revolute`, `prismatic`, `free` or `other`.
+    kind: &'static str,
+    /// Where its positions start in `q`.
+    iq: usize,
+    /// How many positions.
+    nq: usize,
+    /// Where its velocities start in `v`.
+    iv: usize,
+    /// How many velocities.
+    nv: usize,
+}
+
+/// What `--layout` prints.
+#[derive(Serialize)]
+struct Layout {
+    /// Positions.
+    nq: usize,
+    /// Velocities.
+    nv: usize,
+    /// The joints with coordinates, in order.
+    joints: Vec<Joint>,
+    /// The generator's operation count of each output.
+    ops: Members<usize>,
+    /// Whether the model has the [`DERIVATIVE_OUTPUTS`].
+    derivatives: bool,
 }
 
 /// The joints with coordinates of model `M` (name, kind, where its coordinates start), and
-/// the op counts of each output, as JSON.
-fn layout<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>() -> Result<String, String> {
+/// the op counts of each output.
+fn layout<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>() -> Result<Layout, String> {
     let model = articulated_codegen::load::load_model(Path::new(M::CHAIN), false)
         .map_err(|e| format!("{}: {e}", M::CHAIN))?;
     let mut joints = Vec::new();
@@ -569,12 +673,14 @@ fn layout<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>() -> Result<String,
             JointKind::FreeQuaternion => "free",
             _ => "other",
         };
-        joints.push(format!(
-            "{{\"name\": \"{}\", \"kind\": \"{kind}\", \"iq\": {iq}, \"nq\": {}, \"iv\": {iv}, \"nv\": {}}}",
-            j.name,
-            j.kind.nq(),
-            j.kind.nv()
-        ));
+        joints.push(Joint {
+            name: j.name.clone(),
+            kind,
+            iq,
+            nq: j.kind.nq(),
+            iv,
+            nv: j.kind.nv(),
+        });
         iq += j.kind.nq();
         iv += j.kind.nv();
     }
@@ -589,105 +695,155 @@ fn layout<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>() -> Result<String,
     } else {
         &[]
     };
-    let ops: Vec<String> = OUTPUTS
+    let ops = OUTPUTS
         .iter()
         .chain(derivatives)
-        .map(|&o| format!("\"{}\": {}", o.name(), M::ops(o).total()))
+        .map(|&o| (o.name(), M::ops(o).total()))
         .collect();
-    Ok(format!(
-        "{{\"nq\": {NQ}, \"nv\": {NV}, \"joints\": [{}], \"ops\": {{{}}}, \"derivatives\": {}}}",
-        joints.join(", "),
-        ops.join(", "),
-        M::DERIVATIVES
-    ))
+    Ok(Layout {
+        nq: NQ,
+        nv: NV,
+        joints,
+        ops: Members(ops),
+        derivatives: M::DERIVATIVES,
+    })
 }
 
-/// `m` as JSON, row by row.
-fn json_rows<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> String {
-    let rows: Vec<String> = m
-        .row_iter()
-        .map(|r| json_array(r.iter().copied()))
-        .collect();
-    format!("[{}]", rows.join(", "))
+/// `inverse_dynamics_derivatives` (`--values`).
+#[derive(Serialize)]
+struct InverseDynamicsDerivatives {
+    /// `∂τ/∂q`.
+    dtau_dq: Rows,
+    /// `∂τ/∂v`.
+    dtau_dv: Rows,
 }
 
-/// `v` as a JSON array.
-fn json_vector<const N: usize>(v: &SVector<f64, N>) -> String {
-    json_array(v.iter().copied())
+/// `forward_dynamics_derivatives` (`--values`).
+#[derive(Serialize)]
+struct ForwardDynamicsDerivatives {
+    /// `∂q̈/∂q`.
+    ddq_dq: Rows,
+    /// `∂q̈/∂v`.
+    ddq_dv: Rows,
+    /// `M⁻¹`.
+    minv: Rows,
 }
 
-/// The [`DERIVATIVE_OUTPUTS`] and [`DIFFERENCES`] of model `M` at `x`, as JSON members, each
-/// after a comma (matrices row by row; `null` where `M` is singular).
+/// The [`DERIVATIVE_OUTPUTS`] and [`DIFFERENCES`] at one state (`--values`; `None`, `null`,
+/// where `M` is singular).
+#[derive(Serialize)]
+struct DerivativeValues {
+    /// `inverse_dynamics_derivatives`.
+    inverse_dynamics_derivatives: InverseDynamicsDerivatives,
+    /// `forward_dynamics_derivatives`.
+    forward_dynamics_derivatives: Option<ForwardDynamicsDerivatives>,
+    /// `mass_matrix_inverse`.
+    mass_matrix_inverse: Option<Rows>,
+    /// [`inverse_dynamics_differences`].
+    inverse_dynamics_differences: Rows,
+    /// [`forward_dynamics_differences`] (NaN, `null`, where `M` is singular).
+    forward_dynamics_differences: Rows,
+}
+
+/// The [`DERIVATIVE_OUTPUTS`] and [`DIFFERENCES`] of model `M` at `x`.
 fn derivative_values<M: DerivativePeer<NQ, NV>, const NQ: usize, const NV: usize>(
     x: &State<NQ, NV>,
-) -> String {
-    let rows = json_rows::<NV, NV>;
+) -> DerivativeValues {
     let (dtau_dq, dtau_dv) = M::inverse_dynamics_derivatives(&x.q, &x.v, &x.a);
-    let fd = M::forward_dynamics_derivatives(&x.q, &x.v, &x.tau)
-        .map(|(dq, dv, minv)| {
-            format!(
-                "{{\"ddq_dq\": {}, \"ddq_dv\": {}, \"minv\": {}}}",
-                rows(&dq),
-                rows(&dv),
-                rows(&minv)
-            )
-        })
-        .unwrap_or_else(|_| "null".into());
-    let minv = M::mass_matrix_inverse(&x.q).map_or_else(|_| "null".into(), |m| rows(&m));
-    format!(
-        ", \"inverse_dynamics_derivatives\": {{\"dtau_dq\": {}, \"dtau_dv\": {}}}, \
-         \"forward_dynamics_derivatives\": {fd}, \"mass_matrix_inverse\": {minv}, \
-         \"inverse_dynamics_differences\": {}, \"forward_dynamics_differences\": {}",
-        rows(&dtau_dq),
-        rows(&dtau_dv),
-        rows(&inverse_dynamics_differences::<M, NQ, NV>(x)),
-        rows(&forward_dynamics_differences::<M, NQ, NV>(x))
-    )
+    DerivativeValues {
+        inverse_dynamics_derivatives: InverseDynamicsDerivatives {
+            dtau_dq: rows(&dtau_dq),
+            dtau_dv: rows(&dtau_dv),
+        },
+        forward_dynamics_derivatives: M::forward_dynamics_derivatives(&x.q, &x.v, &x.tau)
+            .ok()
+            .map(|(dq, dv, minv)| ForwardDynamicsDerivatives {
+                ddq_dq: rows(&dq),
+                ddq_dv: rows(&dv),
+                minv: rows(&minv),
+            }),
+        mass_matrix_inverse: M::mass_matrix_inverse(&x.q).ok().map(|m| rows(&m)),
+        inverse_dynamics_differences: rows(&inverse_dynamics_differences::<M, NQ, NV>(x)),
+        forward_dynamics_differences: rows(&forward_dynamics_differences::<M, NQ, NV>(x)),
+    }
 }
 
-/// The outputs at the first state, as JSON (matrices row by row).
-fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(x: &State<NQ, NV>) -> String {
-    let rows = json_rows::<NV, NV>;
-    let vector = json_vector::<NV>;
-    let fd = M::forward_dynamics(&x.q, &x.v, &x.tau)
-        .map(|a| vector(&a))
-        .unwrap_or_else(|_| "null".into());
+/// `mass_matrix_and_nonlinear_effects` (`--values`).
+#[derive(Serialize)]
+struct MassMatrixAndNonlinearEffects {
+    /// `M`.
+    mass_matrix: Rows,
+    /// `h`.
+    nonlinear_effects: Vec<f64>,
+}
+
+/// What `--values` prints: the outputs at the first state (matrices row by row).
+#[derive(Serialize)]
+struct Values {
+    mass_matrix: Rows,
+    nonlinear_effects: Vec<f64>,
+    gravity: Vec<f64>,
+    inverse_dynamics: Vec<f64>,
+    /// `None` (`null`) where `M` is singular.
+    forward_dynamics: Option<Vec<f64>>,
+    mass_matrix_and_nonlinear_effects: MassMatrixAndNonlinearEffects,
+    center_of_mass: Vec<f64>,
+    center_of_mass_velocity: Vec<f64>,
+    center_of_mass_jacobian: Rows,
+    centroidal_momentum: Vec<f64>,
+    centroidal_momentum_matrix: Rows,
+    kinetic_energy: f64,
+    potential_energy: f64,
+    coriolis_matrix: Rows,
+    /// `M` from [`KeptMassMatrixLower::symmetric`].
+    mass_matrix_lower: Rows,
+    /// For the models generated with them.
+    #[serde(flatten)]
+    derivatives: Option<DerivativeValues>,
+}
+
+/// The outputs of model `M` at `x`.
+fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(x: &State<NQ, NV>) -> Values {
     let (m2, nle2) = M::mass_matrix_and_nonlinear_effects(&x.q, &x.v);
     let mut lower = KeptMassMatrixLower::<M, f64, NV>::new();
     M::mass_matrix_lower(&x.q, &mut lower);
-    format!(
-        "{{\"mass_matrix\": {}, \"nonlinear_effects\": {}, \"gravity\": {}, \
-         \"inverse_dynamics\": {}, \"forward_dynamics\": {fd}, \
-         \"mass_matrix_and_nonlinear_effects\": {{\"mass_matrix\": {}, \"nonlinear_effects\": {}}}, \
-         \"center_of_mass\": {}, \"center_of_mass_velocity\": {}, \
-         \"center_of_mass_jacobian\": {}, \"centroidal_momentum\": {}, \
-         \"centroidal_momentum_matrix\": {}, \"kinetic_energy\": {:e}, \
-         \"potential_energy\": {:e}, \"coriolis_matrix\": {}, \
-         \"mass_matrix_lower\": {}{}}}",
-        rows(&M::mass_matrix(&x.q)),
-        vector(&M::nonlinear_effects(&x.q, &x.v)),
-        vector(&M::gravity(&x.q)),
-        vector(&M::inverse_dynamics(&x.q, &x.v, &x.a)),
-        rows(&m2),
-        vector(&nle2),
-        json_vector(&M::center_of_mass(&x.q)),
-        json_vector(&M::center_of_mass_velocity(&x.q, &x.v)),
-        json_rows(&M::center_of_mass_jacobian(&x.q)),
-        json_vector(&M::centroidal_momentum(&x.q, &x.v)),
-        json_rows(&M::centroidal_momentum_matrix(&x.q)),
-        M::kinetic_energy(&x.q, &x.v),
-        M::potential_energy(&x.q),
-        rows(&M::coriolis_matrix(&x.q, &x.v)),
-        rows(&lower.symmetric()),
-        M::derivative_values(x)
-    )
+    Values {
+        mass_matrix: rows(&M::mass_matrix(&x.q)),
+        nonlinear_effects: vector(&M::nonlinear_effects(&x.q, &x.v)),
+        gravity: vector(&M::gravity(&x.q)),
+        inverse_dynamics: vector(&M::inverse_dynamics(&x.q, &x.v, &x.a)),
+        forward_dynamics: M::forward_dynamics(&x.q, &x.v, &x.tau)
+            .ok()
+            .map(|a| vector(&a)),
+        mass_matrix_and_nonlinear_effects: MassMatrixAndNonlinearEffects {
+            mass_matrix: rows(&m2),
+            nonlinear_effects: vector(&nle2),
+        },
+        center_of_mass: vector(&M::center_of_mass(&x.q)),
+        center_of_mass_velocity: vector(&M::center_of_mass_velocity(&x.q, &x.v)),
+        center_of_mass_jacobian: rows(&M::center_of_mass_jacobian(&x.q)),
+        centroidal_momentum: vector(&M::centroidal_momentum(&x.q, &x.v)),
+        centroidal_momentum_matrix: rows(&M::centroidal_momentum_matrix(&x.q)),
+        kinetic_energy: M::kinetic_energy(&x.q, &x.v),
+        potential_energy: M::potential_energy(&x.q),
+        coriolis_matrix: rows(&M::coriolis_matrix(&x.q, &x.v)),
+        mass_matrix_lower: rows(&lower.symmetric()),
+        derivatives: M::derivative_values(x),
+    }
+}
+
+/// `value` as one line of JSON on stdout.
+fn print_json(value: &impl Serialize) -> Result<(), String> {
+    let text = serde_json::to_string(value).map_err(|e| e.to_string())?;
+    println!("{text}");
+    Ok(())
 }
 
 /// Runs `cmd` on model `M`.
 fn run<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(cmd: &Command) -> Result<(), String> {
     match cmd {
-        Command::Layout => println!("{}", layout::<M, NQ, NV>()?),
-        Command::Values(path) => println!("{}", values::<M, NQ, NV>(&read_states(path)?[0])),
+        Command::Layout => print_json(&layout::<M, NQ, NV>()?)?,
+        Command::Values(path) => print_json(&values::<M, NQ, NV>(&read_states(path)?[0]))?,
         Command::Time {
             states,
             batches,
@@ -697,10 +853,10 @@ fn run<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(cmd: &Command) -> Resu
             let mut timer = Timer {
                 batches: *batches,
                 batch: *batch,
-                json: Vec::new(),
+                timings: Members(Vec::new()),
             };
             each_output::<M, _, NQ, NV>(&states, &mut timer);
-            println!("{{{}}}", timer.json.join(", "));
+            print_json(&timer.timings)?;
         }
         Command::Calls {
             states,
@@ -722,67 +878,27 @@ fn run<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(cmd: &Command) -> Resu
     Ok(())
 }
 
-/// Parses the command line and runs it.
-fn main_args(args: &[String]) -> Result<(), String> {
-    let mut states: Option<String> = None;
-    let (mut layout, mut values, mut time) = (false, false, false);
-    let mut calls: Option<usize> = None;
-    let mut batches = 200;
-    let mut batch_ms = 1.0f64;
-    let mut rest = Vec::new();
-    let mut it = args.iter();
-    let num = |x: Option<&String>, what: &str| -> Result<f64, String> {
-        x.and_then(|s| s.parse().ok())
-            .ok_or_else(|| format!("{what} needs a number\n{USAGE}"))
-    };
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--states" => states = it.next().cloned(),
-            "--layout" => layout = true,
-            "--values" => values = true,
-            "--time" => time = true,
-            "--calls" => calls = Some(num(it.next(), "--calls")? as usize),
-            "--batches" => batches = (num(it.next(), "--batches")? as usize).max(1),
-            "--batch-ms" => batch_ms = num(it.next(), "--batch-ms")?,
-            "-h" | "--help" => {
-                println!("{USAGE}");
-                return Ok(());
-            }
-            _ => rest.push(a.clone()),
-        }
-    }
-    let need_states = || {
-        states
-            .clone()
-            .ok_or_else(|| format!("--states FILE is missing\n{USAGE}"))
-    };
-    let (model, cmd) = match (layout, values, time, calls, rest.as_slice()) {
-        (true, false, false, None, [model]) => (model, Command::Layout),
-        (false, true, false, None, [model]) => (model, Command::Values(need_states()?)),
-        (false, false, true, None, [model]) => (
-            model,
-            Command::Time {
-                states: need_states()?,
-                batches,
-                batch: Duration::from_secs_f64(batch_ms * 1e-3),
-            },
-        ),
-        (false, false, false, Some(calls), [model, output]) => (
-            model,
-            Command::Calls {
-                states: need_states()?,
-                calls,
-                output: output.clone(),
-            },
-        ),
-        _ => return Err(USAGE.to_string()),
-    };
-    with_model(model, &cmd)
-}
-
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    match main_args(&args) {
+    let cli = Cli::parse();
+    let states = || cli.states.clone().unwrap_or_default();
+    let cmd = if cli.layout {
+        Command::Layout
+    } else if cli.values {
+        Command::Values(states())
+    } else if cli.time {
+        Command::Time {
+            states: states(),
+            batches: cli.batches.max(1),
+            batch: Duration::from_secs_f64(cli.batch_ms * 1e-3),
+        }
+    } else {
+        Command::Calls {
+            states: states(),
+            calls: cli.calls.unwrap_or_default(),
+            output: cli.output.clone().unwrap_or_default(),
+        }
+    };
+    match with_model(&cli.model, &cmd) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("peers: {e}");

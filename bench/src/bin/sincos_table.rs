@@ -25,10 +25,31 @@ use std::hint::black_box;
 use std::process::ExitCode;
 use std::time::Instant;
 
-const USAGE: &str = "usage: sincos_table [--instructions]
-       sincos_table --calls K IMPL CASE   (IMPL: libm, std, articulated, articulated-call,
-                                           articulated-array;
-                                           CASE: one, chained, seven)";
+use clap::builder::PossibleValuesParser;
+use clap::Parser;
+
+/// `libm::sincos`, std's `f64::sin_cos` and `articulated::math::sincos` side by side: ns per
+/// angle, or instructions per angle under callgrind.
+#[derive(Parser)]
+#[command(
+    name = "sincos_table",
+    override_usage = "sincos_table [--instructions]
+       sincos_table --calls K IMPL CASE"
+)]
+struct Cli {
+    /// Instructions per angle under callgrind instead of ns per angle.
+    #[arg(long, conflicts_with = "calls")]
+    instructions: bool,
+    /// Make exactly K iterations of IMPL on CASE, then exit (what --instructions runs).
+    #[arg(long, value_name = "K", requires_all = ["imp", "case"])]
+    calls: Option<usize>,
+    /// With --calls: the implementation (`articulated-array`: `seven` only).
+    #[arg(value_name = "IMPL", requires = "calls", value_parser = PossibleValuesParser::new(IMPLS))]
+    imp: Option<String>,
+    /// With --calls: one angle per iteration, the next angle from the previous result, or seven.
+    #[arg(value_parser = PossibleValuesParser::new(CASES.map(|c| c.0)))]
+    case: Option<String>,
+}
 
 const ANGLES: usize = 1024;
 const IMPLS: [&str; 5] = [
@@ -183,40 +204,29 @@ fn timing(table: &[f64]) {
 }
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let cli = Cli::parse();
     let table = angles();
-    match args[..] {
-        ["--calls", k, imp, case] if CASES.iter().any(|c| c.0 == case) => {
-            let Ok(calls) = k.parse() else {
-                eprintln!("{USAGE}");
-                return ExitCode::FAILURE;
-            };
-            match run_impl(imp, case, calls, &table) {
-                Some(sum) => {
-                    black_box(sum);
-                    ExitCode::SUCCESS
-                }
-                None => {
-                    eprintln!("{USAGE}");
-                    ExitCode::FAILURE
-                }
+    if let (Some(calls), Some(imp), Some(case)) = (cli.calls, &cli.imp, &cli.case) {
+        return match run_impl(imp, case, calls, &table) {
+            Some(sum) => {
+                black_box(sum);
+                ExitCode::SUCCESS
             }
-        }
-        ["--instructions"] => match instructions() {
+            None => {
+                eprintln!("sincos_table: {imp} has no case {case}");
+                ExitCode::FAILURE
+            }
+        };
+    }
+    if cli.instructions {
+        return match instructions() {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
                 eprintln!("{e}");
                 ExitCode::FAILURE
             }
-        },
-        [] => {
-            timing(&table);
-            ExitCode::SUCCESS
-        }
-        _ => {
-            eprintln!("{USAGE}");
-            ExitCode::FAILURE
-        }
+        };
     }
+    timing(&table);
+    ExitCode::SUCCESS
 }

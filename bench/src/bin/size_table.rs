@@ -1200,6 +1200,27 @@ fn load_average() -> String {
 
 // ---------------------------------------------------------------------------------------------
 
+/// Operations, lines and bytes of machine code per model and function, and build times:
+/// measures them, saves `bench/size/size.json` and writes `docs/size.md`.
+#[derive(clap::Parser)]
+#[command(
+    name = "size_table",
+    override_usage = "size_table [--repeats R] [--models a,b,…] | size_table --render"
+)]
+struct Cli {
+    /// Runs per timing (3 for the page; fewer prints a partial page instead of writing it).
+    #[arg(long, value_name = "R", default_value_t = 3,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    repeats: u64,
+    /// The models measured, by file stem under models/ (all for the page; fewer prints a
+    /// partial page instead of writing it).
+    #[arg(long, value_name = "a,b,…")]
+    models: Option<String>,
+    /// Rewrite the page from bench/size/size.json without measuring.
+    #[arg(long)]
+    render: bool,
+}
+
 /// Command-line options.
 struct Args {
     /// Runs per timing (3 for the page).
@@ -1210,43 +1231,26 @@ struct Args {
     render: bool,
 }
 
-/// The usage line.
-const USAGE: &str = "usage: size_table [--repeats R] [--models a,b,…] | size_table --render";
-
 /// Reads the command line.
 fn parse_args() -> Result<Args> {
-    let mut args = Args {
-        repeats: 3,
-        models: MODELS.iter().collect(),
-        render: false,
+    let cli = <Cli as clap::Parser>::parse();
+    let models = match &cli.models {
+        None => MODELS.iter().collect(),
+        Some(list) => list
+            .split(',')
+            .map(|name| {
+                MODELS
+                    .iter()
+                    .find(|m| m.stem == name.trim())
+                    .ok_or_else(|| format!("no model `{name}` in models/"))
+            })
+            .collect::<Result<_>>()?,
     };
-    let mut it = std::env::args().skip(1);
-    while let Some(arg) = it.next() {
-        match arg.as_str() {
-            "--render" => args.render = true,
-            "--repeats" => {
-                args.repeats = it
-                    .next()
-                    .and_then(|r| r.parse().ok())
-                    .filter(|r| *r >= 1)
-                    .ok_or("--repeats takes a count of at least 1")?;
-            }
-            "--models" => {
-                let list = it.next().ok_or("--models takes a list: arm7,tree")?;
-                args.models = list
-                    .split(',')
-                    .map(|name| {
-                        MODELS
-                            .iter()
-                            .find(|m| m.stem == name.trim())
-                            .ok_or_else(|| format!("no model `{name}` in models/"))
-                    })
-                    .collect::<Result<_>>()?;
-            }
-            _ => return Err(format!("unknown argument `{arg}`\n{USAGE}")),
-        }
-    }
-    Ok(args)
+    Ok(Args {
+        repeats: usize::try_from(cli.repeats).map_err(|e| e.to_string())?,
+        models,
+        render: cli.render,
+    })
 }
 
 /// Whether the ARM target's standard library is installed (`rustup target list --installed`).
