@@ -894,5 +894,27 @@ pub fn runtime_traits() -> TokenStream {
                 }
             }
         });
-    quote!(#(#traits)* #(#groups)*)
+    let names = SPECS
+        .iter()
+        .map(|s| Ident::new(s.trait_name, Span::call_site()))
+        .chain(
+            Group::ALL
+                .iter()
+                .map(|&(g, _)| g)
+                .filter(|&g| g.outputs().all(|o| !o.spec().uses_nb()))
+                .map(|g| Ident::new(g.trait_name(), Span::call_site())),
+        )
+        .chain(std::iter::once(Ident::new(
+            "DefaultOutputs",
+            Span::call_site(),
+        )));
+    quote! {
+        #(#traits)*
+        #(#groups)*
+        /// Every output's trait and every group's, for the prelude (`articulated::prelude`).
+        #[doc(hidden)]
+        pub mod output_traits {
+            pub use super::{#(#names),*};
+        }
+    }
 }

@@ -115,7 +115,9 @@ pub(super) fn function_doc(cx: &Context, traced: &Traced) -> Vec<String> {
             "**Always `Err(SingularMassMatrix {{ velocity: {k} }})`**: the generator found              `M(q)` of this chain singular at every configuration (at velocity coordinate {k}:              bodies without mass whose motion another coordinate duplicates, or joints that              move no mass), so no state has a solution."
         ));
     }
-    let ops = traced.ops();
+    let ops = traced
+        .graph
+        .op_counts(&super::function::outputs(cx, traced));
     let mut figures = format!(
         "Operations: {} add/sub, {} mul, {} div, {} neg, {} sin/cos, {} sqrt ({} in all).",
         ops.adds,

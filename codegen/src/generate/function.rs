@@ -369,8 +369,8 @@ fn tolerances(cx: &Context, pivots: &Pivots) -> (f64, Option<f64>) {
 }
 
 /// What the function computes: the values, each pivot and its unreduced value, and the sum of
-/// those where a check reads it.
-fn outputs(cx: &Context, traced: &Traced) -> Vec<Sym> {
+/// those where a check reads it (its operation counts are those of these).
+pub(super) fn outputs(cx: &Context, traced: &Traced) -> Vec<Sym> {
     let mut all = traced.all_outputs();
     if traced
         .pivots

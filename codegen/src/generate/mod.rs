@@ -295,7 +295,7 @@ impl<'a> Context<'a> {
     fn function(&self, output: Output) -> syn::Result<(TokenStream, TokenStream, FunctionReport)> {
         let (accuracy, quasi_static) = (self.options.accuracy, self.options.quasi_static);
         let traced = trace_with(self.model, output, accuracy, quasi_static);
-        let ops = traced.ops();
+        let ops = traced.graph.op_counts(&function::outputs(self, &traced));
         if ops.total() > MAX_OPS {
             return Err(syn::Error::new(
                 Span::call_site(),
