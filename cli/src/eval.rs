@@ -100,6 +100,7 @@ pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
     let mut fields = vec![
         ("nq", Ok(Value::from(nq))),
         ("nv", Ok(Value::from(nv))),
+        ("coordinates", Ok(coordinates(&model))),
         ("drives", Ok(drives(&model))),
         ("mimic", Ok(mimics(&model))),
     ];
@@ -118,6 +119,13 @@ pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
         })
         .collect();
     Ok((to_json(&values), errors))
+}
+
+/// `{"q": [names], "v": [names]}`: which joint, and which component of it, each entry of `q`
+/// and `v` is (`Model::coordinate_names`: `hip.ry`, `base.qw`, …).
+fn coordinates(model: &Model) -> Value {
+    let (q, v) = model.coordinate_names();
+    serde_json::json!({ "q": q, "v": v })
 }
 
 /// The joints whose description gives a drive, in joint order: `{"joint": name, "armature": …,

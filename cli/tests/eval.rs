@@ -589,3 +589,61 @@ fn a_model_where_nothing_moves_evaluates_to_empty_results() {
     assert_eq!(v["center_of_mass"], Value::Null);
     assert_eq!(v["kinetic_energy"].as_f64(), Some(0.0));
 }
+
+/// `eval` names every entry of `q` and `v` (issue 31): the joint and, for a joint of several
+/// coordinates, its component, in the order of the vectors; mimic joints have none.
+#[test]
+fn coordinates_are_named() {
+    let names = |args: &[&str]| {
+        let (ok, stdout, stderr) = eval(args);
+        assert!(ok, "{stderr}");
+        let v: Value = serde_json::from_str(&stdout).unwrap();
+        let list = |k: &str| -> Vec<String> {
+            v["coordinates"][k]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_str().unwrap().to_string())
+                .collect()
+        };
+        let (q, vv) = (list("q"), list("v"));
+        assert_eq!(q.len() as u64, v["nq"].as_u64().unwrap());
+        assert_eq!(vv.len() as u64, v["nv"].as_u64().unwrap());
+        (q, vv)
+    };
+    // Two spherical joints in Euler angles `xyz`: the angles in their sequence.
+    let (q, v) = names(&["models/two_link.chain"]);
+    assert_eq!(
+        q,
+        ["ankle.rx", "ankle.ry", "ankle.rz", "hip.rx", "hip.ry", "hip.rz"]
+    );
+    assert_eq!(v, q);
+    // A quaternion free base under a URDF: scalar first in q, linear then angular in v.
+    let (q, v) = names(&["models/arm7.urdf", "--floating=quaternion"]);
+    let base_q = [
+        "root_joint.x",
+        "root_joint.y",
+        "root_joint.z",
+        "root_joint.qw",
+    ];
+    assert_eq!(q[..4], base_q);
+    assert_eq!(q[7], "j1");
+    assert_eq!(
+        v[..6],
+        [
+            "root_joint.vx",
+            "root_joint.vy",
+            "root_joint.vz",
+            "root_joint.wx",
+            "root_joint.wy",
+            "root_joint.wz"
+        ]
+    );
+    assert_eq!(v[6], "j1");
+    // Mimic joints take no coordinate.
+    let (q, _) = names(&["tests/data/gripper_mimic.urdf"]);
+    assert_eq!(
+        q,
+        ["shoulder", "elbow", "wrist", "finger_left", "right_knuckle"]
+    );
+}

@@ -462,6 +462,53 @@ impl Model {
     pub fn v_offset(&self, i: usize) -> usize {
         self.joints[..i].iter().map(Joint::nv).sum()
     }
+    /// The name of each position and each velocity coordinate, in order: the joint's name, and
+    /// for a joint of several coordinates a component after a dot. Revolute and prismatic:
+    /// `elbow`. Euler angles: `hip.rz`, `hip.ry`, `hip.rx` in the joint's sequence (rates the
+    /// same). A quaternion: `q` is `wrist.qw`, `.qx`, `.qy`, `.qz` and `v` is `wrist.wx`, `.wy`,
+    /// `.wz` (the child frame's angular velocity). A free Euler base: `base.x`, `.y`, `.z` then its
+    /// angles, for `q` and `v` alike. A free quaternion base: `q` is `base.x`, `.y`, `.z`, `.qw`,
+    /// `.qx`, `.qy`, `.qz` and `v` is `base.vx`, `.vy`, `.vz`, `.wx`, `.wy`, `.wz`. Fixed and mimic
+    /// joints have none.
+    pub fn coordinate_names(&self) -> (Vec<String>, Vec<String>) {
+        let (mut q, mut v) = (Vec::new(), Vec::new());
+        for j in self.joints.iter().filter(|j| j.mimic.is_none()) {
+            let named = |parts: &[&str]| -> Vec<String> {
+                parts
+                    .iter()
+                    .map(|p| alloc::format!("{}.{p}", j.name))
+                    .collect()
+            };
+            let angles = |seq: &EulerSeq| -> Vec<String> {
+                seq.0
+                    .iter()
+                    .map(|a| alloc::format!("{}.r{}", j.name, a.letter()))
+                    .collect()
+            };
+            let (jq, jv) = match &j.kind {
+                JointKind::Revolute { .. } | JointKind::Prismatic { .. } => {
+                    (alloc::vec![j.name.clone()], alloc::vec![j.name.clone()])
+                }
+                JointKind::SphericalEuler { seq } => (angles(seq), angles(seq)),
+                JointKind::SphericalQuaternion => {
+                    (named(&["qw", "qx", "qy", "qz"]), named(&["wx", "wy", "wz"]))
+                }
+                JointKind::FreeEuler { seq } => {
+                    let mut all = named(&["x", "y", "z"]);
+                    all.extend(angles(seq));
+                    (all.clone(), all)
+                }
+                JointKind::FreeQuaternion => (
+                    named(&["x", "y", "z", "qw", "qx", "qy", "qz"]),
+                    named(&["vx", "vy", "vz", "wx", "wy", "wz"]),
+                ),
+                JointKind::Fixed => (Vec::new(), Vec::new()),
+            };
+            q.extend(jq);
+            v.extend(jv);
+        }
+        (q, v)
+    }
     /// Whether a joint follows another ([`Mimic`]).
     pub fn has_mimic(&self) -> bool {
         self.joints.iter().any(|j| j.mimic.is_some())
