@@ -864,11 +864,10 @@ pub fn runtime_traits() -> TokenStream {
     });
     // A trait per group whose outputs need no `NB`, and one for the default outputs, each with
     // a blanket impl: the bounds a test or a benchmark over many chains writes once.
-    let defaults: Vec<&Spec> = SPECS.iter().filter(|s| s.default).collect();
-    let groups = Group::ALL
+    let bundles: Vec<(String, Ident, Vec<&Spec>)> = Group::ALL
         .iter()
         .map(|&(g, name)| {
-            let members: Vec<&Spec> = SPECS.iter().filter(|s| s.group == Some(g)).collect();
+            let members = SPECS.iter().filter(|s| s.group == Some(g)).collect();
             (
                 format!("every output of the group `{name}`"),
                 g.trait_name(),
@@ -878,36 +877,27 @@ pub fn runtime_traits() -> TokenStream {
         .chain(std::iter::once((
             "the outputs generated when a description names none".to_string(),
             "DefaultOutputs",
-            defaults,
+            SPECS.iter().filter(|s| s.default).collect(),
         )))
-        .filter(|(_, _, members)| members.iter().all(|s| !s.uses_nb()))
-        .map(|(what, trait_name, members)| {
-            let name = Ident::new(trait_name, Span::call_site());
-            let bounds: Vec<TokenStream> = members.iter().map(|s| s.trait_path(&t)).collect();
-            let doc = format!(" A chain in `T` with {what}: one bound for all of them.");
-            quote! {
-                #[doc = #doc]
-                pub trait #name<T, const NQ: usize, const NV: usize>: #(#bounds)+* {}
-                impl<C, T, const NQ: usize, const NV: usize> #name<T, NQ, NV> for C where
-                    C: #(#bounds)+*
-                {
-                }
+        .filter(|(_, _, members): &(String, &str, Vec<&Spec>)| members.iter().all(|s| !s.uses_nb()))
+        .map(|(what, name, members)| (what, Ident::new(name, Span::call_site()), members))
+        .collect();
+    let groups = bundles.iter().map(|(what, name, members)| {
+        let bounds: Vec<TokenStream> = members.iter().map(|s| s.trait_path(&t)).collect();
+        let doc = format!(" A chain in `T` with {what}: one bound for all of them.");
+        quote! {
+            #[doc = #doc]
+            pub trait #name<T, const NQ: usize, const NV: usize>: #(#bounds)+* {}
+            impl<C, T, const NQ: usize, const NV: usize> #name<T, NQ, NV> for C where
+                C: #(#bounds)+*
+            {
             }
-        });
+        }
+    });
     let names = SPECS
         .iter()
         .map(|s| Ident::new(s.trait_name, Span::call_site()))
-        .chain(
-            Group::ALL
-                .iter()
-                .map(|&(g, _)| g)
-                .filter(|&g| g.outputs().all(|o| !o.spec().uses_nb()))
-                .map(|g| Ident::new(g.trait_name(), Span::call_site())),
-        )
-        .chain(std::iter::once(Ident::new(
-            "DefaultOutputs",
-            Span::call_site(),
-        )));
+        .chain(bundles.iter().map(|(_, name, _)| name.clone()));
     quote! {
         #(#traits)*
         #(#groups)*
