@@ -213,6 +213,15 @@ pub struct Description {
     /// them (the CLI on stderr, `Builder` as `cargo:warning`, the macros as a compiler
     /// warning), and a strict load refuses them.
     pub warnings: Vec<Warning>,
+    /// The joints a URDF declares `continuous`, in joint order (mimic joints left out): revolute
+    /// joints here, one angle each, where Pinocchio stores `(cos θ, sin θ)`
+    /// (`articulated::pinocchio`). Empty for other front ends.
+    pub continuous: Vec<String>,
+    /// A URDF's joints with coordinates in the order Pinocchio's URDF parser gives them, which
+    /// may differ from ours (it takes a link's child joints in the order of their names, not
+    /// the file's): what `articulated::pinocchio::Layout::with_order` needs. Empty for other
+    /// front ends.
+    pub pinocchio_order: Vec<String>,
 }
 
 /// A problem that does not stop a description from loading, at its line where known.
@@ -241,6 +250,8 @@ impl Description {
             model,
             options: Options::default(),
             warnings: Vec::new(),
+            continuous: Vec::new(),
+            pinocchio_order: Vec::new(),
         }
     }
 }

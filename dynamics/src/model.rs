@@ -138,6 +138,13 @@ impl EulerSeq {
     }
 }
 
+/// How far from 1 the norm of a quaternion in `q` may be: within it the quaternion is
+/// normalized (so a state printed to a few digits, or integrated for long, is taken as meant);
+/// beyond it the state is refused (`reference::Error::NotUnitQuaternion`, and the runtime's
+/// integrators' `Cause::NotUnitQuaternion`). A quaternion that far off unit is a mistake: a
+/// vector of zeros, a quaternion scaled by hand, or the four numbers of another layout.
+pub const QUATERNION_NORM_TOLERANCE: f64 = 1e-3;
+
 /// What a joint lets its child do relative to the joint frame, and how its coordinates read.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum JointKind {
@@ -158,8 +165,9 @@ pub enum JointKind {
         /// The angle sequence.
         seq: EulerSeq,
     },
-    /// Rotation by a quaternion `q = [w, x, y, z]` (normalized before use; the zero quaternion is
-    /// an error). 4 positions, 3 velocities: the child's angular velocity in the child frame.
+    /// Rotation by a quaternion `q = [w, x, y, z]`, **scalar first** (normalized before use; one
+    /// whose norm is off 1 by more than [`QUATERNION_NORM_TOLERANCE`] is an error). 4 positions,
+    /// 3 velocities: the child's angular velocity in the child frame.
     SphericalQuaternion,
     /// A free-floating base in Wieber's form: `q = [x, y, z, θ1, θ2, θ3]`, a translation in the
     /// joint frame followed by Euler angles in `seq` (default [`EulerSeq::ZYX`]); `v = q̇`.

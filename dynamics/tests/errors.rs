@@ -124,11 +124,45 @@ fn zero_quaternion() {
         }
     );
     assert!(e.to_string().contains("`ball`"), "{e}");
-    // A non-unit but non-zero quaternion is fine: it is normalized.
+    // A quaternion a little off unit (printed to four digits) is normalized: the same M as the
+    // unit one it stands for, a 45° turn about z.
+    let (c, s) = (
+        std::f64::consts::FRAC_PI_8.cos(),
+        std::f64::consts::FRAC_PI_8.sin(),
+    );
+    let mut unit = m.neutral();
+    unit[3..7].copy_from_slice(&[c, 0.0, 0.0, s]);
+    let mut printed = m.neutral();
+    printed[3..7].copy_from_slice(&[0.9239, 0.0, 0.0, 0.3827]);
+    let m1 = r.mass_matrix(&unit).unwrap();
+    let m2 = r.mass_matrix(&printed).unwrap();
+    assert!((m2 - m1).amax() < 1e-3, "normalized, not refused");
+    // One far off unit is a mistake, named with its norm: a scaled quaternion, or one in
+    // Pinocchio's `[x, y, z, w]` order read as ours with a component typed twice.
     let mut q2 = m.neutral();
     q2[3] = 5.0;
-    let m1 = r.mass_matrix(&m.neutral()).unwrap();
-    assert!((r.mass_matrix(&q2).unwrap() - m1).amax() < 1e-15);
+    let e = r.mass_matrix(&q2).unwrap_err();
+    assert_eq!(
+        e,
+        Error::NotUnitQuaternion {
+            joint: "base".into(),
+            index: 3,
+            norm: 5.0
+        }
+    );
+    assert!(e.to_string().contains("scalar first"), "{e}");
+    // Just past the tolerance, either way.
+    for norm in [1.0 + 1.5e-3, 1.0 - 1.5e-3] {
+        let mut q3 = m.neutral();
+        q3[7] = norm;
+        assert!(
+            matches!(
+                r.gravity(&q3),
+                Err(Error::NotUnitQuaternion { index: 7, .. })
+            ),
+            "{norm}"
+        );
+    }
     // The cross-check refuses it too.
     assert!(matches!(
         jacobian::wieber(&m, &[], &q, &[0.0; 9]),

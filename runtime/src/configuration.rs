@@ -112,6 +112,33 @@ pub fn check(coords: &[Coordinates], nq: usize, nv: usize) -> Result<(), SizeMis
     }
 }
 
+/// Whether every quaternion of `q` has unit norm, within
+/// [`QUATERNION_NORM_TOLERANCE`](crate::model::QUATERNION_NORM_TOLERANCE) (a non-finite norm
+/// is off). What the integrators check before each step: the generated functions take a
+/// quaternion as the rotation of `Q/|Q|`, so one far from unit, which no integrator makes, is a
+/// mistake in the state given.
+///
+/// # Errors
+/// The index of the first such quaternion's `w` entry in `q`, and its norm.
+pub fn check_unit<T: RealField + Copy>(coords: &[Coordinates], q: &[T]) -> Result<(), (usize, T)> {
+    let tolerance = T::from_subset(&crate::model::QUATERNION_NORM_TOLERANCE);
+    for (c, iq, _) in joints(coords) {
+        let w = match c {
+            Coordinates::Vector(_) => continue,
+            Coordinates::Quaternion => iq,
+            Coordinates::FreeQuaternion => iq + 3,
+        };
+        if let Some(&[a, b, c, d]) = q.get(w..w + 4).and_then(|s| <&[T; 4]>::try_from(s).ok()) {
+            let norm = (a * a + b * b + c * c + d * d).sqrt();
+            let off = (norm - T::one()).abs();
+            if off > tolerance || !off.is_finite() {
+                return Err((w, norm));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Each joint's coordinates with the offsets of its first position and first velocity in `q`
 /// and `v`: `(c, iq, iv)`.
 pub(crate) fn joints(

@@ -170,6 +170,35 @@ pub trait Chain<T> {
     /// Its joints' coordinates, in joint order, fixed and mimic joints left out: `Σ nq = NQ`,
     /// `Σ nv = NV`.
     const COORDINATES: &'static [Coordinates];
+    /// The name of each position coordinate, `NQ` of them, in order: the joint's name, and for
+    /// a joint of several coordinates a component after a dot. Revolute and prismatic:
+    /// `elbow`; Euler angles: `hip.rz`, `hip.ry`, `hip.rx` in the joint's sequence; a
+    /// quaternion: `wrist.qw`, `.qx`, `.qy`, `.qz` (scalar first); a free Euler base: `base.x`,
+    /// `.y`, `.z` then its angles; a free quaternion base: `base.x`, `.y`, `.z`, `.qw`, `.qx`,
+    /// `.qy`, `.qz`.
+    ///
+    /// ```
+    /// articulated::chain! {
+    ///     chain Arm {
+    ///         body upper { mass: 1.0, com: [0.0, 0.0, -0.3], inertia: diag(0.01, 0.01, 0.001) }
+    ///         body fore { mass: 0.5, com: [0.0, 0.0, -0.2], inertia: diag(0.005, 0.005, 0.001) }
+    ///         joint shoulder: spherical(quaternion) { parent: world, child: upper }
+    ///         joint elbow: revolute(y) { parent: upper, child: fore, xyz: [0.0, 0.0, -0.6] }
+    ///     }
+    /// }
+    /// use articulated::Chain;
+    /// assert_eq!(
+    ///     <Arm as Chain<f64>>::Q_NAMES,
+    ///     ["shoulder.qw", "shoulder.qx", "shoulder.qy", "shoulder.qz", "elbow"]
+    /// );
+    /// assert_eq!(<Arm as Chain<f64>>::V_NAMES, ["shoulder.wx", "shoulder.wy", "shoulder.wz", "elbow"]);
+    /// ```
+    const Q_NAMES: &'static [&'static str];
+    /// The name of each velocity coordinate (and of each entry of `τ`), `NV` of them, in
+    /// order: as [`Q_NAMES`](Chain::Q_NAMES) where `v = q̇`; a quaternion joint's angular
+    /// velocity in its child frame `wrist.wx`, `.wy`, `.wz`; a free quaternion base's
+    /// `base.vx`, `.vy`, `.vz`, `.wx`, `.wy`, `.wz` (both in the child frame).
+    const V_NAMES: &'static [&'static str];
     /// Its joints' drives, one per entry of [`COORDINATES`](Chain::COORDINATES): the armature
     /// (already in the generated `M`, `τ` and `q̈`), and the damping, friction and limits that
     /// [`Drives`](crate::drives::Drives) applies in a simulation.

@@ -126,6 +126,7 @@ fn cause(e: Error) -> Cause<f64> {
             index,
         },
         Error::Quaternion { .. } => Cause::System("a quaternion in q is zero"),
+        Error::NotUnitQuaternion { index, norm, .. } => Cause::NotUnitQuaternion { index, norm },
         Error::NonFiniteResult { .. } => Cause::NonFinite {
             quantity: Quantity::Acceleration,
             index: 0,

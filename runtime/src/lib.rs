@@ -154,6 +154,10 @@ pub mod invert;
 // masked to the table's size.
 #[allow(clippy::indexing_slicing)]
 pub mod math;
+// Quaternions and angle pairs moved between slices that `get(..7)`, `get(..4)`, `get(..2)`
+// have just taken at those lengths.
+#[allow(clippy::indexing_slicing)]
+pub mod pinocchio;
 #[cfg(feature = "plot")]
 pub mod plot;
 #[cfg(feature = "std")]

@@ -1022,6 +1022,43 @@ fn a_singular_mass_matrix_is_a_fault() {
 }
 
 #[test]
+fn a_quaternion_far_from_unit_is_a_fault_for_every_method() {
+    // The free body's quaternion in Pinocchio's `[x, y, z, w]` order, with `w` typed twice:
+    // norm √2 (a unit quaternion in the wrong order is a rotation: nothing can tell). Every
+    // method refuses it at t = 0, step 0, naming the `w` entry and the norm; one rounded to
+    // four digits is integrated.
+    let mut start = free_body_start();
+    start.q.as_mut_slice()[3..7].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
+    start.q[3] = 1.0;
+    for method in Method::ALL {
+        let mut system = ControlledChain::<f64, FreeBody, _>::unforced();
+        let fault = Simulation::new(0.0, 0.1, 0.01)
+            .run(
+                &mut system,
+                &mut Stepper::new(method, 1e-9, 1e-9),
+                start,
+                |_| Ok(()),
+                |_, _| {},
+            )
+            .expect_err("refused");
+        assert_eq!((fault.t, fault.step), (0.0, 0), "{method}");
+        match fault.cause {
+            Cause::NotUnitQuaternion { index: 3, norm } => {
+                assert!((norm - 2f64.sqrt()).abs() < 1e-15, "{method}: {norm}");
+            }
+            other => panic!("{method}: {other}"),
+        }
+        assert!(fault.to_string().contains("scalar first"), "{fault}");
+    }
+    let mut printed = free_body_start();
+    for x in &mut printed.q.as_mut_slice()[3..7] {
+        *x = (*x * 1e4).round() / 1e4;
+    }
+    let mut system = ControlledChain::<f64, FreeBody, _>::unforced();
+    run(&mut system, &mut Rk4, printed, 0.1, 0.01);
+}
+
+#[test]
 fn a_failed_newton_solve_is_a_fault() {
     // A controller that is not a function of its arguments: every call returns another τ, so
     // the midpoint equation has no fixed point to converge to.

@@ -47,6 +47,8 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
         impl<T> ::articulated::Chain<T> for #name {
             const NAME: &'static str = #name_str;
             const COORDINATES: &'static [::articulated::Coordinates] = &[];
+            const Q_NAMES: &'static [&'static str] = &[];
+            const V_NAMES: &'static [&'static str] = &[];
             const DRIVES: &'static [::articulated::Drive] = &[];
             type Params = ();
             fn default_params() {}

@@ -43,6 +43,30 @@ pub(super) fn type_doc(cx: &Context) -> Vec<String> {
         outputs.join(", ")
     );
     lines.extend(wrap(&summary));
+    let (q_names, v_names) = cx.model.coordinate_names();
+    if !q_names.is_empty() {
+        let list = |names: &[String]| -> String {
+            names
+                .iter()
+                .map(|n| format!("`{n}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        lines.push(String::new());
+        let text = if q_names == v_names {
+            format!(
+                "Coordinates (`q` and `v` alike, `Chain::Q_NAMES`): {}.",
+                list(&q_names)
+            )
+        } else {
+            format!(
+                "Positions `q` (`Chain::Q_NAMES`): {}. Velocities `v` (`Chain::V_NAMES`): {}.",
+                list(&q_names),
+                list(&v_names)
+            )
+        };
+        lines.extend(wrap(&text));
+    }
     let mimics: Vec<String> = cx
         .model
         .joints

@@ -349,6 +349,7 @@ impl<'a> Context<'a> {
             .iter()
             .filter(|j| j.kind != JointKind::Fixed && j.mimic.is_none())
             .map(|j| drive_tokens(&j.drive));
+        let (q_names, v_names) = self.model.coordinate_names();
         let params_ty = &self.params_ty;
         // `-> ()` would trip clippy's `unused_unit` in the user's crate.
         let default_fn = if self.param_idents.is_empty() {
@@ -362,6 +363,8 @@ impl<'a> Context<'a> {
             impl #generics ::articulated::Chain<#scalar> for #name {
                 const NAME: &'static str = #name_str;
                 const COORDINATES: &'static [::articulated::Coordinates] = &[#(#coordinates),*];
+                const Q_NAMES: &'static [&'static str] = &[#(#q_names),*];
+                const V_NAMES: &'static [&'static str] = &[#(#v_names),*];
                 const DRIVES: &'static [::articulated::Drive] = &[#(#drives),*];
                 type Params = #params_ty;
                 #default_fn

@@ -158,6 +158,8 @@ impl Lower {
             model: model?,
             options,
             warnings: Vec::new(),
+            continuous: Vec::new(),
+            pinocchio_order: Vec::new(),
         })
     }
 }

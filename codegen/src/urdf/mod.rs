@@ -507,6 +507,35 @@ impl Importer {
         }
     }
 
+    /// The names of the model's joints with coordinates in the order Pinocchio's URDF parser
+    /// gives them: depth first from the root as ours, but a link's child joints taken in the
+    /// order of their names (urdfdom keeps them in a `std::map`), not the file's; fixed joints
+    /// are walked through; the free base, named `root_joint` as Pinocchio names it, first.
+    fn pinocchio_order(&self, tree: &Tree, root: usize, model: &Model) -> Vec<String> {
+        let joints = &self.robot.joints;
+        let with_coordinates =
+            |name: &str| model.joints.iter().any(|j| j.name == name && j.nv() > 0);
+        let mut order: Vec<String> = model
+            .joints
+            .iter()
+            .filter(|j| j.parent.is_none() && j.nv() > 0 && j.name == "root_joint")
+            .map(|j| j.name.clone())
+            .collect();
+        let sorted = |link: usize| {
+            let mut children: Vec<usize> = tree.checked.children[link].clone();
+            children.sort_by(|&a, &b| joints[a].name.cmp(&joints[b].name));
+            children.into_iter().rev()
+        };
+        let mut stack: Vec<usize> = sorted(root).collect();
+        while let Some(j) = stack.pop() {
+            if with_coordinates(&joints[j].name) {
+                order.push(joints[j].name.clone());
+            }
+            stack.extend(sorted(tree.joint_links[j].1));
+        }
+        order
+    }
+
     /// The model: names checked, the tree checked, then walked from the root.
     fn build(&self, floating: FloatingBase) -> Result<Description, UrdfError> {
         if self.robot.links.is_empty() {
@@ -565,10 +594,29 @@ impl Importer {
         };
         let mut warnings = self.warnings.take();
         warnings.sort_by_key(|w| w.line);
+        let pinocchio_order = tree
+            .checked
+            .roots
+            .first()
+            .map(|&root| self.pinocchio_order(&tree, root, &model))
+            .unwrap_or_default();
+        let continuous = model
+            .joints
+            .iter()
+            .filter(|j| j.mimic.is_none())
+            .filter(|j| {
+                self.robot.joints.iter().any(|u| {
+                    u.name == j.name && matches!(u.joint_type, urdf_rs::JointType::Continuous)
+                })
+            })
+            .map(|j| j.name.clone())
+            .collect();
         Ok(Description {
             model,
             options,
             warnings,
+            continuous,
+            pinocchio_order,
         })
     }
 

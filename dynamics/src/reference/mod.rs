@@ -72,6 +72,16 @@ pub enum Error {
         /// Index of its `w` entry in `q`.
         index: usize,
     },
+    /// A quaternion in `q` has a norm off 1 by more than
+    /// [`QUATERNION_NORM_TOLERANCE`](crate::model::QUATERNION_NORM_TOLERANCE).
+    NotUnitQuaternion {
+        /// The joint it belongs to.
+        joint: String,
+        /// Index of its `w` entry in `q`.
+        index: usize,
+        /// Its norm.
+        norm: f64,
+    },
     /// The parameter vector has the wrong length.
     ParamLength {
         /// `model.params.len()`.
@@ -121,6 +131,14 @@ impl fmt::Display for Error {
                 f,
                 "joint `{joint}`: the quaternion at q[{index}..{}] is zero or not finite, so it names no rotation",
                 index + 4
+            ),
+            Error::NotUnitQuaternion { joint, index, norm } => write!(
+                f,
+                "joint `{joint}`: the quaternion at q[{index}..{}] has norm {norm}, not 1 \
+                 (within {}): it is `[w, x, y, z]`, scalar first (Pinocchio's order is \
+                 `[x, y, z, w]`)",
+                index + 4,
+                crate::model::QUATERNION_NORM_TOLERANCE
             ),
             Error::ParamLength { expected, found } => write!(
                 f,
@@ -262,11 +280,13 @@ pub(crate) fn check_vector(vector: &'static str, x: &[f64], expected: usize) -> 
 }
 
 /// Checks `q` for `model` as every [`Reference`] function does (length, finite entries, every
-/// quaternion non-zero); public so that other evaluators of a model (the CLI's symbolic engine)
+/// quaternion of unit norm within
+/// [`QUATERNION_NORM_TOLERANCE`](crate::model::QUATERNION_NORM_TOLERANCE)); public so that other evaluators of a model (the CLI's symbolic engine)
 /// refuse exactly the same states.
 ///
 /// # Errors
-/// [`Error::Length`], [`Error::NonFinite`] or [`Error::Quaternion`].
+/// [`Error::Length`], [`Error::NonFinite`], [`Error::Quaternion`] or
+/// [`Error::NotUnitQuaternion`].
 pub fn check_q(model: &Model, q: &[f64]) -> Result<(), Error> {
     check_vector("q", q, model.nq())?;
     let mut at = 0;
@@ -282,6 +302,14 @@ pub fn check_q(model: &Model, q: &[f64]) -> Result<(), Error> {
                 return Err(Error::Quaternion {
                     joint: j.name.clone(),
                     index,
+                });
+            }
+            let norm = libm::sqrt(n2);
+            if (norm - 1.0).abs() > crate::model::QUATERNION_NORM_TOLERANCE {
+                return Err(Error::NotUnitQuaternion {
+                    joint: j.name.clone(),
+                    index,
+                    norm,
                 });
             }
         }

@@ -313,6 +313,16 @@ pub enum Cause<T> {
         /// Room in the buffer.
         capacity: usize,
     },
+    /// A quaternion of the state's `q` has a norm off 1 by more than
+    /// [`QUATERNION_NORM_TOLERANCE`](crate::model::QUATERNION_NORM_TOLERANCE): a mistake in
+    /// the initial state (zeros, another library's `[x, y, z, w]` order scaled, …), since the
+    /// integrators keep quaternions unit to rounding.
+    NotUnitQuaternion {
+        /// The index of its `w` entry in `q`.
+        index: usize,
+        /// Its norm.
+        norm: T,
+    },
     /// A system-specific failure, with its description.
     System(&'static str),
 }
@@ -354,6 +364,12 @@ impl<T: fmt::Display> fmt::Display for Cause<T> {
             Cause::BufferTooSmall { needed, capacity } => write!(
                 f,
                 "the buffer holds {capacity} states, the trajectory has {needed}"
+            ),
+            Cause::NotUnitQuaternion { index, norm } => write!(
+                f,
+                "the quaternion at q[{index}..{}] has norm {norm}, not 1: quaternions are \
+                 `[w, x, y, z]`, scalar first",
+                index + 4
             ),
             Cause::System(what) => write!(f, "{what}"),
         }
@@ -672,6 +688,10 @@ where
         }
         if check {
             check_state(state.q.as_slice(), state.v.as_slice()).map_err(fault)?;
+        }
+        if !vector_space {
+            crate::configuration::check_unit(system.coordinates(), state.q.as_slice())
+                .map_err(|(index, norm)| fault(Cause::NotUnitQuaternion { index, norm }))?;
         }
         let step = Step {
             system,
