@@ -10,7 +10,8 @@ use articulated_codegen::trace::trace;
 use nalgebra::{DMatrix, DVector};
 use serde_json::Value;
 
-use crate::{load_reference, parse_vector, Engine, EvalArgs};
+use crate::pinocchio::{Pinocchio, QOrder};
+use crate::{load_described, parse_vector, Engine, EvalArgs};
 
 fn matrix_rows(m: &DMatrix<f64>) -> Value {
     Value::Array(
@@ -73,16 +74,20 @@ fn condition(m: &DMatrix<f64>) -> f64 {
 /// caller exits with failure if there is any); or the error message when nothing could be.
 pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
     // Checks the model and the parameter values, for both engines.
-    let (model, reference) = load_reference(&args.model, args.base, args.params.as_deref())?;
+    let (description, reference) = load_described(&args.model, args.base, args.params.as_deref())?;
+    let model = &description.model;
     let params = reference.params().to_vec();
     let (nq, nv) = (reference.nq(), reference.nv());
-    let q = match &args.q {
-        Some(s) => parse_vector(s, "q", nq)?,
-        None => model.neutral(),
+    let pinocchio = (args.q_order == QOrder::Pinocchio).then(|| Pinocchio::of(&description));
+    let q = match (&args.q, &pinocchio) {
+        (Some(s), None) => parse_vector(s, "q", nq)?,
+        (Some(s), Some(p)) => p.q_in(&parse_vector(s, "q", p.nq()?)?, "q")?,
+        (None, _) => model.neutral(),
     };
-    let get = |arg: &Option<String>, what: &str| match arg {
-        Some(s) => parse_vector(s, what, nv),
-        None => Ok(vec![0.0; nv]),
+    let get = |arg: &Option<String>, what: &str| match (arg, &pinocchio) {
+        (Some(s), None) => parse_vector(s, what, nv),
+        (Some(s), Some(p)) => p.v_in(&parse_vector(s, what, nv)?, what),
+        (None, _) => Ok(vec![0.0; nv]),
     };
     let state = State {
         q,
@@ -92,17 +97,32 @@ pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
         params,
     };
     // A `q` that names no configuration fails every quantity alike: one error, nothing printed.
-    check_q(&model, &state.q).map_err(|e| format!("error: {e}"))?;
-    let computed = match args.engine {
+    check_q(model, &state.q).map_err(|e| format!("error: {e}"))?;
+    let mut computed = match args.engine {
         Engine::Reference => by_reference(&reference, &state),
-        Engine::Symbolic => by_graph(&model, &state),
+        Engine::Symbolic => by_graph(model, &state),
     };
+    let (mut q_names, mut v_names) = model.coordinate_names();
+    let mut shown_nq = nq;
+    if let Some(p) = &pinocchio {
+        (q_names, v_names) = p.names(&q_names, &v_names);
+        shown_nq = p.nq()?;
+        let sources = p.v_sources()?;
+        for (key, value) in &mut computed {
+            if let (true, Ok(v)) = (BY_VELOCITY.contains(key), value.as_mut()) {
+                *v = in_order(v, &sources);
+            }
+        }
+    }
     let mut fields = vec![
-        ("nq", Ok(Value::from(nq))),
+        ("nq", Ok(Value::from(shown_nq))),
         ("nv", Ok(Value::from(nv))),
-        ("coordinates", Ok(coordinates(&model))),
-        ("drives", Ok(drives(&model))),
-        ("mimic", Ok(mimics(&model))),
+        (
+            "coordinates",
+            Ok(serde_json::json!({ "q": q_names, "v": v_names })),
+        ),
+        ("drives", Ok(drives(model))),
+        ("mimic", Ok(mimics(model))),
     ];
     fields.extend(computed);
     let mut errors = Vec::new();
@@ -121,11 +141,36 @@ pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
     Ok((to_json(&values), errors))
 }
 
-/// `{"q": [names], "v": [names]}`: which joint, and which component of it, each entry of `q`
-/// and `v` is (`Model::coordinate_names`: `hip.ry`, `base.qw`, …).
-fn coordinates(model: &Model) -> Value {
-    let (q, v) = model.coordinate_names();
-    serde_json::json!({ "q": q, "v": v })
+/// The outputs indexed by velocity (vectors of `nv`, matrices `nv × nv`), which
+/// `--q-order pinocchio` prints in Pinocchio's joint order.
+const BY_VELOCITY: [&str; 6] = [
+    "mass_matrix",
+    "bias",
+    "gravity",
+    "tau",
+    "qdd",
+    "coriolis_matrix",
+];
+
+/// A vector's entries, or a matrix's rows and columns, taken from the indices `sources`.
+fn in_order(value: &Value, sources: &[usize]) -> Value {
+    let pick = |row: &Vec<Value>| -> Value {
+        sources
+            .iter()
+            .map(|&k| row.get(k).cloned().unwrap_or(Value::Null))
+            .collect()
+    };
+    match value {
+        Value::Array(rows) if rows.first().is_some_and(Value::is_array) => sources
+            .iter()
+            .map(|&k| match rows.get(k) {
+                Some(Value::Array(row)) => pick(row),
+                _ => Value::Null,
+            })
+            .collect(),
+        Value::Array(entries) => pick(entries),
+        other => other.clone(),
+    }
 }
 
 /// The joints whose description gives a drive, in joint order: `{"joint": name, "armature": …,

@@ -26,6 +26,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 mod eval;
 mod expand;
 mod invert;
+mod pinocchio;
 mod simulate;
 
 /// Rigid-body dynamics from a chain description (`.chain` or `.urdf`).
@@ -85,6 +86,11 @@ pub struct EvalArgs {
     /// The base under a URDF root.
     #[command(flatten)]
     pub base: Base,
+    /// The layout of `--q`, `--v`, `--a`, `--tau` and of every vector and matrix printed:
+    /// `articulated` (ours) or `pinocchio` (its free flyer `[x, y, z, qx, qy, qz, qw]`,
+    /// continuous joints as `(cos θ, sin θ)`, its URDF joint order).
+    #[arg(long, value_enum, default_value_t)]
+    pub q_order: pinocchio::QOrder,
     /// Which implementation evaluates the model: `reference` (the interpreted recursions) or
     /// `symbolic` (the generator's expression graphs; checks the generator without compiling).
     #[arg(long, value_enum, default_value_t = Engine::Reference)]
@@ -202,14 +208,30 @@ pub fn load_reference(
     base: Base,
     params: Option<&str>,
 ) -> Result<(articulated::model::Model, articulated::reference::Reference), String> {
-    let model = load_description(path, base)?.model;
+    load_described(path, base, params).map(|(d, r)| (d.model, r))
+}
+
+/// [`load_reference`], with the whole description (what a front end reports beside the model).
+pub fn load_described(
+    path: &std::path::Path,
+    base: Base,
+    params: Option<&str>,
+) -> Result<
+    (
+        articulated_codegen::options::Description,
+        articulated::reference::Reference,
+    ),
+    String,
+> {
+    let description = load_description(path, base)?;
+    let model = &description.model;
     let params = match params {
         None => model.param_defaults(),
         Some(p) => parse_vector(p, "params", model.params.len())?,
     };
-    let reference = articulated::reference::Reference::with_params(&model, &params)
+    let reference = articulated::reference::Reference::with_params(model, &params)
         .map_err(|e| format!("{}: error: {e}", path.display()))?;
-    Ok((model, reference))
+    Ok((description, reference))
 }
 
 /// Parses a comma-separated vector of `len` finite numbers; `what` names it in errors.

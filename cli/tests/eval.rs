@@ -647,3 +647,64 @@ fn coordinates_are_named() {
         ["shoulder", "elbow", "wrist", "finger_left", "right_knuckle"]
     );
 }
+
+/// `--q-order pinocchio`: Pinocchio's own states of TIAGo on a free flyer (its quaternion
+/// `[qx, qy, qz, qw]`, its continuous wheels as `(cos θ, sin θ)`, its joints in the order of
+/// their names: the wheels last where the file has them first) go in as Pinocchio wrote them,
+/// and `tau` comes out as Pinocchio's `rnea` gave it, entry by entry; the names say the
+/// layout. Without the option the same numbers are refused (the lengths differ).
+#[test]
+fn pinocchio_layout_in_and_out() {
+    let text =
+        std::fs::read_to_string(repo().join("tests/data/pinocchio_layout/pinocchio-layout.json"))
+            .unwrap();
+    let json: Value = serde_json::from_str(&text).unwrap();
+    let m = &json["models"]["tiago"];
+    let urdf = repo().join("tests/data").join(m["urdf"].as_str().unwrap());
+    let urdf = urdf.to_str().unwrap();
+    for s in m["states"].as_array().unwrap() {
+        let (q, v, a) = (csv(&s["q"]), csv(&s["v"]), csv(&s["a"]));
+        let args = [
+            urdf,
+            "--floating=quaternion",
+            "--q-order",
+            "pinocchio",
+            "--q",
+            &q,
+            "--v",
+            &v,
+            "--a",
+            &a,
+        ];
+        let (ok, stdout, stderr) = eval(&args);
+        assert!(ok, "{stderr}");
+        let out: Value = serde_json::from_str(&stdout).unwrap();
+        let e = rel_err(&out["tau"], &s["tau"]);
+        assert!(e < 1e-10, "tau off by {e:.1e}");
+        assert_eq!(out["nq"], m["nq"]);
+        let names = &out["coordinates"]["q"];
+        assert_eq!(names[3], "root_joint.qx");
+        assert_eq!(names[6], "root_joint.qw");
+        let last: Vec<&str> = names.as_array().unwrap()[53..]
+            .iter()
+            .map(|x| x.as_str().unwrap())
+            .collect();
+        assert_eq!(
+            last,
+            [
+                "wheel_left_joint.cos",
+                "wheel_left_joint.sin",
+                "wheel_right_joint.cos",
+                "wheel_right_joint.sin"
+            ]
+        );
+        let (ok, _, stderr) = eval(
+            &args[..2]
+                .iter()
+                .chain(&args[4..])
+                .copied()
+                .collect::<Vec<_>>(),
+        );
+        assert!(!ok && stderr.contains("--q has 57 values"), "{stderr}");
+    }
+}
