@@ -257,6 +257,19 @@ pub struct Body {
     pub inertia: [[Value; 3]; 3],
 }
 
+/// A named frame fixed to a body (or to the world): a tool tip, a foot sole, a sensor, or a
+/// URDF link that the importer merged into the body it is welded to. Every body is a frame too,
+/// under its own name, at its body frame ([`Model::frame`]); these are the others.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// Its name: unique among the bodies' and the frames'.
+    pub name: String,
+    /// The body it is fixed to, or `None` for the world.
+    pub parent: Option<usize>,
+    /// Where it sits in its parent's frame.
+    pub placement: Placement,
+}
+
 /// A joint: its kind, its parent, its placement, its drive. Its child is the body with the same
 /// index.
 #[derive(Clone, Debug, PartialEq)]
@@ -432,6 +445,8 @@ pub struct Model {
     pub bodies: Vec<Body>,
     /// Joints; `joints[i].parent < Some(i)`.
     pub joints: Vec<Joint>,
+    /// The frames besides the bodies' ([`Frame`]).
+    pub frames: Vec<Frame>,
 }
 
 /// The default gravity, `[0, 0, −9.81]` m/s².
@@ -447,7 +462,29 @@ impl Model {
             params: Vec::new(),
             bodies,
             joints,
+            frames: Vec::new(),
         }
+    }
+
+    /// The frame called `name`: a body's (at its body frame) or one of [`Model::frames`], as
+    /// its parent body (`None`: the world) and its placement there.
+    pub fn frame(&self, name: &str) -> Option<(Option<usize>, Placement)> {
+        match self.body_index(name) {
+            Some(b) => Some((Some(b), Placement::IDENTITY)),
+            None => self
+                .frames
+                .iter()
+                .find(|f| f.name == name)
+                .map(|f| (f.parent, f.placement)),
+        }
+    }
+
+    /// Every frame's name: the bodies', then [`Model::frames`]'.
+    pub fn frame_names(&self) -> impl Iterator<Item = &str> {
+        self.bodies
+            .iter()
+            .map(|b| b.name.as_str())
+            .chain(self.frames.iter().map(|f| f.name.as_str()))
     }
 
     /// Number of bodies (= number of joints).
@@ -709,6 +746,25 @@ impl Model {
         for v in self.gravity.iter().flatten() {
             check_value(v, Place::Gravity)?;
         }
+        for (k, f) in self.frames.iter().enumerate() {
+            if f.parent.is_some_and(|p| p >= self.bodies.len()) {
+                return Err(ModelError::Frame {
+                    frame: f.name.clone(),
+                    problem: String::from("its parent body does not exist"),
+                });
+            }
+            let taken = self.bodies.iter().any(|b| b.name == f.name)
+                || self.frames[..k].iter().any(|g| g.name == f.name);
+            if taken {
+                return Err(ModelError::Frame {
+                    frame: f.name.clone(),
+                    problem: String::from("another body or frame has its name"),
+                });
+            }
+            for v in f.placement.xyz.iter().chain(&f.placement.rpy) {
+                check_value(v, Place::Frame(f.name.clone()))?;
+            }
+        }
         Ok(())
     }
 }
@@ -722,6 +778,8 @@ pub enum Place {
     MassProperties(String),
     /// Gravity.
     Gravity,
+    /// The placement of the named frame.
+    Frame(String),
 }
 
 impl fmt::Display for Place {
@@ -730,6 +788,7 @@ impl fmt::Display for Place {
             Place::Placement(joint) => write!(f, "the placement of joint `{joint}`"),
             Place::MassProperties(body) => write!(f, "the mass properties of body `{body}`"),
             Place::Gravity => write!(f, "gravity"),
+            Place::Frame(frame) => write!(f, "the placement of frame `{frame}`"),
         }
     }
 }
@@ -789,6 +848,13 @@ pub enum ModelError {
         /// The index it names.
         index: usize,
     },
+    /// A [`Frame`] with an unknown parent or a name already taken.
+    Frame {
+        /// The frame.
+        frame: String,
+        /// What is wrong.
+        problem: String,
+    },
 }
 
 impl fmt::Display for ModelError {
@@ -820,6 +886,7 @@ impl fmt::Display for ModelError {
                 f,
                 "a number in {place} names parameter #{index}, which does not exist"
             ),
+            ModelError::Frame { frame, problem } => write!(f, "frame `{frame}`: {problem}"),
         }
     }
 }

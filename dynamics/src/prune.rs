@@ -17,7 +17,7 @@ use alloc::string::{String, ToString};
 use alloc::vec::Vec;
 use core::fmt;
 
-use crate::model::{Body, Drive, Joint, JointKind, Mimic, Model, Placement, Value};
+use crate::model::{Body, Drive, Frame, Joint, JointKind, Mimic, Model, Placement, Value};
 use crate::spatial::{Mat3, Vec3};
 
 /// Why a model could not be pruned as asked.
@@ -407,9 +407,41 @@ pub fn merge_fixed(model: &Model) -> Model {
             }),
         });
     }
+    // Each merged body stays a frame, at its pose in its host; each frame on a merged body
+    // moves to the host, its placement composed.
+    let mut frames: Vec<Frame> = Vec::new();
+    for f in &model.frames {
+        let frame = match f.parent {
+            Some(p) if host[p] != p => {
+                let (rh, xh) = pose[p];
+                let Some((r, x)) = pose_of(&f.placement) else {
+                    return model.clone();
+                };
+                Frame {
+                    name: f.name.clone(),
+                    parent: index[host[p]],
+                    placement: placement(&rh.mul_mat(&r), vadd(xh, rh.mul_vec(x))),
+                }
+            }
+            parent => Frame {
+                parent: parent.and_then(|p| index[p]),
+                ..f.clone()
+            },
+        };
+        frames.push(frame);
+    }
+    for b in (0..n).filter(|&b| host[b] != b) {
+        let (r, x) = pose[b];
+        frames.push(Frame {
+            name: model.bodies[b].name.clone(),
+            parent: index[host[b]],
+            placement: placement(&r, x),
+        });
+    }
     Model {
         bodies: out_bodies,
         joints: out_joints,
+        frames,
         ..model.clone()
     }
 }

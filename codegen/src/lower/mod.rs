@@ -141,6 +141,7 @@ impl Lower {
             params: std::mem::take(&mut self.params),
             bodies,
             joints,
+            frames: Vec::new(),
         });
         let option_problems = match &model {
             Some(model) => check::options(model, &options),

@@ -70,7 +70,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use articulated_dynamics::model::{
-    Body, Drive, EulerSeq, Joint, JointKind, Mimic, Model, Placement, Value, DEFAULT_GRAVITY,
+    Body, Drive, EulerSeq, Frame, Joint, JointKind, Mimic, Model, Placement, Value, DEFAULT_GRAVITY,
 };
 use articulated_dynamics::spatial::{Mat3, Vec3};
 
@@ -318,6 +318,8 @@ struct Built {
     joints: Vec<Joint>,
     /// `(model joint, URDF joint)` of each mimic joint, resolved once every joint is built.
     mimics: Vec<(usize, usize)>,
+    /// The links welded to a body (or to the world) by fixed joints: each stays a frame.
+    frames: Vec<Frame>,
 }
 
 impl Importer {
@@ -581,6 +583,7 @@ impl Importer {
                 })
                 .collect(),
             joints: built.joints,
+            frames: built.frames,
         };
         model
             .check()
@@ -785,6 +788,12 @@ impl Importer {
             Some(0)
         } else {
             mass_of(root, errors); // checked, then dropped with the world
+                                   // The root link stays a frame, at the world's origin.
+            built.frames.push(Frame {
+                name: self.robot.links[root].name.clone(),
+                parent: None,
+                placement: Placement::IDENTITY,
+            });
             None
         };
         push_children(&mut stack, root, root_body, Transform::IDENTITY);
@@ -804,6 +813,11 @@ impl Importer {
                         built.bodies[b].1 = built.bodies[b].1.merged(&here);
                         built.body_links[b].push(child);
                     }
+                    built.frames.push(Frame {
+                        name: self.robot.links[child].name.clone(),
+                        parent: body,
+                        placement: placement(frame.p.0, matrix_rpy(&frame.r)),
+                    });
                     push_children(&mut stack, child, body, frame);
                 }
                 Some(kind) => {
