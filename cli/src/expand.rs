@@ -64,6 +64,10 @@ pub fn run(args: &ExpandArgs) -> Result<String, String> {
         chain.options.keep = Some(keep.split(',').map(|b| b.trim().to_string()).collect());
         source.push_str(&format!(" --keep {keep}"));
     }
+    if let Some(frames) = &args.frames {
+        chain.options.frames = frames.split(',').map(|f| f.trim().to_string()).collect();
+        source.push_str(&format!(" --frames {frames}"));
+    }
     if args.quasi_static {
         chain.options.quasi_static = true;
         source.push_str(" --quasi-static");

@@ -128,6 +128,10 @@ pub struct ExpandArgs {
     /// Quasi-static motion: velocity-product terms dropped.
     #[arg(long)]
     pub quasi_static: bool,
+    /// The frames the frame outputs compute, comma-separated, in place of the description's
+    /// (bodies, `frame` items, URDF links), e.g. `--frames tool,left_sole`.
+    #[arg(long)]
+    pub frames: Option<String>,
 }
 
 /// Arguments of `articulated simulate`.

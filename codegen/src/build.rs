@@ -46,6 +46,7 @@ struct Entry {
     accuracy: Option<Accuracy>,
     locks: Vec<(String, Vec<f64>)>,
     keep: Option<Vec<String>>,
+    frames: Option<Vec<String>>,
     quasi_static: bool,
     strict: bool,
     balance_inertia: bool,
@@ -118,6 +119,7 @@ impl Builder {
             accuracy: None,
             locks: Vec::new(),
             keep: None,
+            frames: None,
             quasi_static: false,
             strict: false,
             balance_inertia: false,
@@ -199,6 +201,15 @@ impl Builder {
     pub fn keep(mut self, bodies: &[&str]) -> Self {
         if let Some(last) = self.sources.last_mut() {
             last.keep = Some(bodies.iter().map(|b| b.to_string()).collect());
+        }
+        self
+    }
+
+    /// The frames the frame outputs of the source added last compute, in that order (as
+    /// `frames = […]`): bodies' names, `frame` items', URDF links'.
+    pub fn frames(mut self, frames: &[&str]) -> Self {
+        if let Some(last) = self.sources.last_mut() {
+            last.frames = Some(frames.iter().map(|f| f.to_string()).collect());
         }
         self
     }
@@ -288,6 +299,9 @@ impl Builder {
             chain.options.locks.extend(entry.locks.iter().cloned());
             if let Some(k) = &entry.keep {
                 chain.options.keep = Some(k.clone());
+            }
+            if let Some(f) = &entry.frames {
+                chain.options.frames = f.clone();
             }
             chain.options.quasi_static |= entry.quasi_static;
             let failed = |error| BuildError::Generate {

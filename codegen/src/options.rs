@@ -148,6 +148,9 @@ pub struct Options {
     /// Quasi-static motion (`quasi_static: true`): the velocity-product terms are dropped, as
     /// if `v = 0` in every output (an approximation; `bias` is then zero).
     pub quasi_static: bool,
+    /// The frames the frame outputs compute (`frames: [tool, left_sole]`), in that order:
+    /// bodies' names or the model's [`Frame`](crate::model::Frame)s'.
+    pub frames: Vec<String>,
 }
 
 impl Default for Options {
@@ -162,6 +165,7 @@ impl Default for Options {
             locks: Vec::new(),
             keep: None,
             quasi_static: false,
+            frames: Vec::new(),
         }
     }
 }

@@ -46,6 +46,8 @@ pub enum Dim {
     Nv,
     /// `NB`, the joints (fixed ones included).
     Nb,
+    /// `NF`, the frames the description names (`frames: [...]`).
+    Nf,
     /// A number.
     N(usize),
 }
@@ -57,6 +59,18 @@ pub enum Order {
     Rows,
     /// Column by column (nalgebra's storage), or a symmetric matrix.
     Columns,
+}
+
+/// What an output gives for each frame it is asked for ([`Part::Frames`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Each {
+    /// Its placement in the world: the rotation's 9 values row by row, then the translation's
+    /// 3 (`FramePlacement`).
+    Placement,
+    /// A vector of `n`.
+    Vector(usize),
+    /// A matrix `rows × cols`, its values in `order`.
+    Matrix(usize, Dim, Order),
 }
 
 /// One part of an output's traced values and what the function makes of it.
@@ -77,6 +91,9 @@ pub enum Part {
         /// Only the lower triangle.
         lower: bool,
     },
+    /// One value per frame named in `frames: [...]`, in that order: an array `[X; NF]`; the
+    /// traced values frame by frame.
+    Frames(Each),
 }
 
 /// A named set of outputs, for `outputs: [dynamics, whole_body]`.
@@ -92,16 +109,20 @@ pub enum Group {
     WholeBody,
     /// The derivatives of the dynamics.
     Derivatives,
+    /// The placements, velocities, accelerations and Jacobians of the frames named in
+    /// `frames: [...]`.
+    Frames,
 }
 
 impl Group {
     /// Every group with its name in `outputs:`.
-    pub const ALL: [(Group, &'static str); 5] = [
+    pub const ALL: [(Group, &'static str); 6] = [
         (Group::Dynamics, "dynamics"),
         (Group::Kept, "kept"),
         (Group::Wrenches, "wrenches"),
         (Group::WholeBody, "whole_body"),
         (Group::Derivatives, "derivatives"),
+        (Group::Frames, "frames"),
     ];
 
     /// The runtime's trait that bounds a chain by every output of the group (where none needs
@@ -113,6 +134,7 @@ impl Group {
             Group::Wrenches => "WrenchOutputs",
             Group::WholeBody => "WholeBodyOutputs",
             Group::Derivatives => "DerivativeOutputs",
+            Group::Frames => "FrameOutputs",
         }
     }
 
@@ -206,7 +228,7 @@ macro_rules! outputs {
 
 use Dim::{Nb, Nv, N};
 use Order::{Columns, Rows};
-use Part::{Hidden, Kept, Matrix, Scalar, Vector};
+use Part::{Frames, Hidden, Kept, Matrix, Scalar, Vector};
 
 outputs! {
     /// `mass_matrix(q)`: `M(q)`.
@@ -604,6 +626,164 @@ outputs! {
         equation: "`M(q)⁻¹`; an error where `M(q)` is singular.",
         trait_doc: "`M(q)⁻¹`, or an error where `M(q)` is singular.",
     },
+    /// `frame_placements(q)`: each frame's rotation and translation in the world.
+    FramePlacements {
+        name: "frame_placements",
+        trait_name: "FramePlacements",
+        group: Some(Group::Frames),
+        default: false,
+        args: [Q],
+        parts: [Frames(Each::Placement)],
+        fallible: false,
+        whole_body: false,
+        value: "The frames' placements",
+        equation: "Each frame's placement in the world, in the order of `FRAMES`: `rotation` \
+                   (`world_R_frame`: the frame's axes in world coordinates, as columns) and \
+                   `translation` (its origin in the world).",
+        trait_doc: "Each frame's placement in the world (`Chain::FRAMES`, in that order): the \
+                    rotation `world_R_frame` and the translation of its origin (Pinocchio's \
+                    `oMf` after `framesForwardKinematics`, for these frames only).",
+    },
+    /// `frame_velocities(q, v)`: each frame's spatial velocity `[ω; v]` in LOCAL.
+    FrameVelocities {
+        name: "frame_velocities",
+        trait_name: "FrameVelocities",
+        group: Some(Group::Frames),
+        default: false,
+        args: [Q, V],
+        parts: [Frames(Each::Vector(6))],
+        fallible: false,
+        whole_body: false,
+        value: "The frames' velocities",
+        equation: "Each frame's spatial velocity `[ω; v]` in LOCAL (the frame's axes, its \
+                   origin's velocity), angular first: `J_local·v`.",
+        trait_doc: "Each frame's spatial velocity `[ω; v]`, angular first, in LOCAL: its angular \
+                    velocity and its origin's velocity, in the frame's axes (`J_local·v`; \
+                    Pinocchio's `getFrameVelocity(…, LOCAL)` with the halves swapped).",
+    },
+    /// `frame_accelerations(q, v, a)`: each frame origin's classical acceleration `[ω̇; p̈]` in
+    /// LOCAL_WORLD_ALIGNED.
+    FrameAccelerations {
+        name: "frame_accelerations",
+        trait_name: "FrameAccelerations",
+        group: Some(Group::Frames),
+        default: false,
+        args: [Q, V, A],
+        parts: [Frames(Each::Vector(6))],
+        fallible: false,
+        whole_body: false,
+        value: "The frames' classical accelerations",
+        equation: "Each frame's classical acceleration `[ω̇; p̈]` in LOCAL_WORLD_ALIGNED (world \
+                   axes): the angular acceleration and the second derivative of the origin's \
+                   position, `J_lwa·a + J̇_lwa·v`; at `a = 0`, the drift a point contact needs. \
+                   Not the spatial acceleration, whose linear part lacks `ω × v`.",
+        trait_doc: "Each frame's classical acceleration `[ω̇; p̈]`, world axes: `J_lwa·a + \
+                    J̇_lwa·v` (Pinocchio's `getFrameClassicalAcceleration(…, \
+                    LOCAL_WORLD_ALIGNED)` with the halves swapped). At `a = 0` it is the drift \
+                    of a point contact. It differs from the spatial acceleration: `p̈` is the \
+                    spatial linear acceleration plus `ω × v`.",
+    },
+    /// `frame_jacobians_local(q)`: each frame's Jacobian in LOCAL, `6 × NV`.
+    FrameJacobiansLocal {
+        name: "frame_jacobians_local",
+        trait_name: "FrameJacobiansLocal",
+        group: Some(Group::Frames),
+        default: false,
+        args: [Q],
+        parts: [Frames(Each::Matrix(6, Nv, Rows))],
+        fallible: false,
+        whole_body: false,
+        value: "The frames' LOCAL Jacobians",
+        equation: "Each frame's Jacobian in LOCAL, `6 × NV`, angular rows first: `J_local·v` is \
+                   the frame's spatial velocity in its own axes at its origin.",
+        trait_doc: "Each frame's Jacobian in LOCAL (its origin, its axes), `6 × NV`, angular \
+                    rows first, with respect to `v` (the tangent, for quaternion joints).",
+    },
+    /// `frame_jacobians_world(q)`: each frame's Jacobian in WORLD, `6 × NV`.
+    FrameJacobiansWorld {
+        name: "frame_jacobians_world",
+        trait_name: "FrameJacobiansWorld",
+        group: Some(Group::Frames),
+        default: false,
+        args: [Q],
+        parts: [Frames(Each::Matrix(6, Nv, Rows))],
+        fallible: false,
+        whole_body: false,
+        value: "The frames' WORLD Jacobians",
+        equation: "Each frame's Jacobian in WORLD, `6 × NV`, angular rows first: `J_world·v` is \
+                   the spatial velocity of the frame's body in world axes, at the point that \
+                   passes through the world's origin.",
+        trait_doc: "Each frame's Jacobian in WORLD (the point at the world's origin, world \
+                    axes), `6 × NV`, angular rows first, with respect to `v`.",
+    },
+    /// `frame_jacobians_local_world_aligned(q)`: each frame's Jacobian in LOCAL_WORLD_ALIGNED.
+    FrameJacobiansLocalWorldAligned {
+        name: "frame_jacobians_local_world_aligned",
+        trait_name: "FrameJacobiansLocalWorldAligned",
+        group: Some(Group::Frames),
+        default: false,
+        args: [Q],
+        parts: [Frames(Each::Matrix(6, Nv, Rows))],
+        fallible: false,
+        whole_body: false,
+        value: "The frames' LOCAL_WORLD_ALIGNED Jacobians",
+        equation: "Each frame's Jacobian in LOCAL_WORLD_ALIGNED, `6 × NV`, angular rows first: \
+                   `J_lwa·v` is `[ω; ṗ]`, the angular velocity and the origin's velocity in \
+                   world axes.",
+        trait_doc: "Each frame's Jacobian in LOCAL_WORLD_ALIGNED (its origin, world axes), \
+                    `6 × NV`, angular rows first: what inverse kinematics and task-space control \
+                    of a point use.",
+    },
+    /// `frame_jacobian_time_variations_local(q, v)`: `J̇` of each frame's LOCAL Jacobian.
+    FrameJacobianTimeVariationsLocal {
+        name: "frame_jacobian_time_variations_local",
+        trait_name: "FrameJacobianTimeVariationsLocal",
+        group: Some(Group::Frames),
+        default: false,
+        args: [Q, V],
+        parts: [Frames(Each::Matrix(6, Nv, Rows))],
+        fallible: false,
+        whole_body: false,
+        value: "The rates of the frames' LOCAL Jacobians",
+        equation: "`J̇_local = d/dt J_local(q)` at velocity `v`, `6 × NV` per frame: \
+                   `J_local·a + J̇_local·v` is the frame's spatial acceleration in its axes, and \
+                   `J̇_local·v` the drift of a six-dimensional contact.",
+        trait_doc: "`J̇_local`, the time derivative of each frame's LOCAL Jacobian at velocity \
+                    `v`, `6 × NV`: `J̇_local·v` is the spatial drift a six-dimensional contact \
+                    needs.",
+    },
+    /// `frame_jacobian_time_variations_world(q, v)`: `J̇` of each frame's WORLD Jacobian.
+    FrameJacobianTimeVariationsWorld {
+        name: "frame_jacobian_time_variations_world",
+        trait_name: "FrameJacobianTimeVariationsWorld",
+        group: Some(Group::Frames),
+        default: false,
+        args: [Q, V],
+        parts: [Frames(Each::Matrix(6, Nv, Rows))],
+        fallible: false,
+        whole_body: false,
+        value: "The rates of the frames' WORLD Jacobians",
+        equation: "`J̇_world = d/dt J_world(q)` at velocity `v`, `6 × NV` per frame.",
+        trait_doc: "`J̇_world`, the time derivative of each frame's WORLD Jacobian at velocity \
+                    `v`, `6 × NV`.",
+    },
+    /// `frame_jacobian_time_variations_local_world_aligned(q, v)`: `J̇` of each frame's
+    /// LOCAL_WORLD_ALIGNED Jacobian.
+    FrameJacobianTimeVariationsLocalWorldAligned {
+        name: "frame_jacobian_time_variations_local_world_aligned",
+        trait_name: "FrameJacobianTimeVariationsLocalWorldAligned",
+        group: Some(Group::Frames),
+        default: false,
+        args: [Q, V],
+        parts: [Frames(Each::Matrix(6, Nv, Rows))],
+        fallible: false,
+        whole_body: false,
+        value: "The rates of the frames' LOCAL_WORLD_ALIGNED Jacobians",
+        equation: "`J̇_lwa = d/dt J_lwa(q)` at velocity `v`, `6 × NV` per frame: `J̇_lwa·v` is \
+                   the classical drift `[ω̇; p̈]` at `a = 0` (`frame_accelerations`).",
+        trait_doc: "`J̇_lwa`, the time derivative of each frame's LOCAL_WORLD_ALIGNED Jacobian at \
+                    velocity `v`, `6 × NV`: `J̇_lwa·v` is a point contact's drift.",
+    },
 }
 
 /// How many outputs there are.
@@ -695,6 +875,8 @@ pub struct Types {
     pub nv: TokenStream,
     /// `NB`.
     pub nb: TokenStream,
+    /// `NF`.
+    pub nf: TokenStream,
     /// The runtime crate: `::articulated`, or `crate` inside it.
     pub krate: TokenStream,
 }
@@ -705,6 +887,7 @@ impl Types {
         match d {
             Dim::Nv => self.nv.clone(),
             Dim::Nb => self.nb.clone(),
+            Dim::Nf => self.nf.clone(),
             Dim::N(n) => {
                 let n = Literal::usize_unsuffixed(n);
                 quote!(#n)
@@ -733,13 +916,22 @@ impl Spec {
             .any(|p| matches!(p, Part::Matrix(Dim::Nb, _, _) | Part::Matrix(_, Dim::Nb, _)))
     }
 
-    /// The trait, with its scalar and sizes: `MassMatrix<T, NQ, NV>`.
+    /// Whether it is computed for the frames (`NF` in its type).
+    pub fn uses_nf(&self) -> bool {
+        self.parts.iter().any(|p| matches!(p, Part::Frames(_)))
+    }
+
+    /// The trait, with its scalar and sizes: `MassMatrix<T, NQ, NV>`, `JointWrenches<T, NQ, NV,
+    /// NB>`, `FramePlacements<T, NQ, NV, NF>`.
     pub fn trait_path(&self, t: &Types) -> TokenStream {
         let (k, scalar, nq, nv) = (&t.krate, &t.scalar, &t.nq, &t.nv);
         let name = Ident::new(self.trait_name, Span::call_site());
         if self.uses_nb() {
             let nb = &t.nb;
             quote!(#k::#name<#scalar, #nq, #nv, #nb>)
+        } else if self.uses_nf() {
+            let nf = &t.nf;
+            quote!(#k::#name<#scalar, #nq, #nv, #nf>)
         } else {
             quote!(#k::#name<#scalar, #nq, #nv>)
         }
@@ -781,6 +973,18 @@ impl Spec {
             Part::Vector(d) => Some(t.vector(&t.dim(d))),
             Part::Matrix(r, c, _) => Some(t.matrix(&t.dim(r), &t.dim(c))),
             Part::Hidden | Part::Kept { .. } => None,
+            Part::Frames(each) => {
+                let one = match each {
+                    Each::Placement => {
+                        let (k, scalar) = (&t.krate, &t.scalar);
+                        quote!(#k::FramePlacement<#scalar>)
+                    }
+                    Each::Vector(n) => t.vector(&t.dim(Dim::N(n))),
+                    Each::Matrix(r, c, _) => t.matrix(&t.dim(Dim::N(r)), &t.dim(c)),
+                };
+                let nf = &t.nf;
+                Some(quote!([#one; #nf]))
+            }
         }
     }
 
@@ -820,12 +1024,15 @@ pub fn runtime_traits() -> TokenStream {
         nq: quote!(NQ),
         nv: quote!(NV),
         nb: quote!(NB),
+        nf: quote!(NF),
         krate: quote!(crate),
     };
     let traits = SPECS.iter().map(|s| {
         let name = Ident::new(s.trait_name, Span::call_site());
         let generics = if s.uses_nb() {
             quote!(<T, const NQ: usize, const NV: usize, const NB: usize>)
+        } else if s.uses_nf() {
+            quote!(<T, const NQ: usize, const NV: usize, const NF: usize>)
         } else {
             quote!(<T, const NQ: usize, const NV: usize>)
         };
@@ -879,7 +1086,9 @@ pub fn runtime_traits() -> TokenStream {
             "DefaultOutputs",
             SPECS.iter().filter(|s| s.default).collect(),
         )))
-        .filter(|(_, _, members): &(String, &str, Vec<&Spec>)| members.iter().all(|s| !s.uses_nb()))
+        .filter(|(_, _, members): &(String, &str, Vec<&Spec>)| {
+            members.iter().all(|s| !s.uses_nb() && !s.uses_nf())
+        })
         .map(|(what, name, members)| (what, Ident::new(name, Span::call_site()), members))
         .collect();
     let groups = bundles.iter().map(|(what, name, members)| {

@@ -60,7 +60,8 @@ fn unknown_setting() {
         2,
         1,
         "unknown setting `gravty`: expected `gravity`, `scalar`, `outputs`, `accuracy`, \
-         `lock`, `keep` or `quasi_static` (or `param`, `body`, `joint` items)",
+         `lock`, `keep`, `quasi_static` or `frames` (or `param`, `body`, `joint`, `frame` \
+         items)",
     );
 }
 
@@ -166,8 +167,12 @@ fn unknown_output() {
          `center_of_mass`, `center_of_mass_velocity`, `center_of_mass_jacobian`, \
          `centroidal_momentum`, `centroidal_momentum_matrix`, `kinetic_energy`, \
          `potential_energy`, `coriolis_matrix`, `inverse_dynamics_derivatives`, \
-         `forward_dynamics_derivatives` or `mass_matrix_inverse`, or a group: `dynamics`, \
-         `kept`, `wrenches`, `whole_body` or `derivatives`",
+         `forward_dynamics_derivatives`, `mass_matrix_inverse`, `frame_placements`, \
+         `frame_velocities`, `frame_accelerations`, `frame_jacobians_local`, \
+         `frame_jacobians_world`, `frame_jacobians_local_world_aligned`, \
+         `frame_jacobian_time_variations_local`, `frame_jacobian_time_variations_world` or \
+         `frame_jacobian_time_variations_local_world_aligned`, or a group: `dynamics`, \
+         `kept`, `wrenches`, `whole_body`, `derivatives` or `frames`",
     );
 }
 
@@ -889,8 +894,8 @@ fn unknown_item() {
         &["bodies a { mass: 1.0 }", J],
         2,
         1,
-        "expected `body name { … }`, `joint name: kind { … }`, `param name = value;` or a \
-         setting `key: value;`",
+        "expected `body name { … }`, `joint name: kind { … }`, `frame name { … }`, \
+         `param name = value;` or a setting `key: value;`",
     );
 }
 
@@ -1307,5 +1312,115 @@ fn a_builder_reports_every_problem_of_its_options_at_once() {
     assert!(
         lines[1].starts_with("the model `C`: `accuracy: robust` keeps forward dynamics to ABA"),
         "{e}"
+    );
+}
+
+// ---- frames ----
+
+const OUT: &str = "outputs: [frame_placements];";
+
+#[test]
+fn frame_with_an_unknown_parent() {
+    check(
+        &[
+            B,
+            J,
+            OUT,
+            "frames: [tip];",
+            "frame tip { parent: b, xyz: [0.0, 0.0, 1.0] }",
+        ],
+        6,
+        21,
+        "unknown body `b` as parent of frame `tip`: expected `world` or a body (`a`)",
+    );
+}
+
+#[test]
+fn frame_without_a_parent() {
+    check(
+        &[
+            B,
+            J,
+            OUT,
+            "frames: [tip];",
+            "frame tip { xyz: [0.0, 0.0, 1.0] }",
+        ],
+        6,
+        7,
+        "frame `tip` is missing the required field `parent`",
+    );
+}
+
+#[test]
+fn frame_named_as_a_body_or_twice() {
+    check(
+        &[B, J, OUT, "frames: [a];", "frame a { parent: a }"],
+        6,
+        7,
+        "frame `a` has the name of a body, which is a frame already: every body is a frame \
+         under its own name; name this one otherwise",
+    );
+    check(
+        &[
+            B,
+            J,
+            OUT,
+            "frames: [t];",
+            "frame t { parent: a }",
+            "frame t { parent: world }",
+        ],
+        7,
+        7,
+        "frame `t` is declared twice",
+    );
+}
+
+#[test]
+fn unknown_field_in_a_frame() {
+    check(
+        &[
+            B,
+            J,
+            OUT,
+            "frames: [t];",
+            "frame t { parent: a, mass: 1.0 }",
+        ],
+        6,
+        22,
+        "unknown field `mass` in frame `t`: expected `parent`, `xyz` or `rpy`",
+    );
+}
+
+#[test]
+fn frames_that_do_not_exist_or_are_named_twice() {
+    check(
+        &[B, J, OUT, "frames: [a, tool];"],
+        5,
+        13,
+        "unknown frame `tool`: expected a body or a frame of `C` (`a`)",
+    );
+    check(
+        &[B, J, OUT, "frames: [a, a];"],
+        5,
+        13,
+        "frame `a` is named twice in `frames`",
+    );
+}
+
+#[test]
+fn frame_outputs_need_frames_and_frames_need_a_frame_output() {
+    check(
+        &[B, J, "outputs: [mass_matrix, frame_velocities];"],
+        4,
+        24,
+        "`frame_velocities` computes the frames named in `frames: [...]`, and none is named: \
+         name them, e.g. `frames: [tool]` (a body's name, a `frame` item's, a URDF link's)",
+    );
+    check(
+        &[B, J, "frames: [a];"],
+        4,
+        10,
+        "`frames` names frames, but no frame output is generated: add one to `outputs` \
+         (`frame_placements`, `frame_jacobians_local_world_aligned`, …, or the group `frames`)",
     );
 }

@@ -163,6 +163,50 @@ impl Coordinates {
     }
 }
 
+/// Where a frame is: its rotation `world_R_frame` (the frame's axes in world coordinates, as
+/// columns) and its origin in the world. What `frame_placements` returns per frame, Pinocchio's
+/// `data.oMf[i]`.
+///
+/// ```
+/// articulated::chain! {
+///     chain Pendulum {
+///         outputs: [frame_placements, frame_jacobians_local_world_aligned];
+///         frames: [tip];
+///         body bob { mass: 1.0, com: [0.0, 0.0, -1.0], inertia: diag(0.01, 0.01, 0.01) }
+///         joint pivot: revolute(y) { parent: world, child: bob }
+///         frame tip { parent: bob, xyz: [0.0, 0.0, -1.0] }
+///     }
+/// }
+/// use articulated::nalgebra::{SVector, Vector3};
+/// use articulated::prelude::*;
+///
+/// let theta = 0.5_f64;
+/// let q = SVector::from([theta]);
+/// // A turn by θ about y takes the tip from (0, 0, −1) to (−sin θ, 0, −cos θ) ...
+/// let [tip] = Pendulum::frame_placements(&q);
+/// let expected = Vector3::new(-theta.sin(), 0.0, -theta.cos());
+/// assert!((tip.translation - expected).norm() < 1e-15);
+/// // ... and moves it at (−cos θ, 0, sin θ) per radian, turning about y.
+/// let [j] = Pendulum::frame_jacobians_local_world_aligned(&q);
+/// let column = [0.0, 1.0, 0.0, -theta.cos(), 0.0, theta.sin()];
+/// assert!((0..6).all(|r| (j[(r, 0)] - column[r]).abs() < 1e-15));
+/// assert_eq!(<Pendulum as Chain<f64>>::FRAMES, ["tip"]);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FramePlacement<T> {
+    /// `world_R_frame`: a vector in frame axes `x_f` is `rotation·x_f` in world axes.
+    pub rotation: SMatrix<T, 3, 3>,
+    /// The frame's origin in the world.
+    pub translation: SVector<T, 3>,
+}
+
+impl<T: nalgebra::RealField + Copy> FramePlacement<T> {
+    /// A point given in the frame, in the world: `rotation·p + translation`.
+    pub fn transform_point(&self, p: &SVector<T, 3>) -> SVector<T, 3> {
+        self.rotation * p + self.translation
+    }
+}
+
 /// A generated chain, in the scalar `T`.
 pub trait Chain<T> {
     /// The chain's name in its description.
@@ -199,6 +243,10 @@ pub trait Chain<T> {
     /// velocity in its child frame `wrist.wx`, `.wy`, `.wz`; a free quaternion base's
     /// `base.vx`, `.vy`, `.vz`, `.wx`, `.wy`, `.wz` (both in the child frame).
     const V_NAMES: &'static [&'static str];
+    /// The frames the frame outputs compute (`frames: [tool, left_sole]` in the description),
+    /// in that order: a frame output returns `[X; NF]`, entry `k` for `FRAMES[k]`. Empty when
+    /// none is named.
+    const FRAMES: &'static [&'static str];
     /// Its joints' drives, one per entry of [`COORDINATES`](Chain::COORDINATES): the armature
     /// (already in the generated `M`, `τ` and `q̈`), and the damping, friction and limits that
     /// [`Drives`](crate::drives::Drives) applies in a simulation.

@@ -44,7 +44,66 @@ pub fn options(model: &Model, options: &Options) -> Vec<Problem> {
             mimic: j.mimic.is_some(),
         })
         .collect();
-    rules(&model.name, &shape, options)
+    let mut problems = rules(&model.name, &shape, options);
+    problems.extend(frames(&scene, options));
+    problems
+}
+
+/// The frames of `frames: [...]`: each a frame of the model the scene leaves (a body, a
+/// declared frame, a URDF link), named once; frames named only where a frame output is
+/// generated, and a frame output only with frames named.
+fn frames(model: &Model, options: &Options) -> Vec<Problem> {
+    let mut problems = Vec::new();
+    for (k, name) in options.frames.iter().enumerate() {
+        if options.frames[..k].contains(name) {
+            problems.push(Problem::new(
+                About::Scene(name.clone()),
+                format!("frame `{name}` is named twice in `frames`"),
+            ));
+        } else if model.frame(name).is_none() {
+            let mut known: Vec<&str> = model.frame_names().collect();
+            known.sort_unstable();
+            let shown: Vec<String> = known.iter().take(12).map(|n| format!("`{n}`")).collect();
+            let more = if known.len() > 12 {
+                format!(" and {} more", known.len() - 12)
+            } else {
+                String::new()
+            };
+            problems.push(Problem::new(
+                About::Scene(name.clone()),
+                format!(
+                    "unknown frame `{name}`: expected a body or a frame of `{}` ({}{more})",
+                    model.name,
+                    shown.join(", ")
+                ),
+            ));
+        }
+    }
+    let frame_outputs: Vec<Output> = options
+        .outputs
+        .iter()
+        .copied()
+        .filter(|o| o.spec().uses_nf())
+        .collect();
+    match (options.frames.first(), frame_outputs.first()) {
+        (None, Some(&o)) => problems.push(Problem::new(
+            About::Output(o),
+            format!(
+                "`{}` computes the frames named in `frames: [...]`, and none is named: name \
+                 them, e.g. `frames: [tool]` (a body's name, a `frame` item's, a URDF link's)",
+                o.name()
+            ),
+        )),
+        (Some(first), None) => problems.push(Problem::new(
+            About::Scene(first.clone()),
+            "`frames` names frames, but no frame output is generated: add one to `outputs` \
+             (`frame_placements`, `frame_jacobians_local_world_aligned`, …, or the group \
+             `frames`)"
+                .to_string(),
+        )),
+        _ => {}
+    }
+    problems
 }
 
 /// The rules of [`options`] on a model that could not be built (its tree is broken), from its

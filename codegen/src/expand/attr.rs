@@ -44,6 +44,8 @@ pub(crate) struct Attr {
     pub locks: Vec<(Ident, Vec<f64>)>,
     /// `keep = [body, …]`, if given.
     pub keep: Option<Vec<Ident>>,
+    /// `frames = [frame, …]`, if given.
+    pub frames: Option<Vec<Ident>>,
     /// `quasi_static`.
     pub quasi_static: bool,
     /// `strict`: a warning of the loader refuses the file.
@@ -56,7 +58,8 @@ const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, \
                     `floating [= euler | quaternion]`, \
                     `scalar = f64 | f32 | generic`, `outputs = [mass_matrix, …]`, \
                     `accuracy = fastest | robust`, `lock = [joint(q, …), …]`, \
-                    `keep = [body, …]`, `quasi_static`, `strict` or `balance_inertia`";
+                    `keep = [body, …]`, `frames = [frame, …]`, `quasi_static`, `strict` or \
+                    `balance_inertia`";
 
 /// Reads every `#[chain(…)]` on `input`.
 pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
@@ -68,6 +71,7 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
     let mut accuracy = None;
     let mut locks = Vec::new();
     let mut keep = None;
+    let mut frames = None;
     let mut quasi_static = false;
     let mut strict = false;
     let mut balance_inertia = false;
@@ -111,6 +115,13 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
                     syn::bracketed!(content in value);
                     let names = Punctuated::<Ident, Token![,]>::parse_terminated(&content)?;
                     keep = Some(names.into_iter().collect());
+                }
+                Some("frames") => {
+                    let value = meta.value()?;
+                    let content;
+                    syn::bracketed!(content in value);
+                    let names = Punctuated::<Ident, Token![,]>::parse_terminated(&content)?;
+                    frames = Some(names.into_iter().collect());
                 }
                 Some("quasi_static") => quasi_static = true,
                 Some("strict") => strict = true,
@@ -158,6 +169,7 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
         accuracy,
         locks,
         keep,
+        frames,
         quasi_static,
         strict,
         balance_inertia,

@@ -17,6 +17,7 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
         nq: quote!(N),
         nv: quote!(N),
         nb: quote!(N),
+        nf: quote!(N),
         krate: quote!(::articulated),
     };
     let name_str = name.to_string();
@@ -43,12 +44,15 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
             pub const NV: usize = 0;
             /// Stand-in after an error in the description.
             pub const NB: usize = 0;
+            /// Stand-in after an error in the description.
+            pub const NF: usize = 0;
         }
         impl<T> ::articulated::Chain<T> for #name {
             const NAME: &'static str = #name_str;
             const COORDINATES: &'static [::articulated::Coordinates] = &[];
             const Q_NAMES: &'static [&'static str] = &[];
             const V_NAMES: &'static [&'static str] = &[];
+            const FRAMES: &'static [&'static str] = &[];
             const DRIVES: &'static [::articulated::Drive] = &[];
             type Params = ();
             fn default_params() {}

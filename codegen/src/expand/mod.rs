@@ -207,6 +207,9 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
     if let Some(keep) = &attr.keep {
         chain.options.keep = Some(keep.iter().map(Ident::to_string).collect());
     }
+    if let Some(frames) = &attr.frames {
+        chain.options.frames = frames.iter().map(Ident::to_string).collect();
+    }
     // The check stage on the options the attribute gives the file's model, every problem at the
     // key that asked for it (at the file's path where the file asked).
     let problems = check::options(&chain.model, &chain.options);
@@ -234,6 +237,7 @@ fn attr_span(attr: &attr::Attr, about: &About) -> Option<proc_macro2::Span> {
         let locked = attr.locks.iter().map(|(n, _)| n);
         locked
             .chain(attr.keep.iter().flatten())
+            .chain(attr.frames.iter().flatten())
             .find(|n| *n == name)
     };
     match about {

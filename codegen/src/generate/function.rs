@@ -7,7 +7,7 @@ use quote::{format_ident, quote};
 use super::{docs, Context};
 use crate::emit::{self, Emitted};
 use crate::options::{Output, ScalarKind};
-use crate::outputs::{Arg, Dim, Order, Part};
+use crate::outputs::{Arg, Dim, Each, Order, Part};
 use crate::sym::{Node, Sym, Var};
 use crate::trace::{
     lower_triangle, Pivots, Traced, PIVOT_TOL_F32, PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_ABA_F32,
@@ -278,7 +278,13 @@ fn built(cx: &Context, output: Output, values: &[TokenStream]) -> TokenStream {
     let size = |d: Dim| match d {
         Dim::Nv => cx.nv,
         Dim::Nb => cx.model.nb(),
+        Dim::Nf => cx.options.frames.len(),
         Dim::N(n) => n,
+    };
+    let each_size = |e: Each| match e {
+        Each::Placement => 12,
+        Each::Vector(n) => n,
+        Each::Matrix(r, c, _) => r * size(c),
     };
     let mut rest = values;
     let mut parts = Vec::new();
@@ -289,6 +295,7 @@ fn built(cx: &Context, output: Output, values: &[TokenStream]) -> TokenStream {
             Part::Matrix(r, c, _) => size(r) * size(c),
             Part::Hidden => cx.nv,
             Part::Kept { .. } => 0,
+            Part::Frames(e) => cx.options.frames.len() * each_size(e),
         };
         let (these, after) = rest.split_at(n);
         rest = after;
@@ -299,6 +306,24 @@ fn built(cx: &Context, output: Output, values: &[TokenStream]) -> TokenStream {
             Part::Matrix(r, _, Order::Columns) => columns(cx, these, size(r)),
             Part::Matrix(r, _, Order::Rows) => columns(cx, &transposed(these, size(r)), size(r)),
             Part::Hidden | Part::Kept { .. } => continue,
+            Part::Frames(e) => {
+                let each = these.chunks(each_size(e).max(1)).map(|v| match e {
+                    Each::Placement => {
+                        let rotation = columns(cx, &transposed(&v[..9], 3), 3);
+                        let translation = vector(cx, &v[9..]);
+                        quote! {
+                            ::articulated::FramePlacement {
+                                rotation: #rotation,
+                                translation: #translation,
+                            }
+                        }
+                    }
+                    Each::Vector(_) => vector(cx, v),
+                    Each::Matrix(r, _, Order::Columns) => columns(cx, v, r),
+                    Each::Matrix(r, _, Order::Rows) => columns(cx, &transposed(v, r), r),
+                });
+                quote!([#(#each),*])
+            }
         });
     }
     match &parts[..] {

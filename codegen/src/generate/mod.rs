@@ -173,15 +173,17 @@ impl<'a> Context<'a> {
     /// `SVector<scalar, n>`.
     /// The scalar and sizes of this chain, for the signatures ([`crate::outputs::Types`]).
     fn types(&self) -> crate::outputs::Types {
-        let [nq, nv, nb] = [self.nq, self.nv, self.model.nb()].map(|n| {
-            let n = Literal::usize_unsuffixed(n);
-            quote!(#n)
-        });
+        let [nq, nv, nb, nf] =
+            [self.nq, self.nv, self.model.nb(), self.options.frames.len()].map(|n| {
+                let n = Literal::usize_unsuffixed(n);
+                quote!(#n)
+            });
         crate::outputs::Types {
             scalar: self.scalar.clone(),
             nq,
             nv,
             nb,
+            nf,
             krate: quote!(::articulated),
         }
     }
@@ -260,14 +262,23 @@ impl<'a> Context<'a> {
         } else {
             quote!()
         };
-        let (name, nq, nv, nb) = (
+        let (name, nq, nv, nb, nf) = (
             &self.name,
             Literal::usize_unsuffixed(self.nq),
             Literal::usize_unsuffixed(self.nv),
             Literal::usize_unsuffixed(self.model.nb()),
+            Literal::usize_unsuffixed(self.options.frames.len()),
         );
         let params_item = self.params_item();
         let chain_impl = self.chain_impl();
+        // Only where frames are named (a constant nothing reads is a warning in the user's
+        // crate).
+        let nf_const = (!self.options.frames.is_empty()).then(|| {
+            quote! {
+                /// Number of frames the frame outputs compute (`Chain::FRAMES`).
+                pub const NF: usize = #nf;
+            }
+        });
         let tokens = quote! {
             #the_struct
             impl #name {
@@ -277,6 +288,7 @@ impl<'a> Context<'a> {
                 pub const NV: usize = #nv;
                 /// Number of bodies (and of joints, fixed ones included).
                 pub const NB: usize = #nb;
+                #nf_const
                 #(#consts)*
             }
             #params_item
@@ -294,7 +306,11 @@ impl<'a> Context<'a> {
     /// its figures.
     fn function(&self, output: Output) -> syn::Result<(TokenStream, TokenStream, FunctionReport)> {
         let (accuracy, quasi_static) = (self.options.accuracy, self.options.quasi_static);
-        let traced = trace_with(self.model, output, accuracy, quasi_static);
+        let traced = if output.spec().uses_nf() {
+            crate::trace::frames::trace(self.model, output, &self.frames(), quasi_static)
+        } else {
+            trace_with(self.model, output, accuracy, quasi_static)
+        };
         let ops = traced.graph.op_counts(&function::outputs(self, &traced));
         if ops.total() > MAX_OPS {
             return Err(syn::Error::new(
@@ -318,6 +334,23 @@ impl<'a> Context<'a> {
             candidates: traced.candidates,
         };
         Ok((item, ops_const(output, &ops), report))
+    }
+
+    /// The frames of `frames: [...]` on the model, in that order (the check stage made sure
+    /// each exists).
+    fn frames(&self) -> Vec<crate::trace::frames::FrameAt> {
+        self.options
+            .frames
+            .iter()
+            .filter_map(|name| {
+                let (parent, placement) = self.model.frame(name)?;
+                Some(crate::trace::frames::FrameAt {
+                    name: name.clone(),
+                    parent,
+                    placement,
+                })
+            })
+            .collect()
     }
 
     /// The unit struct, with the user's docs and a summary.
@@ -350,6 +383,7 @@ impl<'a> Context<'a> {
             .filter(|j| j.kind != JointKind::Fixed && j.mimic.is_none())
             .map(|j| drive_tokens(&j.drive));
         let (q_names, v_names) = self.model.coordinate_names();
+        let frames = &self.options.frames;
         let params_ty = &self.params_ty;
         // `-> ()` would trip clippy's `unused_unit` in the user's crate.
         let default_fn = if self.param_idents.is_empty() {
@@ -365,6 +399,7 @@ impl<'a> Context<'a> {
                 const COORDINATES: &'static [::articulated::Coordinates] = &[#(#coordinates),*];
                 const Q_NAMES: &'static [&'static str] = &[#(#q_names),*];
                 const V_NAMES: &'static [&'static str] = &[#(#v_names),*];
+                const FRAMES: &'static [&'static str] = &[#(#frames),*];
                 const DRIVES: &'static [::articulated::Drive] = &[#(#drives),*];
                 type Params = #params_ty;
                 #default_fn

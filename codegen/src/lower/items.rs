@@ -14,7 +14,7 @@ use syn::punctuated::Punctuated;
 use syn::{Lit, Token};
 
 use super::numbers::NumCtx;
-use super::{visibility, BodyDecl, InertiaDecl, JointDecl, Lower, MimicDecl};
+use super::{visibility, BodyDecl, FrameDecl, InertiaDecl, JointDecl, Lower, MimicDecl};
 use crate::check::{self, End};
 use crate::model::{Drive, JointKind, Placement, Value, DEFAULT_GRAVITY};
 use crate::options::{
@@ -119,6 +119,75 @@ impl Lower {
         joints
     }
 
+    /// The frames, in declaration order: a parent that is `world` or a body, a name no body
+    /// or other frame has, the placement.
+    pub(super) fn frames(
+        &mut self,
+        def: &ChainDef,
+        body_index: &HashMap<String, usize>,
+        bodies: &[BodyDecl],
+    ) -> Vec<FrameDecl> {
+        let mut frames: Vec<FrameDecl> = Vec::new();
+        for item in &def.items {
+            let Item::Frame(f) = item else {
+                continue;
+            };
+            self.docs(&f.attrs, "on a frame");
+            let name = f.name.to_string();
+            let owner = format!("frame `{name}`");
+            if name == "world" {
+                self.cx.error(
+                    &f.name,
+                    "`world` is the fixed frame every chain hangs from: expected another frame \
+                     name",
+                );
+            } else if body_index.contains_key(&name) {
+                self.cx.error(
+                    &f.name,
+                    format!(
+                        "frame `{name}` has the name of a body, which is a frame already: every \
+                         body is a frame under its own name; name this one otherwise"
+                    ),
+                );
+            } else if frames.iter().any(|g| g.name == name) {
+                self.cx
+                    .error(&f.name, format!("frame `{name}` is declared twice"));
+            }
+            let fields = self.fields(&f.fields, &["parent", "xyz", "rpy"], &owner);
+            let parent = match fields[0] {
+                None => {
+                    self.missing(&f.name, &owner, "parent");
+                    End::Unknown
+                }
+                Some(p) => self.parent(&p.value, &owner, body_index, bodies),
+            };
+            let zero = [Value::Const(0.0); 3];
+            let xyz = fields[1]
+                .and_then(|f| self.vec3(&f.value, "`xyz`", ""))
+                .unwrap_or(zero);
+            let rpy = fields[2]
+                .and_then(|f| self.vec3(&f.value, "`rpy`", ""))
+                .unwrap_or(zero);
+            let parent = match parent {
+                End::World => Some(None),
+                End::Body(b) => bodies.get(b).map(|b| Some(b.def.name.to_string())),
+                End::Unknown => None,
+            };
+            match parent {
+                Some(parent) => frames.push(FrameDecl {
+                    name,
+                    parent,
+                    placement: Placement { xyz, rpy },
+                }),
+                // Reported here: not again as an unknown frame in `frames`.
+                None => {
+                    self.broken_frames.insert(name);
+                }
+            }
+        }
+        frames
+    }
+
     /// The doc strings among `attrs`; any other attribute is an error.
     pub(super) fn docs(&mut self, attrs: &[syn::Attribute], place: &str) -> Vec<String> {
         let mut doc = Vec::new();
@@ -184,6 +253,7 @@ impl Lower {
                 }
             }
             "lock" => self.locks(v, options),
+            "frames" => self.frame_list(v, options),
             "keep" => self.keep(v, options),
             "quasi_static" => match v {
                 Expr::Name(n) if n == "true" || n == "false" => options.quasi_static = n == "true",
@@ -226,8 +296,8 @@ impl Lower {
                 &s.key,
                 format!(
                     "unknown setting `{other}`: expected `gravity`, `scalar`, `outputs`, \
-                     `accuracy`, `lock`, `keep` or `quasi_static` (or `param`, `body`, `joint` \
-                     items)"
+                     `accuracy`, `lock`, `keep`, `quasi_static` or `frames` (or `param`, `body`, \
+                     `joint`, `frame` items)"
                 ),
             ),
         }
@@ -264,6 +334,28 @@ impl Lower {
                 let values = values.into_iter().flatten().collect();
                 self.scene_names.insert(name.to_string(), name.clone());
                 options.locks.push((name.to_string(), values));
+            }
+        }
+    }
+
+    /// `frames: [name, …]`: the frames the frame outputs compute, in that order.
+    fn frame_list(&mut self, v: &Expr, options: &mut Options) {
+        let Expr::List(_, elems) = v else {
+            self.cx.error(
+                v,
+                format!("expected a list of frames such as `[tool, left_sole]`, found `{v}`"),
+            );
+            return;
+        };
+        for e in elems {
+            match e {
+                Expr::Name(n) => {
+                    self.scene_names.insert(n.to_string(), n.clone());
+                    options.frames.push(n.to_string());
+                }
+                _ => self
+                    .cx
+                    .error(e, format!("expected a frame name, found `{e}`")),
             }
         }
     }

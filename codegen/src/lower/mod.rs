@@ -32,7 +32,7 @@ use proc_macro2::{Ident, TokenStream};
 use quote::ToTokens;
 
 use crate::check::{self, End};
-use crate::model::{Body, Drive, Joint, JointKind, Mimic, Model, Param, Placement, Value};
+use crate::model::{Body, Drive, Frame, Joint, JointKind, Mimic, Model, Param, Placement, Value};
 use crate::options::{Description, Output, Visibility};
 use crate::parse::{BodyDef, ChainDef, Expr, JointDef};
 use context::Ctxt;
@@ -63,6 +63,8 @@ struct Lower {
     output_tokens: HashMap<Output, TokenStream>,
     /// The value of `accuracy`, for errors at its token.
     accuracy_token: Option<TokenStream>,
+    /// The frames declared with an error already reported (an unknown parent).
+    broken_frames: std::collections::HashSet<String>,
 }
 
 /// A body as declared, with its values read (`None` where an error was reported).
@@ -97,6 +99,13 @@ struct JointDecl<'a> {
     duplicate: bool,
 }
 
+/// A frame as declared: its parent's name (`None`: the world) and placement.
+struct FrameDecl {
+    name: String,
+    parent: Option<String>,
+    placement: Placement,
+}
+
 /// A joint's `mimic` as declared: the joint it names, its multiplier and offset.
 struct MimicDecl<'a> {
     name: &'a Ident,
@@ -112,6 +121,7 @@ impl Lower {
         let (gravity, options) = self.settings(def, doc);
         let (bodies, body_index) = self.bodies(def);
         let joints = self.joints(def, &body_index, &bodies);
+        let frames = self.frames(def, &body_index, &bodies);
         if bodies.is_empty() && !self.cx.has_errors() {
             self.cx.error(
                 &def.name,
@@ -135,13 +145,26 @@ impl Lower {
         } else {
             None
         };
-        let model = built.map(|(bodies, joints)| Model {
-            name: def.name.to_string(),
-            gravity,
-            params: std::mem::take(&mut self.params),
-            bodies,
-            joints,
-            frames: Vec::new(),
+        let model = built.map(|(bodies, joints)| {
+            let frames = frames
+                .iter()
+                .map(|f| Frame {
+                    name: f.name.clone(),
+                    parent: f
+                        .parent
+                        .as_ref()
+                        .and_then(|p| bodies.iter().position(|b| &b.name == p)),
+                    placement: f.placement,
+                })
+                .collect();
+            Model {
+                name: def.name.to_string(),
+                gravity,
+                params: std::mem::take(&mut self.params),
+                bodies,
+                joints,
+                frames,
+            }
         });
         let option_problems = match &model {
             Some(model) => check::options(model, &options),
@@ -150,6 +173,11 @@ impl Lower {
                 check::declared(&def.name.to_string(), &shape(&joints, &names), &options)
             }
         };
+        let broken = &self.broken_frames;
+        let option_problems: Vec<check::Problem> = option_problems
+            .into_iter()
+            .filter(|p| !matches!(&p.about, check::About::Scene(n) if broken.contains(n)))
+            .collect();
         let problems = tree.problems.into_iter().chain(option_problems);
         self.report(problems, def, &bodies, &joints);
         if self.cx.has_errors() {

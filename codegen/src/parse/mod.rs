@@ -50,6 +50,7 @@
 //! |---|---|---|
 //! | `gravity` | `[gx, gy, gz]` (m/s², world frame) or `none` | `[0.0, 0.0, -9.81]` |
 //! | `scalar` | `f64`, `f32` or `generic` | `f64` |
+//! | `frames` | a list of frame names (bodies' or `frame` items'), for the frame outputs | none |
 //! | `outputs` | a list of names from [`Output::ALL`](crate::options::Output::ALL) (`mass_matrix`, `bias`, `gravity`, `inverse_dynamics`, `forward_dynamics`, …) or of groups ([`Group`](crate::outputs::Group): `dynamics`, `kept`, `wrenches`, `whole_body`, `derivatives`) | [`Output::DEFAULT`](crate::options::Output::DEFAULT) |
 //!
 //! Outputs are sorted and duplicates dropped.
@@ -114,6 +115,13 @@
 //! Every body is the child of exactly one joint, and every body must be reachable from
 //! `world`. In the [`Model`](crate::model::Model), bodies and joints are stored depth-first from
 //! the world, children in joint declaration order, whatever order the items come in.
+//!
+//! ## Frames: `frame name { parent: body, xyz: […], rpy: […] }`
+//! A frame fixed to a body (or to `world`): a tool tip, a foot sole, a sensor. `xyz` and `rpy`
+//! place it in its parent's frame as a joint is placed (zero when absent). Every body is a frame
+//! too, under its own name. Names are unique among bodies and frames. Which frames the generated
+//! code computes is the setting `frames: [tool, left_sole];` (in that order), with the frame
+//! outputs (`frame_placements`, …, or the group `frames`).
 //!
 //! ## Numbers
 //! A number is a constant expression, folded when the description is read: integer and float
@@ -187,6 +195,25 @@ pub enum Item {
     Body(BodyDef),
     /// `joint name: kind { … }`
     Joint(JointDef),
+    /// `frame name { parent: …, xyz: […], rpy: […] }`
+    Frame(FrameDef),
+}
+
+/// A frame fixed to a body or the world: `frame name { parent: body, xyz: […], rpy: […] }`.
+#[derive(Clone, Debug)]
+pub struct FrameDef {
+    /// Doc comments before it (ignored).
+    pub attrs: Vec<Attribute>,
+    /// The contextual keyword `frame`.
+    pub frame_token: Ident,
+    /// The frame's name.
+    pub name: Ident,
+    /// The braces.
+    pub brace: token::Brace,
+    /// The fields, in source order.
+    pub fields: Punctuated<Field, Token![,]>,
+    /// An optional `;` after the block.
+    pub semi: Option<Token![;]>,
 }
 
 /// A setting: `gravity: …;`, `scalar: …;`, `outputs: […];`.
@@ -366,10 +393,24 @@ impl Parse for Item {
                 fields,
                 semi: input.parse()?,
             }))
+        } else if is_word(input, "frame") {
+            let frame_token = input.call(Ident::parse_any)?;
+            let name = input.parse()?;
+            let content;
+            let brace = braced!(content in input);
+            let fields = content.parse_terminated(Field::parse, Token![,])?;
+            Ok(Item::Frame(FrameDef {
+                attrs,
+                frame_token,
+                name,
+                brace,
+                fields,
+                semi: input.parse()?,
+            }))
         } else {
             Err(input.error(
-                "expected `body name { … }`, `joint name: kind { … }`, `param name = value;` \
-                 or a setting `key: value;`",
+                "expected `body name { … }`, `joint name: kind { … }`, `frame name { … }`, \
+                 `param name = value;` or a setting `key: value;`",
             ))
         }
     }
@@ -455,6 +496,13 @@ impl ToTokens for Item {
                 b.name.to_tokens(tokens);
                 b.brace.surround(tokens, |t| b.fields.to_tokens(t));
                 b.semi.to_tokens(tokens);
+            }
+            Item::Frame(f) => {
+                tokens.append_all(&f.attrs);
+                f.frame_token.to_tokens(tokens);
+                f.name.to_tokens(tokens);
+                f.brace.surround(tokens, |t| f.fields.to_tokens(t));
+                f.semi.to_tokens(tokens);
             }
             Item::Joint(j) => {
                 tokens.append_all(&j.attrs);

@@ -30,6 +30,7 @@ pub mod condensed;
 pub mod crba;
 pub mod derivatives;
 pub mod forward;
+pub mod frames;
 pub mod newton_euler;
 pub mod regroup;
 pub(crate) mod turns;
@@ -378,6 +379,11 @@ pub fn trace(model: &Model, output: Output) -> Traced {
 /// [`Accuracy::Robust`] keeps forward dynamics to ABA. `quasi_static` traces every variant with
 /// `v = 0` ([`Variant::quasi_static`]).
 pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy, quasi_static: bool) -> Traced {
+    // The frames' outputs, for no frame: the generator traces them with its frames
+    // (`frames::trace`).
+    if output.spec().uses_nf() {
+        return frames::trace(model, output, &[], quasi_static);
+    }
     // The updates into a kept matrix are `M`, stored elsewhere (the lower one storing half).
     if output.is_kept() {
         let mut traced = trace_with(model, Output::MassMatrix, accuracy, quasi_static);
@@ -544,6 +550,7 @@ fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
             Output::InverseDynamicsDerivatives
             | Output::ForwardDynamicsDerivatives
             | Output::MassMatrixInverse => unreachable!("traced by `derivatives`"),
+            _ => unreachable!("the frames' outputs are traced by `frames`"),
         };
         label_outputs(output, values, nv)
     });
@@ -582,7 +589,16 @@ fn label_outputs(output: Output, values: Vec<Sym>, nv: usize) -> Vec<Sym> {
         // Labelled where they are traced.
         Output::InverseDynamicsDerivatives
         | Output::ForwardDynamicsDerivatives
-        | Output::MassMatrixInverse => return values,
+        | Output::MassMatrixInverse
+        | Output::FramePlacements
+        | Output::FrameVelocities
+        | Output::FrameAccelerations
+        | Output::FrameJacobiansLocal
+        | Output::FrameJacobiansWorld
+        | Output::FrameJacobiansLocalWorldAligned
+        | Output::FrameJacobianTimeVariationsLocal
+        | Output::FrameJacobianTimeVariationsWorld
+        | Output::FrameJacobianTimeVariationsLocalWorldAligned => return values,
     };
     const AXES: [&str; 3] = ["x", "y", "z"];
     values

@@ -1,0 +1,362 @@
+//! The frames' outputs: placements, velocities, classical accelerations, Jacobians and their
+//! time variations, for the frames a description names (`frames: [tool, left_sole]`), all
+//! frames in one traced pass (the graph shares what they have in common).
+//!
+//! On the model's tree ([`Tree`], Euler joints expanded into single-axis nodes), with `X0[i]`
+//! the world → node `i` transform (`E_i` the node's orientation transposed, `r_i` its origin in
+//! the world) and a frame fixed to body `b` at `(R_p, p)` in the body's frame:
+//! - placement: `world_R_frame = E_bᵀ·R_p`, origin `o = r_b + E_bᵀ·p`;
+//! - velocity (LOCAL): the body's spatial velocity `[ω; v]` in its frame (the recursion
+//!   `v_i = X_up·v_λ + S_i·q̇_i`) moved to the frame's origin and axes:
+//!   `[R_pᵀ·ω; R_pᵀ·(v + ω × p)]`;
+//! - classical acceleration (LOCAL_WORLD_ALIGNED): with the spatial acceleration
+//!   `a_i = X_up·a_λ + S_i·q̈_i + v_i × S_i·q̇_i` (no gravity: kinematics), the origin's
+//!   `p̈ = a_lin + ω̇ × p + ω × (v + ω × p)` in the body's axes, both rotated to the world's;
+//! - Jacobians: each ancestor node `j`'s motion subspace in world coordinates,
+//!   `s = X0[j]⁻¹·S_j` (WORLD: the motion of the point at the world's origin); LOCAL_WORLD_ALIGNED
+//!   moves it to the origin, `[s_ω; s_v + s_ω × o]`; LOCAL rotates that into the frame's axes;
+//! - time variations: `S_j` is constant in node `j`'s frame, so `ṡ = v_j⁰ × s` (the node's
+//!   spatial velocity in world coordinates, Featherstone's motion cross product); then
+//!   `J̇_lwa = [ṡ_ω; ṡ_v + ṡ_ω × o + s_ω × ȯ]` with `ȯ` the origin's velocity, and, from
+//!   `J_local = Wᵀ·J_lwa` (block by block, `W = world_R_frame`, `Ẇ = [ω]×·W`),
+//!   `J̇_local = Wᵀ·(J̇_lwa − ω × J_lwa)`.
+//!
+//! Mimic joints: the tree's columns reduced through the coupling (`Coupling::reduce_columns`).
+
+use articulated_dynamics::model::{Model, Placement};
+use articulated_dynamics::reference::centroidal::world_transforms;
+use articulated_dynamics::reference::Tree;
+use articulated_dynamics::spatial::{Mat3, Motion, Transform, Vec3};
+use articulated_dynamics::Scalar;
+
+use super::{inputs, symbolic_tree, tree_inputs, Formulation, Traced, Variant};
+use crate::options::Output;
+use crate::sym::{self, Sym, Var};
+
+/// A frame the description names: its parent body (`None`: the world) and its placement there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameAt {
+    /// Its name (for the labels of its values).
+    pub name: String,
+    /// The body it is fixed to.
+    pub parent: Option<usize>,
+    /// Its placement in the body's frame.
+    pub placement: Placement,
+}
+
+/// Which of the three reference frames a Jacobian is in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum In {
+    Local,
+    World,
+    LocalWorldAligned,
+}
+
+/// The one variant frames are traced with.
+fn variant(quasi_static: bool) -> Variant {
+    Variant {
+        regrouped: false,
+        formulation: Formulation::Reference,
+        method: None,
+        analytic: false,
+        coriolis: false,
+        quasi_static,
+    }
+}
+
+/// Traces a frame output for `frames` (in that order).
+pub fn trace(model: &Model, output: Output, frames: &[FrameAt], quasi_static: bool) -> Traced {
+    let variant = variant(quasi_static);
+    let (graph, values) = sym::trace(|| {
+        let (tree, turns) = symbolic_tree(model, false);
+        let c = model.coupling();
+        let (q, v, a) = tree_inputs(model, &c, &turns, variant);
+        let params = inputs(model.params.len(), Var::Param);
+        let k = Kinematics::new(&tree, &q, &v);
+        let mut values = Vec::new();
+        for f in frames {
+            let frame = k.frame(f, &params);
+            let name = &f.name;
+            match output {
+                Output::FramePlacements => {
+                    let w = frame.rotation;
+                    for (r, row) in w.0.iter().enumerate() {
+                        for (col, x) in row.iter().enumerate() {
+                            values.push(x.label(format_args!("{name}_rot_{r}{col}")));
+                        }
+                    }
+                    values.extend(label3(frame.origin, name, "pos"));
+                }
+                Output::FrameVelocities => {
+                    let (w, v) = k.local_velocity(&frame);
+                    values.extend(label3(w, name, "v_w"));
+                    values.extend(label3(v, name, "v_v"));
+                }
+                Output::FrameAccelerations => {
+                    let (dw, ddp) = k.classical_acceleration(&frame, &a);
+                    values.extend(label3(dw, name, "acc_w"));
+                    values.extend(label3(ddp, name, "acc_p"));
+                }
+                Output::FrameJacobiansLocal
+                | Output::FrameJacobiansWorld
+                | Output::FrameJacobiansLocalWorldAligned => {
+                    let j = k.jacobian(&frame, reference_frame(output));
+                    values.extend(label_matrix(c.reduce_columns(&j, 6), name, "j", model.nv()));
+                }
+                Output::FrameJacobianTimeVariationsLocal
+                | Output::FrameJacobianTimeVariationsWorld
+                | Output::FrameJacobianTimeVariationsLocalWorldAligned => {
+                    let j = k.jacobian_rate(&frame, reference_frame(output));
+                    values.extend(label_matrix(
+                        c.reduce_columns(&j, 6),
+                        name,
+                        "dj",
+                        model.nv(),
+                    ));
+                }
+                other => unreachable!("`{}` is not a frame output", other.name()),
+            }
+        }
+        values
+    });
+    Traced {
+        output,
+        graph,
+        values,
+        pivots: None,
+        variant,
+        candidates: Vec::new(),
+    }
+}
+
+fn reference_frame(output: Output) -> In {
+    match output {
+        Output::FrameJacobiansLocal | Output::FrameJacobianTimeVariationsLocal => In::Local,
+        Output::FrameJacobiansWorld | Output::FrameJacobianTimeVariationsWorld => In::World,
+        _ => In::LocalWorldAligned,
+    }
+}
+
+fn label3(x: Vec3<Sym>, name: &str, stem: &str) -> [Sym; 3] {
+    let [a, b, c] = x.0;
+    [
+        a.label(format_args!("{name}_{stem}x")),
+        b.label(format_args!("{name}_{stem}y")),
+        c.label(format_args!("{name}_{stem}z")),
+    ]
+}
+
+fn label_matrix(values: Vec<Sym>, name: &str, stem: &str, nv: usize) -> Vec<Sym> {
+    values
+        .into_iter()
+        .enumerate()
+        .map(|(k, x)| {
+            x.label(format_args!(
+                "{name}_{stem}_{}_{}",
+                k / nv.max(1),
+                k % nv.max(1)
+            ))
+        })
+        .collect()
+}
+
+/// A frame on the traced tree: its body's node, its placement in the world.
+struct Frame<T> {
+    /// The node of its body, `None` for a frame fixed to the world.
+    node: Option<usize>,
+    /// Its origin in its body's frame.
+    offset: Vec3<T>,
+    /// `world_R_frame`.
+    rotation: Mat3<T>,
+    /// Its origin in the world.
+    origin: Vec3<T>,
+}
+
+/// The tree's kinematics at `(q, v)`: each node's transforms and spatial velocity.
+struct Kinematics<'a, T> {
+    tree: &'a Tree<T>,
+    x_up: Vec<Transform<T>>,
+    /// World → node.
+    x0: Vec<Transform<T>>,
+    /// Each node's spatial velocity in its own frame.
+    vel: Vec<Motion<T>>,
+    /// The velocities `v` of the tree.
+    v: Vec<T>,
+}
+
+impl<'a, T: Scalar> Kinematics<'a, T> {
+    fn new(tree: &'a Tree<T>, q: &[T], v: &[T]) -> Self {
+        let x_up = tree.x_up(q);
+        let x0 = world_transforms(tree, &x_up);
+        let mut vel: Vec<Motion<T>> = Vec::with_capacity(tree.nodes.len());
+        for (i, node) in tree.nodes.iter().enumerate() {
+            let from_parent = match node.parent {
+                Some(p) => x_up[i].apply_motion(vel[p]),
+                None => Motion::zero(),
+            };
+            vel.push(from_parent + node.s_mul(v));
+        }
+        Kinematics {
+            tree,
+            x_up,
+            x0,
+            vel,
+            v: v.to_vec(),
+        }
+    }
+
+    /// The frame `f`, placed.
+    fn frame(&self, f: &FrameAt, params: &[T]) -> Frame<T> {
+        let p = &f.placement;
+        let offset = Vec3(p.xyz.map(|x| x.get(params)));
+        let [roll, pitch, yaw] = p.rpy.map(|x| x.get(params));
+        let r_p = Mat3::rpy(roll, pitch, yaw);
+        match f.parent {
+            None => Frame {
+                node: None,
+                offset,
+                rotation: r_p,
+                origin: offset,
+            },
+            Some(b) => {
+                let n = self.tree.body_node[b];
+                let x = &self.x0[n];
+                let world_r_body = x.e.transpose();
+                Frame {
+                    node: Some(n),
+                    offset,
+                    rotation: world_r_body.mul_mat(&r_p),
+                    origin: x.r + world_r_body.mul_vec(offset),
+                }
+            }
+        }
+    }
+
+    /// The frame's body's rotation `world_R_body`.
+    fn body_rotation(&self, f: &Frame<T>) -> Mat3<T> {
+        f.node
+            .map_or_else(Mat3::identity, |n| self.x0[n].e.transpose())
+    }
+
+    /// `[ω; v]` of the frame in LOCAL.
+    fn local_velocity(&self, f: &Frame<T>) -> (Vec3<T>, Vec3<T>) {
+        let Some(n) = f.node else {
+            return (Vec3::zero(), Vec3::zero());
+        };
+        let body = self.vel[n];
+        let at_origin = body.lin + body.ang.cross(f.offset);
+        // R_p = world_R_bodyᵀ·world_R_frame, so R_pᵀ·x = world_R_frameᵀ·world_R_body·x.
+        let world_r_body = self.body_rotation(f);
+        let to_frame = |x: Vec3<T>| f.rotation.tr_mul_vec(world_r_body.mul_vec(x));
+        (to_frame(body.ang), to_frame(at_origin))
+    }
+
+    /// `[ω̇; p̈]` of the frame's origin, world axes, at the accelerations `a`.
+    fn classical_acceleration(&self, f: &Frame<T>, a: &[T]) -> (Vec3<T>, Vec3<T>) {
+        let Some(n) = f.node else {
+            return (Vec3::zero(), Vec3::zero());
+        };
+        // The spatial accelerations of the nodes from the root to the frame's body.
+        let path = self.path(n);
+        let mut acc = Motion::zero();
+        for &i in path.iter().rev() {
+            let node = &self.tree.nodes[i];
+            let from_parent = match node.parent {
+                Some(_) => self.x_up[i].apply_motion(acc),
+                None => Motion::zero(),
+            };
+            acc = from_parent + node.s_mul(a) + self.vel[i].cross_motion(node.s_mul(&self.v));
+        }
+        let body = self.vel[n];
+        let p = f.offset;
+        let ddp = acc.lin + acc.ang.cross(p) + body.ang.cross(body.lin + body.ang.cross(p));
+        let world_r_body = self.body_rotation(f);
+        (world_r_body.mul_vec(acc.ang), world_r_body.mul_vec(ddp))
+    }
+
+    /// Node `n` and its ancestors, from `n` to the root.
+    fn path(&self, n: usize) -> Vec<usize> {
+        let mut path = vec![n];
+        while let Some(p) = self.tree.nodes[path[path.len() - 1]].parent {
+            path.push(p);
+        }
+        path
+    }
+
+    /// Each tree velocity's column: `(tree velocity index, s)` with `s` the node's motion
+    /// subspace column in world coordinates, for the nodes from the frame's body to the root.
+    fn world_columns(&self, f: &Frame<T>) -> Vec<(usize, usize, Motion<T>)> {
+        let Some(n) = f.node else {
+            return Vec::new();
+        };
+        let mut columns = Vec::new();
+        for i in self.path(n) {
+            let node = &self.tree.nodes[i];
+            for j in 0..node.nv() {
+                let s = self.x0[i].inv_apply_motion(node.s_col(j));
+                columns.push((node.v_at + j, i, s));
+            }
+        }
+        columns
+    }
+
+    /// A column `s` (world coordinates) in `frame`.
+    fn column_in(&self, s: Motion<T>, f: &Frame<T>, frame: In) -> Motion<T> {
+        match frame {
+            In::World => s,
+            In::LocalWorldAligned => Motion::new(s.ang, s.lin + s.ang.cross(f.origin)),
+            In::Local => {
+                let lin = s.lin + s.ang.cross(f.origin);
+                Motion::new(f.rotation.tr_mul_vec(s.ang), f.rotation.tr_mul_vec(lin))
+            }
+        }
+    }
+
+    /// The frame's Jacobian in `frame`, `6 × nv` of the tree, row-major.
+    fn jacobian(&self, f: &Frame<T>, frame: In) -> Vec<T> {
+        let nv = self.tree.nv;
+        let mut j = vec![T::zero(); 6 * nv];
+        for (k, _, s) in self.world_columns(f) {
+            let col = self.column_in(s, f, frame).to_array();
+            for (r, x) in col.into_iter().enumerate() {
+                j[r * nv + k] = x;
+            }
+        }
+        j
+    }
+
+    /// `J̇` of the frame's Jacobian in `frame` at the velocities, `6 × nv`, row-major.
+    fn jacobian_rate(&self, f: &Frame<T>, frame: In) -> Vec<T> {
+        let nv = self.tree.nv;
+        let mut out = vec![T::zero(); 6 * nv];
+        let Some(n) = f.node else {
+            return out;
+        };
+        let world_vel = |i: usize| self.x0[i].inv_apply_motion(self.vel[i]);
+        let body = world_vel(n);
+        // The origin's velocity in the world, and the body's angular velocity.
+        let (omega, o_dot) = (body.ang, body.lin + body.ang.cross(f.origin));
+        for (k, i, s) in self.world_columns(f) {
+            let ds = world_vel(i).cross_motion(s);
+            let col = match frame {
+                In::World => ds,
+                In::LocalWorldAligned | In::Local => {
+                    let lwa =
+                        Motion::new(ds.ang, ds.lin + ds.ang.cross(f.origin) + s.ang.cross(o_dot));
+                    if frame == In::Local {
+                        let j = Motion::new(s.ang, s.lin + s.ang.cross(f.origin));
+                        let back =
+                            |d: Vec3<T>, x: Vec3<T>| f.rotation.tr_mul_vec(d - omega.cross(x));
+                        Motion::new(back(lwa.ang, j.ang), back(lwa.lin, j.lin))
+                    } else {
+                        lwa
+                    }
+                }
+            };
+            for (r, x) in col.to_array().into_iter().enumerate() {
+                out[r * nv + k] = x;
+            }
+        }
+        out
+    }
+}
