@@ -172,14 +172,15 @@ pub fn run(args: &SimulateArgs) -> Result<String, String> {
             s.v.amax()
         )
     });
-    let mut kept = match written.is_empty() {
-        true => "nothing was written".to_string(),
-        false => format!(
+    let mut kept = if written.is_empty() {
+        "nothing was written".to_string()
+    } else {
+        format!(
             "the {} states up to t = {} were written to {}",
             trajectory.len(),
             last.map_or(0.0, |s| s.t),
             written.join(", ")
-        ),
+        )
     };
     if let Some(e) = failed {
         kept += &format!(" (then: {e})");

@@ -179,8 +179,9 @@ impl Tick {
         if magnitude >= 1e6 || (magnitude > 0.0 && magnitude < 1e-3) {
             return Tick::Scientific;
         }
-        // Plotters puts up to about ten ticks over the span: the decimals their spacing needs.
-        let spacing = (hi - lo) / 10.0;
+        // Plotters puts about eight to ten ticks over the span: the decimals their spacing
+        // needs.
+        let spacing = (hi - lo) / 8.0;
         let decimals = if spacing > 0.0 {
             libm::ceil(-libm::log10(spacing)).clamp(0.0, 8.0)
         } else {
