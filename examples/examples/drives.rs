@@ -64,7 +64,8 @@ const EVERY: usize = 50;
 /// Points `(t, y)` of a curve.
 type Curve = Vec<(f64, f64)>;
 
-/// `(t, q)` and `(t, T + V)` every `EVERY` steps of RK4 for the chain `C` through its drives.
+/// `(t, q)` and `(t, T + V + the stops' spring energy)` every `EVERY` steps of RK4 for the chain
+/// `C` through its drives.
 fn run<C>() -> (Curve, Curve)
 where
     C: ForwardDynamics<f64, 1, 1> + KineticEnergy<f64, 1, 1> + PotentialEnergy<f64, 1, 1>,
@@ -80,7 +81,9 @@ where
     for k in 0..=STEPS {
         if k % EVERY == 0 {
             angle.push((state.t, state.q[0]));
-            let e = C::kinetic_energy(&state.q, &state.v) + C::potential_energy(&state.q);
+            let e = C::kinetic_energy(&state.q, &state.v)
+                + C::potential_energy(&state.q)
+                + drives.stop_energy(&state.q);
             energy.push((state.t, e));
         }
         if k < STEPS {
@@ -106,9 +109,9 @@ fn main() -> Result<(), String> {
         "angle (rad)",
     );
     let mut energy = Panel::new(
-        "Its energy T + V: the stops' damper takes most at impact, the rotor carries its own",
+        "Its energy T + V, the stops' springs included",
         "t (s)",
-        "T + V (J)",
+        "energy (J)",
     );
     for (name, (a, e)) in runs {
         println!(

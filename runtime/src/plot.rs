@@ -98,11 +98,12 @@ const LEGEND_ROW: u32 = 18;
 const LEGEND_TOP: u32 = 44;
 const SAMPLE: u32 = 22;
 
-/// The width of `text` in a sans-serif font of `size` px, estimated (an SVG has no metrics):
-/// an average glyph is about 0.6 em.
+/// The width of `text` in a sans-serif font of `size` px as plotters sets it (at `size / 1.24`),
+/// estimated (an SVG has no metrics): an average glyph is about 0.55 em of that, so half of
+/// `size`, with a little to spare.
 fn text_width(text: &str, size: u32) -> u32 {
     let chars = u32::try_from(text.chars().count()).unwrap_or(u32::MAX);
-    chars.saturating_mul(size).saturating_mul(3) / 5
+    chars.saturating_mul(size) / 2
 }
 
 /// `text` cut to about `width` px at `size`, with an ellipsis where it was cut.
@@ -110,7 +111,7 @@ fn fit(text: &str, width: u32, size: u32) -> String {
     if text_width(text, size) <= width {
         return text.into();
     }
-    let keep = (width / (size * 3 / 5).max(1)).saturating_sub(1) as usize;
+    let keep = (width / (size / 2).max(1)).saturating_sub(1) as usize;
     let mut cut: String = text.chars().take(keep).collect();
     cut.push('…');
     cut
