@@ -1,7 +1,8 @@
 //! `articulated simulate` and `articulated invert`, end to end through the binary: the trajectory
 //! file's form, its physics (energy kept by RK4, checked with the reference), the couples
-//! recovered from it (zero for a chain left to itself), a plot, and every bad input giving a
-//! message, a non-zero exit and no file.
+//! recovered from it (zero for a chain left to itself), the sidecars naming every column, a
+//! plot, every bad input giving a message, a non-zero exit and no file, a fault in a run
+//! keeping the states before it, and the note on limits left without `--drives`.
 
 mod common;
 
