@@ -172,7 +172,9 @@ pub struct SimulateArgs {
     /// Without it the chain moves freely (the rotor inertia is always in the dynamics).
     #[arg(long)]
     pub drives: bool,
-    /// The trajectory CSV to write (whole or not at all).
+    /// The trajectory CSV to write (whole or not at all), and beside it `OUT.json`: each
+    /// column's coordinate and unit, the integrator, how the run ended. A run that stops on a
+    /// fault writes both (and the plot) up to its last good state, then fails.
     #[arg(long)]
     pub out: PathBuf,
     /// An SVG plot of the positions and the energies against time.

@@ -1,7 +1,8 @@
 //! `articulated simulate` and `articulated invert`, end to end through the binary: the trajectory
 //! file's form, its physics (energy kept by RK4, checked with the reference), the couples
-//! recovered from it (zero for a chain left to itself), a plot, and every bad input giving a
-//! message, a non-zero exit and no file.
+//! recovered from it (zero for a chain left to itself), the sidecars naming every column, a
+//! plot, every bad input giving a message, a non-zero exit and no file, a fault in a run
+//! keeping the states before it, and the note on limits left without `--drives`.
 
 mod common;
 
@@ -27,6 +28,21 @@ fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
         .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
         .collect();
     (header, rows)
+}
+
+/// A JSON file.
+fn read_json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// A sidecar's columns as `[header, name, unit]`.
+fn columns(sidecar: &serde_json::Value) -> Vec<[String; 3]> {
+    sidecar["columns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| ["header", "name", "unit"].map(|k| c[k].as_str().unwrap().to_string()))
+        .collect()
 }
 
 #[test]
@@ -90,6 +106,49 @@ fn simulate_writes_the_trajectory_and_rk4_keeps_the_energy() {
     );
     let svg = std::fs::read_to_string(&plot).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("energy"));
+    // Issue 31: titled by the chain's name, not by the path; curves labelled by joint.
+    assert!(svg.contains("TwoLink: angles") && svg.contains("TwoLink: energy"));
+    assert!(!svg.contains(dir.to_str().unwrap()));
+    assert!(
+        svg.contains("\nhip.ry\n</text>"),
+        "a legend names the coordinates"
+    );
+    // The sidecar names every column, as written out here from the description's joints
+    // (`ankle` and `hip`, Euler angles `xyz`).
+    let sidecar = read_json(&dir.join("swing.csv.json"));
+    assert_eq!(sidecar["model"]["file"], "models/two_link.chain");
+    assert_eq!(sidecar["model"]["name"], "TwoLink");
+    let angles = [
+        "ankle.rx", "ankle.ry", "ankle.rz", "hip.rx", "hip.ry", "hip.rz",
+    ];
+    let column = |header: String, name: &str, unit: &str| [header, name.into(), unit.into()];
+    let mut want = vec![column("t".into(), "time", "s")];
+    for (i, a) in angles.iter().enumerate() {
+        want.push(column(format!("q{i}"), a, "rad"));
+    }
+    for (i, a) in angles.iter().enumerate() {
+        want.push(column(format!("v{i}"), a, "rad/s"));
+    }
+    assert_eq!(columns(&sidecar), want);
+    assert_eq!(sidecar["integrator"], "rk4");
+    assert_eq!(sidecar["dt"], 0.001);
+    assert_eq!(sidecar["rows"], 2001);
+    assert_eq!(sidecar["t_last"], 2.0);
+    assert_eq!(
+        sidecar["outcome"],
+        serde_json::json!({"status": "completed"})
+    );
+    // Files as any other the user makes (0o666 less the umask), not owner-only.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        let normal = dir.join("normal");
+        std::fs::write(&normal, "x").unwrap();
+        for p in [&out, &plot, &dir.join("swing.csv.json")] {
+            assert_eq!(mode(p), mode(&normal), "{}", p.display());
+        }
+    }
 
     // The couples behind a motion without forces are zero, to the differentiation's accuracy
     // (against the couples gravity alone would need: m·g·l ≈ 400 N·m).
@@ -114,6 +173,15 @@ fn simulate_writes_the_trajectory_and_rk4_keeps_the_energy() {
         header[1..],
         ["tau0", "tau1", "tau2", "tau3", "tau4", "tau5"]
     );
+    // Its sidecar: the couples on the same coordinates, in N·m.
+    let sidecar = read_json(&dir.join("couples.csv.json"));
+    let mut want = vec![column("t".into(), "time", "s")];
+    for (i, a) in angles.iter().enumerate() {
+        want.push(column(format!("tau{i}"), a, "N·m"));
+    }
+    assert_eq!(columns(&sidecar), want);
+    assert_eq!(sidecar["rows"], 1991);
+    assert_eq!(sidecar["trajectory"], out.to_str().unwrap());
     let worst = rows
         .iter()
         .flat_map(|r| r[1..].to_vec())
@@ -244,7 +312,7 @@ fn bad_input_is_an_error_and_leaves_no_file() {
     let e = fails("invert", &[pendulum, &csv, "--out", o], &out);
     assert!(e.contains("`q1`"), "{e}");
 
-    // simulate: an unknown integrator, a bad grid, a state that diverges into a singular M.
+    // simulate: an unknown integrator, a bad grid (a fault in a run: `a_fault_keeps_…`).
     let e = fails(
         "simulate",
         &[
@@ -267,50 +335,14 @@ fn bad_input_is_an_error_and_leaves_no_file() {
         &out,
     );
     assert!(e.contains("--dt"), "{e}");
-    // The inverted pendulum starting exactly at its xyz Euler angles' gimbal lock.
-    let e = fails(
-        "simulate",
-        &[
-            "models/inverted_pendulum.chain",
-            "--t-end",
-            "1",
-            "--dt",
-            "0.01",
-            "--q0",
-            "0,1.5707963267948966,0",
-            "--out",
-            o,
-        ],
-        &out,
-    );
-    assert!(e.contains("t = ") && e.contains("singular"), "{e}");
-    // A light link against stiff stops, stepped far too long: the state runs away, and the
-    // message says where (the acceleration, not a singular M) and how far it got.
+    // A light link against stiff stops, stepped far too long: the adaptive integrator takes
+    // it through the stop (`a_fault_keeps_…` shows what a fixed step does).
     let light = write(
         "light.chain",
         "chain Light {\n\
          body a { mass: 0.01, com: [0.1, 0.0, 0.0], inertia: diag(1e-6, 1e-6, 1e-6) }\n\
          joint j: revolute(y) { parent: world, child: a, lower: -0.1, upper: 0.1 }\n}\n",
     );
-    let e = fails(
-        "simulate",
-        &[
-            &light, "--t-end", "1", "--dt", "0.001", "--drives", "--out", o,
-        ],
-        &out,
-    );
-    assert!(
-        e.contains("acceleration[0] is not finite") && e.contains("max |v| = "),
-        "{e}"
-    );
-    assert!(!e.contains("singular"), "{e}");
-    // Said before the run, with the step that would do and the integrator that copes.
-    assert!(
-        e.contains("warning: joint `j`'s position stop is too stiff for --dt 0.001")
-            && e.contains("--integrator dopri5"),
-        "{e}"
-    );
-    // And the advice holds: the adaptive integrator takes it through the stop.
     let (ok, stdout, stderr) = run(
         "simulate",
         &[
@@ -328,5 +360,189 @@ fn bad_input_is_an_error_and_leaves_no_file() {
     );
     assert!(ok, "{stderr}");
     assert!(stdout.contains("1001 states"), "{stdout}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Issue 31: a run that stops on a fault writes what it has, whole: the CSV (its usual
+/// header) of every state up to the last good one, the sidecar naming the fault, the plot;
+/// the exit status is non-zero and stderr says what failed and what was written.
+#[test]
+fn a_fault_keeps_the_trajectory_up_to_it() {
+    let dir = scratch("fault");
+    let (out, plot) = (dir.join("light.csv"), dir.join("light.svg"));
+    let sidecar = dir.join("light.csv.json");
+    // A light link thrown against stiff stops, stepped by Euler far too long for them: the
+    // state runs away from the first contact on, until the acceleration overflows.
+    let light = dir.join("light.chain");
+    std::fs::write(
+        &light,
+        "chain Light {\n\
+         body a { mass: 0.01, com: [0.1, 0.0, 0.0], inertia: diag(1e-6, 1e-6, 1e-6) }\n\
+         joint j: revolute(y) { parent: world, child: a, lower: -0.1, upper: 0.1 }\n}\n",
+    )
+    .unwrap();
+    let (ok, stdout, stderr) = run(
+        "simulate",
+        &[
+            light.to_str().unwrap(),
+            "--t-end",
+            "1",
+            "--dt",
+            "0.001",
+            "--integrator",
+            "euler",
+            "--drives",
+            "--out",
+            out.to_str().unwrap(),
+            "--plot",
+            plot.to_str().unwrap(),
+        ],
+    );
+    assert!(!ok, "succeeded: {stdout}");
+    // Said before the run, with the step that would do and the integrator that copes.
+    assert!(
+        stderr.contains("warning: joint `j`'s position stop is too stiff for --dt 0.001")
+            && stderr.contains("--integrator dopri5"),
+        "{stderr}"
+    );
+    // The fault, where the last good state stood, and what was written.
+    assert!(
+        stderr.contains("error: the simulation stopped")
+            && stderr.contains("acceleration[0] is not finite")
+            && stderr.contains("max |v| = ")
+            && !stderr.contains("singular"),
+        "{stderr}"
+    );
+    for file in [&out, &sidecar, &plot] {
+        assert!(stderr.contains(file.to_str().unwrap()), "{stderr}");
+    }
+    let description = read_json(&sidecar);
+    let fault = &description["outcome"];
+    assert_eq!(fault["status"], "fault");
+    assert_eq!(fault["message"], "acceleration[0] is not finite");
+    let (t_fault, step) = (
+        fault["t"].as_f64().unwrap(),
+        fault["step"].as_u64().unwrap(),
+    );
+    assert!(t_fault > 0.0 && t_fault < 1.0, "{t_fault}");
+    // The CSV: the interface's header, then the initial state and one row per completed step,
+    // up to the step that failed, every number finite.
+    let (header, rows) = read_csv(&out);
+    assert_eq!(header, ["t", "q0", "v0"]);
+    assert_eq!(rows.len() as u64, step + 1);
+    assert_eq!(description["rows"], rows.len());
+    for (k, row) in rows.iter().enumerate() {
+        assert!((row[0] - k as f64 * 0.001).abs() < 1e-12, "{row:?}");
+        assert!(row.iter().all(|x| x.is_finite()), "{row:?}");
+    }
+    let t_last = rows.last().unwrap()[0];
+    assert!(t_last <= t_fault && t_fault - t_last < 0.001 + 1e-12);
+    assert_eq!(description["t_last"], t_last);
+    // What went wrong is in it: the link past its stop, then running away.
+    assert!(rows.iter().any(|r| r[1].abs() > 0.1));
+    assert!(rows.last().unwrap()[2].abs() > 1e6);
+    let svg = std::fs::read_to_string(&plot).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("Light: angles"));
+
+    // A fault in the first step (the inverted pendulum exactly at its Euler angles' gimbal
+    // lock): the initial state alone.
+    let (ok, _, stderr) = run(
+        "simulate",
+        &[
+            "models/inverted_pendulum.chain",
+            "--t-end",
+            "1",
+            "--dt",
+            "0.01",
+            "--q0",
+            "0,1.5707963267948966,0",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(!ok);
+    assert!(
+        stderr.contains("t = ") && stderr.contains("singular"),
+        "{stderr}"
+    );
+    let (_, rows) = read_csv(&out);
+    assert_eq!(rows.len(), 1);
+    assert_eq!(rows[0][1..4], [0.0, std::f64::consts::FRAC_PI_2, 0.0]);
+    let description = read_json(&sidecar);
+    assert_eq!(description["outcome"]["status"], "fault");
+    assert_eq!(description["outcome"]["step"], 0);
+    assert!(description["outcome"]["message"]
+        .as_str()
+        .unwrap()
+        .contains("singular"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Issue 31: without `--drives` a joint's limits are not applied; a joint that leaves its
+/// range gets one note on stderr, with how far it went and when. A joint that stays in its
+/// range gets none, nor does a run with `--drives`.
+#[test]
+fn leaving_a_range_without_drives_is_noted() {
+    let dir = scratch("limits");
+    let chain = dir.join("slider.chain");
+    // Three bodies on the world: a finger falling along its slide from 0.02 m (its range
+    // [0, 0.04] m), an arm swinging within ±0.5 rad (range ±3 rad), and a flap swinging
+    // within ±0.1 rad, out of its range [-0.05, 0.2] rad on one side.
+    std::fs::write(
+        &chain,
+        "chain Slider {\n\
+         body finger { mass: 0.1, com: [0.0, 0.0, 0.0], inertia: diag(1e-4, 1e-4, 1e-4) }\n\
+         joint finger1: prismatic(z) { parent: world, child: finger, lower: 0.0, upper: 0.04 }\n\
+         body arm { mass: 1.0, com: [0.0, 0.0, -0.5], inertia: diag(0.01, 0.01, 0.01) }\n\
+         joint shoulder: revolute(y) { parent: world, child: arm, lower: -3.0, upper: 3.0 }\n\
+         body flap { mass: 1.0, com: [0.0, 0.0, -0.5], inertia: diag(0.01, 0.01, 0.01) }\n\
+         joint hinge: revolute(x) { parent: world, child: flap, lower: -0.05, upper: 0.2 }\n\
+         }\n",
+    )
+    .unwrap();
+    let out = dir.join("out.csv");
+    let simulate = |drives: bool| {
+        let mut args = vec![
+            chain.to_str().unwrap(),
+            "--t-end",
+            "1",
+            "--dt",
+            "0.001",
+            "--q0",
+            "0.02,0.5,0.1",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if drives {
+            args.extend(["--drives", "--integrator", "dopri5"]);
+        }
+        let (ok, _, stderr) = run("simulate", &args);
+        assert!(ok, "{stderr}");
+        stderr
+    };
+    let stderr = simulate(false);
+    let notes: Vec<&str> = stderr.lines().filter(|l| l.starts_with("note: ")).collect();
+    assert_eq!(notes.len(), 2, "{stderr}");
+    // Free fall for 1 s: 0.02 − 9.81/2 m at the end.
+    assert_eq!(
+        notes[0],
+        "note: joint `finger1` left its range [0, 0.04] m (reached -4.885 m at t = 1 s): \
+         limits are applied only with --drives"
+    );
+    // The flap: its lowest angle and when, read from the trajectory.
+    let (_, rows) = read_csv(&out);
+    let lowest = rows.iter().min_by(|a, b| a[3].total_cmp(&b[3])).unwrap();
+    assert!(lowest[3] < -0.09 && lowest[0] > 0.5, "{lowest:?}");
+    let note = notes[1]
+        .strip_prefix("note: joint `hinge` left its range [-0.05, 0.2] rad (reached ")
+        .and_then(|n| n.strip_suffix(" s): limits are applied only with --drives"))
+        .unwrap_or_else(|| panic!("{}", notes[1]));
+    let (angle, t) = note.split_once(" rad at t = ").unwrap();
+    let (angle, t): (f64, f64) = (angle.parse().unwrap(), t.parse().unwrap());
+    assert!((angle - lowest[3]).abs() <= 5e-5, "{angle} vs {lowest:?}");
+    assert_eq!(t, lowest[0]);
+    assert!(!stderr.contains("shoulder"), "{stderr}");
+    let stderr = simulate(true);
+    assert!(!stderr.contains("note:"), "{stderr}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -554,6 +554,34 @@ impl Model {
         }
         (q, v)
     }
+    /// The unit of each position and each velocity coordinate, in the order of
+    /// [`coordinate_names`](Self::coordinate_names): angles (revolute, Euler) `rad` and their
+    /// rates `rad/s`; translations (prismatic, a free base's `x`, `y`, `z`) `m` and `m/s`; a
+    /// quaternion's components `1` (a unit quaternion has no dimension) and its angular velocity
+    /// `rad/s`. Fixed and mimic joints have none.
+    pub fn coordinate_units(&self) -> (Vec<&'static str>, Vec<&'static str>) {
+        let (mut q, mut v) = (Vec::new(), Vec::new());
+        for j in self.joints.iter().filter(|j| j.mimic.is_none()) {
+            let (jq, jv): (&[&str], &[&str]) = match &j.kind {
+                JointKind::Revolute { .. } => (&["rad"], &["rad/s"]),
+                JointKind::Prismatic { .. } => (&["m"], &["m/s"]),
+                JointKind::SphericalEuler { .. } => (&["rad"; 3], &["rad/s"; 3]),
+                JointKind::SphericalQuaternion => (&["1"; 4], &["rad/s"; 3]),
+                JointKind::FreeEuler { .. } => (
+                    &["m", "m", "m", "rad", "rad", "rad"],
+                    &["m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s"],
+                ),
+                JointKind::FreeQuaternion => (
+                    &["m", "m", "m", "1", "1", "1", "1"],
+                    &["m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s"],
+                ),
+                JointKind::Fixed => (&[], &[]),
+            };
+            q.extend_from_slice(jq);
+            v.extend_from_slice(jv);
+        }
+        (q, v)
+    }
     /// Whether a joint follows another ([`Mimic`]).
     pub fn has_mimic(&self) -> bool {
         self.joints.iter().any(|j| j.mimic.is_some())
@@ -892,3 +920,124 @@ impl fmt::Display for ModelError {
 }
 
 impl core::error::Error for ModelError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn joint(name: &str, kind: JointKind, mimic: Option<Mimic>) -> Joint {
+        Joint {
+            name: name.into(),
+            kind,
+            parent: None,
+            placement: Placement::IDENTITY,
+            drive: Drive::FREE,
+            mimic,
+        }
+    }
+
+    /// Every kind of joint, a fixed and a mimic one: each name has its unit, written out here
+    /// from the kinds' definitions.
+    #[test]
+    fn every_coordinate_has_its_unit() {
+        let mimic = Mimic {
+            joint: 1,
+            multiplier: 1.0,
+            offset: 0.0,
+        };
+        let model = Model::new(
+            "units",
+            Vec::new(),
+            alloc::vec![
+                joint("base", JointKind::FreeQuaternion, None),
+                joint(
+                    "elbow",
+                    JointKind::Revolute {
+                        axis: [0.0, 0.0, 1.0]
+                    },
+                    None
+                ),
+                joint(
+                    "slide",
+                    JointKind::Prismatic {
+                        axis: [1.0, 0.0, 0.0]
+                    },
+                    None
+                ),
+                joint(
+                    "hip",
+                    JointKind::SphericalEuler { seq: EulerSeq::XYZ },
+                    None
+                ),
+                joint("wrist", JointKind::SphericalQuaternion, None),
+                joint("float", JointKind::FreeEuler { seq: EulerSeq::ZYX }, None),
+                joint("weld", JointKind::Fixed, None),
+                joint(
+                    "twin",
+                    JointKind::Revolute {
+                        axis: [0.0, 0.0, 1.0]
+                    },
+                    Some(mimic)
+                ),
+            ],
+        );
+        let (names_q, names_v) = model.coordinate_names();
+        let (units_q, units_v) = model.coordinate_units();
+        let named = |names: &[String], units: &[&str]| -> Vec<String> {
+            names
+                .iter()
+                .zip(units)
+                .map(|(n, u)| alloc::format!("{n} {u}"))
+                .collect()
+        };
+        let q = [
+            "base.x m",
+            "base.y m",
+            "base.z m",
+            "base.qw 1",
+            "base.qx 1",
+            "base.qy 1",
+            "base.qz 1",
+            "elbow rad",
+            "slide m",
+            "hip.rx rad",
+            "hip.ry rad",
+            "hip.rz rad",
+            "wrist.qw 1",
+            "wrist.qx 1",
+            "wrist.qy 1",
+            "wrist.qz 1",
+            "float.x m",
+            "float.y m",
+            "float.z m",
+            "float.rz rad",
+            "float.ry rad",
+            "float.rx rad",
+        ];
+        let v = [
+            "base.vx m/s",
+            "base.vy m/s",
+            "base.vz m/s",
+            "base.wx rad/s",
+            "base.wy rad/s",
+            "base.wz rad/s",
+            "elbow rad/s",
+            "slide m/s",
+            "hip.rx rad/s",
+            "hip.ry rad/s",
+            "hip.rz rad/s",
+            "wrist.wx rad/s",
+            "wrist.wy rad/s",
+            "wrist.wz rad/s",
+            "float.x m/s",
+            "float.y m/s",
+            "float.z m/s",
+            "float.rz rad/s",
+            "float.ry rad/s",
+            "float.rx rad/s",
+        ];
+        assert_eq!((units_q.len(), units_v.len()), (model.nq(), model.nv()));
+        assert_eq!(named(&names_q, &units_q), q);
+        assert_eq!(named(&names_v, &units_v), v);
+    }
+}

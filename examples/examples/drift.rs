@@ -1,17 +1,16 @@
 //! The long-horizon study of issue 12: every integrator on the two-link and the floating cat,
 //! 100 s at steps of 1e-3 s (1e5 steps) and 1e-4 s (1e6 steps), generated `f64` code. Writes
-//! `docs/drift.md` (the table) and `docs/figures/drift.svg` (the energy error against time at
-//! 1e-3 s), each whole or not at all, and prints the table.
+//! `drift.md` (the table) and `figures/drift.svg` (the energy error against time at 1e-3 s),
+//! each whole or not at all, into the folder given as its argument (default `target/docs/`;
+//! `scripts/figures.sh` passes `docs/`), and prints the table.
 //!
 //! ```sh
-//! cargo run --release -p articulated-examples --example drift
+//! cargo run --release -p articulated-examples --example drift [-- OUT]
 //! ```
 
-use std::path::Path;
-
-use articulated::files::write_atomically;
 use articulated::plot::{svg, Panel};
 use articulated_examples::drift::{run, Model, Run, METHODS};
+use articulated_examples::output::Output;
 
 const HORIZON: f64 = 100.0;
 const RECORD_EVERY_S: f64 = 0.1;
@@ -26,7 +25,13 @@ fn cell(x: f64) -> String {
 }
 
 fn main() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let out = match Output::from_args() {
+        Ok(out) => out,
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(2);
+        }
+    };
     let mut table = String::from(
         "| model | method | step (s) | steps | max energy error | first half | second half | \
          max k_G error | max p error | wall time (s) |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
@@ -77,7 +82,7 @@ fn main() {
     }
     let text = format!(
         "# Long horizons: energy and momentum drift\n\n\
-         Written by `cargo run --release -p articulated-examples --example drift` \
+         Written by `scripts/figures.sh drift` \
          (`examples/src/drift.rs`; the bounds asserted on shorter runs: `examples/tests/drift.rs`). \
          Each model is left to itself (`τ = 0`) for {HORIZON} s with generated `f64` code; the \
          errors are relative to the initial values (the energy `T + V`; on the floating cat, the \
@@ -97,13 +102,15 @@ fn main() {
         }
     };
     for (path, contents) in [
-        (root.join("docs/drift.md"), text.as_bytes()),
-        (root.join("docs/figures/drift.svg"), figure.as_bytes()),
+        (out.page("drift.md"), text.as_bytes()),
+        (out.figure("drift.svg"), figure.as_bytes()),
     ] {
-        if let Err(e) = write_atomically(&path, contents) {
-            eprintln!("error: cannot write {}: {e}", path.display());
-            std::process::exit(1);
+        match out.write(&path, contents) {
+            Ok(file) => eprintln!("wrote {file}"),
+            Err(e) => {
+                eprintln!("error: cannot write {e}");
+                std::process::exit(1);
+            }
         }
-        eprintln!("wrote {}", path.display());
     }
 }

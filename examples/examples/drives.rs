@@ -1,16 +1,14 @@
 //! What a joint's drive does in a simulation: a 1 kg pendulum thrown at 2 rad/s from 0.4 rad,
 //! free; with viscous damping; with damping, dry friction and stops at ±0.5 rad; and with a
 //! heavy rotor (armature) on top, which the generated dynamics already contain. Writes
-//! `docs/figures/drives.svg` (the angle and the energy against time), whole or not at all.
+//! `figures/drives.svg` (the angle and the energy against time), whole or not at all, into the
+//! folder given as its argument (default `target/docs/`; `articulated_examples::output`).
 //!
 //! ```sh
-//! cargo run --release -p articulated-examples --example drives
+//! cargo run --release -p articulated-examples --example drives [-- OUT]
 //! ```
 
-use std::path::Path;
-
 use articulated::drives::Drives;
-use articulated::files::write_atomically;
 use articulated::integrate::{ControlledChain, Integrator, Rk4, State};
 use articulated::nalgebra::SVector;
 use articulated::plot::{svg, Panel};
@@ -66,7 +64,8 @@ const EVERY: usize = 50;
 /// Points `(t, y)` of a curve.
 type Curve = Vec<(f64, f64)>;
 
-/// `(t, q)` and `(t, T + V)` every `EVERY` steps of RK4 for the chain `C` through its drives.
+/// `(t, q)` and `(t, T + V + the stops' spring energy)` every `EVERY` steps of RK4 for the chain
+/// `C` through its drives.
 fn run<C>() -> (Curve, Curve)
 where
     C: ForwardDynamics<f64, 1, 1> + KineticEnergy<f64, 1, 1> + PotentialEnergy<f64, 1, 1>,
@@ -82,7 +81,9 @@ where
     for k in 0..=STEPS {
         if k % EVERY == 0 {
             angle.push((state.t, state.q[0]));
-            let e = C::kinetic_energy(&state.q, &state.v) + C::potential_energy(&state.q);
+            let e = C::kinetic_energy(&state.q, &state.v)
+                + C::potential_energy(&state.q)
+                + drives.stop_energy(&state.q);
             energy.push((state.t, e));
         }
         if k < STEPS {
@@ -94,7 +95,8 @@ where
     (angle, energy)
 }
 
-fn main() {
+fn main() -> Result<(), String> {
+    let out = articulated_examples::output::Output::from_args()?;
     let runs = [
         ("free", run::<Free>()),
         ("damping 0.2 N·m·s", run::<Damped>()),
@@ -107,9 +109,9 @@ fn main() {
         "angle (rad)",
     );
     let mut energy = Panel::new(
-        "Its energy T + V: the stops' damper takes most at impact, the rotor carries its own",
+        "Its energy T + V, the stops' springs included",
         "t (s)",
-        "T + V (J)",
+        "energy (J)",
     );
     for (name, (a, e)) in runs {
         println!(
@@ -120,13 +122,8 @@ fn main() {
         angle = angle.with(name, a);
         energy = energy.with(name, e);
     }
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/figures/drives.svg");
-    let text = match svg(&[angle, energy], 900, 320) {
-        Ok(text) => text,
-        Err(e) => panic!("{e}"),
-    };
-    if let Err(e) = write_atomically(&path, text.as_bytes()) {
-        panic!("{}: {e}", path.display());
-    }
-    println!("wrote {}", path.display());
+    let text = svg(&[angle, energy], 900, 320).map_err(|e| e.to_string())?;
+    let file = out.write(&out.figure("drives.svg"), text.as_bytes())?;
+    println!("wrote {file}");
+    Ok(())
 }

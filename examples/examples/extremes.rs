@@ -1,18 +1,18 @@
 //! The extremes table of the accuracy study (issue 12): generated forward dynamics (`f64` and
 //! `f32`, each accuracy choice), `M`, `τ` and the `f64` reference against the double-double
-//! ground truth, written to `docs/accuracy.md` (whole, or not at all) and printed.
+//! ground truth, written to `accuracy.md` (whole, or not at all) in the folder given as its
+//! argument (default `target/docs/`; `scripts/figures.sh` passes `docs/`) and printed.
 //!
 //! ```sh
-//! cargo run --release -p articulated-examples --example extremes
+//! cargo run --release -p articulated-examples --example extremes [-- OUT]
 //! ```
 
-use std::path::Path;
-
 use articulated_examples::extremes::{rows, table};
+use articulated_examples::output::Output;
 
 const HEADER: &str = "# Accuracy at the extremes
 
-Written by `cargo run --release -p articulated-examples --example extremes` (the rows:
+Written by `scripts/figures.sh extremes` (the rows:
 `examples/src/extremes.rs`; the bounds asserted on them: `examples/tests/extremes.rs`).
 
 Each entry is the normwise relative error `max|x − x*| / max|x*|` against the ground truth `x*`:
@@ -33,14 +33,20 @@ singularity error). The last two columns are the larger of the errors of `M(q)` 
 ";
 
 fn main() {
+    let out = match Output::from_args() {
+        Ok(out) => out,
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(2);
+        }
+    };
     let text = format!("{HEADER}{}", table(&rows()));
     print!("{text}");
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/accuracy.md");
-    let tmp = path.with_extension("md.tmp");
-    let written = std::fs::write(&tmp, &text).and_then(|()| std::fs::rename(&tmp, &path));
-    if let Err(e) = written {
-        eprintln!("error: cannot write {}: {e}", path.display());
-        std::process::exit(1);
+    match out.write(&out.page("accuracy.md"), text.as_bytes()) {
+        Ok(file) => eprintln!("wrote {file}"),
+        Err(e) => {
+            eprintln!("error: cannot write {e}");
+            std::process::exit(1);
+        }
     }
-    eprintln!("wrote {}", path.display());
 }

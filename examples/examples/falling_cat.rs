@@ -17,17 +17,17 @@
 //! Throughout, the angular momentum about the centre of mass stays zero to rounding and the
 //! centre of mass falls as `x_G0 + ½·g·t²`: measured by the generated `centroidal_momentum` and
 //! `center_of_mass`, and again from the reference's body Jacobians (independent of the generated
-//! code). It prints a report and writes `docs/figures/falling_cat.svg`.
+//! code). It prints a report and writes `figures/falling_cat.svg` into the folder given as its
+//! argument (default `target/docs/`; `articulated_examples::output`).
 //!
 //! ```sh
-//! cargo run --release -p articulated-examples --example falling_cat
+//! cargo run --release -p articulated-examples --example falling_cat [-- OUT]
 //! ```
 
 use std::f64::consts::PI;
 use std::path::Path;
 use std::time::Instant;
 
-use articulated::files::write_atomically;
 use articulated::model::Model;
 use articulated::plot::{svg, Panel};
 use articulated_examples::falling_cat::{
@@ -179,6 +179,7 @@ fn turn_over(model: &Model, settings: Settings) -> Result<(Panel, Fall, Conserva
 }
 
 fn main() -> Result<(), String> {
+    let out = articulated_examples::output::Output::from_args()?;
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/falling_cat.chain");
     let model = articulated_codegen::load::load_model(&path, false).map_err(|e| e.to_string())?;
     println!(
@@ -197,10 +198,9 @@ fn main() -> Result<(), String> {
         ..settings
     })?;
     let (manoeuvre, run, c3) = turn_over(&model, settings)?;
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/figures/falling_cat.svg");
     let text = svg(&[manoeuvre, speeds, by_bend], 900, 330).map_err(|e| e.to_string())?;
-    write_atomically(&file, text.as_bytes()).map_err(|e| format!("{}: {e}", file.display()))?;
-    println!("   plot: docs/figures/falling_cat.svg\n");
+    let file = out.write(&out.figure("falling_cat.svg"), text.as_bytes())?;
+    println!("   plot: {file}\n");
     println!(
         "Summary: the turn depends on the path, not the speed; {} cycles of {:.1}° bend turn the \
          cat over to {:.1e} rad; |k_G| stays ≤ {:.1e} of the bodies' momenta.",

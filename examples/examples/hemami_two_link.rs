@@ -9,14 +9,16 @@
 //!    Savitzky–Golay derivatives, generated inverse dynamics, and the joint wrenches top-down
 //!    and bottom-up from the measured ground reaction.
 //!
-//! It prints a short report and writes three plots to `docs/figures/` (the README shows them).
+//! It prints a short report and writes three plots to `figures/` in the folder given as its
+//! argument (default `target/docs/`; `articulated_examples::output`). The README shows those
+//! in `docs/figures/`, which `scripts/figures.sh` regenerates.
 //!
 //! ```sh
-//! cargo run --release -p articulated-examples --example hemami_two_link
+//! cargo run --release -p articulated-examples --example hemami_two_link [-- OUT]
 //! ```
 
 use std::f64::consts::PI;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use articulated::control::computed_torque::{computed_torque, hold};
 use articulated::control::linearize::exact;
@@ -24,7 +26,6 @@ use articulated::control::riccati::{lqr, spectral_abscissa};
 use articulated::control::state_feedback::{split_gain, state_feedback};
 use articulated::control::Controller;
 use articulated::differentiate::SavitzkyGolay;
-use articulated::files::write_atomically;
 use articulated::integrate::{ControlledChain, Rk4, SecondOrder, State};
 use articulated::invert::couples;
 use articulated::nalgebra::{DMatrix, SMatrix, SVector};
@@ -33,6 +34,7 @@ use articulated::prelude::*;
 use articulated::reference::Reference;
 use articulated::trajectory::Trajectory;
 use articulated_dynamics::random::Rng;
+use articulated_examples::output::Output;
 
 /// Hemami's two-link system, generated from its description, with its joint wrenches.
 #[derive(Chain)]
@@ -185,20 +187,14 @@ fn positions(path: &Path6, k: usize) -> Vec<(f64, f64)> {
     path.states().iter().map(|s| (s.t, s.q[k])).collect()
 }
 
-fn figures_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/figures")
-}
-
-/// Writes a figure to `docs/figures/name`; the path as the README links it.
-fn save(name: &str, panels: &[Panel]) -> Result<String, String> {
-    let path = figures_dir().join(name);
+/// Writes a figure to `figures/name` in the folder the user chose; the path written.
+fn save(out: &Output, name: &str, panels: &[Panel]) -> Result<String, String> {
     let text = svg(panels, 900, 330).map_err(|e| e.to_string())?;
-    write_atomically(&path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok(format!("docs/figures/{name}"))
+    out.write(&out.figure(name), text.as_bytes())
 }
 
 /// Part 1: the free swing and its energy, by the reference's energy functions.
-fn free_swing(reference: &Reference) -> Result<(), String> {
+fn free_swing(out: &Output, reference: &Reference) -> Result<(), String> {
     let q0 = V6::from_column_slice(&[PI - 0.4, 0.2, 0.0, 0.0, -0.3, 0.0]);
     let v0 = V6::from_column_slice(&[0.0, 0.0, 0.5, 0.0, 0.0, 0.0]);
     let path = simulate(
@@ -248,13 +244,13 @@ fn free_swing(reference: &Reference) -> Result<(), String> {
             "total − its start",
             e.iter().map(|x| (x.0, total(x).1 - e0)).collect(),
         );
-    let file = save("hemami_free_swing.svg", &[angles, energies])?;
+    let file = save(out, "hemami_free_swing.svg", &[angles, energies])?;
     println!("   plot: {file}");
     Ok(())
 }
 
 /// Part 2: balancing after a push, and the largest lean each controller recovers from.
-fn balance(laws: &Controllers) -> Result<Path6, String> {
+fn balance(out: &Output, laws: &Controllers) -> Result<Path6, String> {
     // Leaning 5° forward when a push at the hip sets the trunk pitching forward at 1 rad/s
     // and the legs back at 0.3 rad/s; recorded at 1 kHz.
     let (q0, push) = (
@@ -320,13 +316,13 @@ fn balance(laws: &Controllers) -> Result<Path6, String> {
     );
     leans = leans.with("LQR", rows.iter().map(|r| (r.0, r.1)).collect());
     leans = leans.with("computed torque", rows.iter().map(|r| (r.0, r.2)).collect());
-    let file = save("hemami_balance.svg", &[panel, leans])?;
+    let file = save(out, "hemami_balance.svg", &[panel, leans])?;
     println!("   plot: {file}");
     Ok(lqr_path)
 }
 
 /// Part 3: the couples behind the balancing motion, from its samples with noise added.
-fn inversion(laws: &Controllers, path: &Path6) -> Result<(), String> {
+fn inversion(out: &Output, laws: &Controllers, path: &Path6) -> Result<(), String> {
     let mut law = laws.lqr();
     let t: Vec<f64> = path.states().iter().map(|s| s.t).collect();
     let applied: Vec<V6> = path.states().iter().map(|s| law(s.t, &s.q, &s.v)).collect();
@@ -405,7 +401,7 @@ fn inversion(laws: &Controllers, path: &Path6) -> Result<(), String> {
                     .collect(),
             );
         }
-        let file = save("hemami_couples.svg", &[panel])?;
+        let file = save(out, "hemami_couples.svg", &[panel])?;
         println!("   plot: {file}");
     }
     Ok(())
@@ -418,6 +414,7 @@ fn gaussian(rng: &mut Rng) -> f64 {
 }
 
 fn main() -> Result<(), String> {
+    let out = Output::from_args()?;
     let model_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/two_link.chain");
     let model =
         articulated_codegen::load::load_model(&model_path, false).map_err(|e| e.to_string())?;
@@ -429,13 +426,13 @@ fn main() -> Result<(), String> {
         TwoLink::FORWARD_DYNAMICS_OPS.total(),
         TwoLink::INVERSE_DYNAMICS_OPS.total()
     );
-    free_swing(&reference)?;
+    free_swing(&out, &reference)?;
     let (kq, kv, open, closed) = lqr_gains()?;
     println!(
         "2. Balancing upright: upright is unstable (the linearization's largest real part is \
          {open:.2}/s); LQR brings it to {closed:.2}/s"
     );
     let laws = Controllers { kq, kv };
-    let path = balance(&laws)?;
-    inversion(&laws, &path)
+    let path = balance(&out, &laws)?;
+    inversion(&out, &laws, &path)
 }

@@ -1,16 +1,15 @@
 //! The speed–accuracy trade of issue 12 on the two-link and the 7-DOF arm: every option of
 //! `articulated_examples::trade` timed and compared with the double-double ground truth.
-//! Writes `docs/trade.md` (the table, Pareto front marked) and `docs/figures/trade.svg` (time
-//! per simulated second against error, log–log, the front drawn), each whole or not at all.
-//! Timings are wall-clock on this machine: run it with nothing else running.
+//! Writes `trade.md` (the table, Pareto front marked) and `figures/trade.svg` (time per
+//! simulated second against error, log–log, the front drawn), each whole or not at all, into
+//! the folder given as its argument (default `target/docs/`; `scripts/figures.sh` passes
+//! `docs/`). Timings are wall-clock on this machine: run it with nothing else running.
 //!
 //! ```sh
-//! cargo run --release -p articulated-examples --example trade
+//! cargo run --release -p articulated-examples --example trade [-- OUT]
 //! ```
 
-use std::path::Path;
-
-use articulated::files::write_atomically;
+use articulated_examples::output::Output;
 use articulated_examples::trade::{points, scene_costs, truth, Point, Scenario, ARM7, TWO_LINK};
 use plotters::prelude::*;
 
@@ -123,10 +122,16 @@ fn panel<DB: DrawingBackend>(
 }
 
 fn main() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let out = match Output::from_args() {
+        Ok(out) => out,
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(2);
+        }
+    };
     let mut md = String::from(
         "# The speed–accuracy trade\n\n\
-         Written by `cargo run --release -p articulated-examples --example trade` \
+         Written by `scripts/figures.sh trade` \
          (`examples/src/trade.rs`). Each option simulates one second of the chain left to itself \
          from the same start (generated code, `τ = 0`); the error is the largest difference of \
          the final positions it keeps from the ground truth's (classic Runge–Kutta at 1e-4 s, the arm 2.5e-5 s, in \
@@ -198,13 +203,15 @@ fn main() {
         }
     }
     for (path, contents) in [
-        (root.join("docs/trade.md"), md.as_bytes()),
-        (root.join("docs/figures/trade.svg"), svg.as_bytes()),
+        (out.page("trade.md"), md.as_bytes()),
+        (out.figure("trade.svg"), svg.as_bytes()),
     ] {
-        if let Err(e) = write_atomically(&path, contents) {
-            eprintln!("error: cannot write {}: {e}", path.display());
-            std::process::exit(1);
+        match out.write(&path, contents) {
+            Ok(file) => eprintln!("wrote {file}"),
+            Err(e) => {
+                eprintln!("error: cannot write {e}");
+                std::process::exit(1);
+            }
         }
-        eprintln!("wrote {}", path.display());
     }
 }

@@ -11,8 +11,9 @@
 //! (hybrid dynamics with the generated `M` and `nle`, `articulated_examples::free_floating`),
 //! started with the velocity that makes every momentum zero. Dormand–Prince 5(4), `rtol =
 //! 1e-10`. For each step height it measures the trunk's net pitch per step over 8 steps, with
-//! the arms still and with the arms swinging, writes the table to `docs/walking.md` and the plot
-//! to `docs/figures/walking_rotation.svg`.
+//! the arms still and with the arms swinging, writes the table to `walking.md` and the plot to
+//! `figures/walking_rotation.svg` in the folder given as its argument (default `target/docs/`;
+//! `scripts/figures.sh` passes `docs/`).
 //!
 //! # The pattern (ours, walking-like, not recorded data)
 //! A gait cycle of period `T` is two steps, phase `ψ = 2π·t/T`, the legs in antiphase:
@@ -37,7 +38,6 @@ use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::Path;
 
-use articulated::files::write_atomically;
 use articulated::integrate::State;
 use articulated::model::Model;
 use articulated::nalgebra::{Const, SVector, UnitQuaternion, Vector3};
@@ -48,6 +48,7 @@ use articulated_examples::free_floating::{
     self, base_orientation, conservation, swing_angle, twist_angle, Conservation, Hybrid,
     JointMotion,
 };
+use articulated_examples::output::Output;
 
 /// The walker, generated from `models/biped.chain`: `M` and `nle` move it, the centre of mass and
 /// the centroidal momentum check it.
@@ -260,6 +261,7 @@ struct Row {
 }
 
 fn main() -> Result<(), String> {
+    let out = Output::from_args()?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let model = articulated_codegen::load::load_model(&root.join("models/biped.chain"), false)
         .map_err(|e| e.to_string())?;
@@ -362,10 +364,10 @@ fn main() -> Result<(), String> {
         last.still.per_step.to_degrees()
     );
 
-    write_table(&root, &rows, (slow.per_step - last.still.per_step).abs())?;
-    println!("   table: docs/walking.md");
-    write_plot(&root, &rows)?;
-    println!("   plot: docs/figures/walking_rotation.svg\n");
+    let table = write_table(&out, &rows, (slow.per_step - last.still.per_step).abs())?;
+    println!("   table: {table}");
+    let plot = write_plot(&out, &rows)?;
+    println!("   plot: {plot}\n");
     let human = rows
         .iter()
         .find(|r| (r.knee.to_degrees() - 60.0).abs() < 8.0);
@@ -385,13 +387,13 @@ fn main() -> Result<(), String> {
     Ok(())
 }
 
-/// `docs/walking.md`: the table, with where it comes from.
+/// `walking.md`: the table, with where it comes from; the path written.
 /// `speed` is how much the pitch per step changed at half the speed (rad).
-fn write_table(root: &Path, rows: &[Row], speed: f64) -> Result<(), String> {
+fn write_table(out: &Output, rows: &[Row], speed: f64) -> Result<String, String> {
     let mut md = String::new();
     md.push_str(
         "# The rotation of walking\n\n\
-         Written by `cargo run --release -p articulated-examples --example walking_rotation`; do \
+         Written by `scripts/figures.sh walking_rotation`; do \
          not edit.\n\n\
          A free-floating walker (`models/biped.chain`: de Leva 1996 segments, 75 kg) replays a \
          walking pattern with zero momentum (hips ±20°, the swing knee bent, the stance knee \
@@ -441,13 +443,12 @@ fn write_table(root: &Path, rows: &[Row], speed: f64) -> Result<(), String> {
          other patterns (recorded, not ours); what carries over is the order of magnitude and \
          the growth with the step's height.\n",
     );
-    let path = root.join("docs/walking.md");
-    write_atomically(&path, md.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))
+    out.write(&out.page("walking.md"), md.as_bytes())
 }
 
-/// `docs/figures/walking_rotation.svg`: the fraction of a turn per step against the step height,
-/// and the trunk's pitch over the walk for three heights.
-fn write_plot(root: &Path, rows: &[Row]) -> Result<(), String> {
+/// `figures/walking_rotation.svg`: the fraction of a turn per step against the step height,
+/// and the trunk's pitch over the walk for three heights; the path written.
+fn write_plot(out: &Output, rows: &[Row]) -> Result<String, String> {
     // Magnitudes: Wieber does not give his rotations' sense; ours lean backwards.
     let turn = |a: f64| a.abs() / (2.0 * PI);
     let mut by_height = Panel::new(
@@ -497,6 +498,5 @@ fn write_plot(root: &Path, rows: &[Row]) -> Result<(), String> {
         );
     }
     let text = svg(&[by_height, over_time], 900, 330).map_err(|e| e.to_string())?;
-    let path = root.join("docs/figures/walking_rotation.svg");
-    write_atomically(&path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))
+    out.write(&out.figure("walking_rotation.svg"), text.as_bytes())
 }

@@ -25,6 +25,12 @@
 //!   `|v|·√(I / stop_stiffness)` at impact speed `v`: stiffer stops penetrate less and need
 //!   smaller fixed steps (`√(stop_stiffness / I)·dt ≪ 1` and `stop_damping·dt / I ≪ 1`, `I` the
 //!   joint's inertia: a light fingertip needs far smaller steps than an arm).
+//! - **The stops store energy**: the spring's `−stop_stiffness·p` is the only conservative part
+//!   of a stop (the damper and the clamp to a push only ever take energy out, whatever the
+//!   ramp), so the energy stored is its integral over the penetration,
+//!   `½·stop_stiffness·p²` per stop ([`Drives::stop_energy`]). Added to the chain's kinetic and
+//!   potential energy, it gives a total that does not jump at an impact: it is constant while
+//!   nothing dissipates, and only falls through damping, friction and the stops' dampers.
 //! - **Speed limits** are reported by [`Drives::over_speed`], not enforced: no physical
 //!   mechanism enforces them in a motor.
 //!
@@ -206,6 +212,13 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Drives<T, NQ, NV> {
     pub fn outside_limits(&self, q: &SVector<T, NQ>) -> Option<(usize, T)> {
         self.law().outside_limits(q.as_slice())
     }
+
+    /// The elastic energy the stops hold at `q`: `½·stop_stiffness·p²` for each coordinate
+    /// `p` past its limit (J; see the [module docs](self)). Add it to the chain's potential
+    /// energy for a total that a stop's impact does not change.
+    pub fn stop_energy(&self, q: &SVector<T, NQ>) -> T {
+        self.law().stop_energy(q.as_slice())
+    }
 }
 
 impl<T: RealField + Copy> Axis<T> {
@@ -288,6 +301,28 @@ impl<T: RealField + Copy> Law<'_, T> {
             .position(|(v, axis)| v.abs() > axis.speed)
     }
 
+    /// `Σ ½·k·p²` over the stops, `p` the penetration: minus the integral of the spring part
+    /// of [`apply`](Self::apply)'s stop force, `−k·p`, from the limit to `p` (the damper and
+    /// the clamp are not conservative and have no potential).
+    fn stop_energy(&self, q: &[T]) -> T {
+        let half_k = self.smoothing.stop_stiffness * nalgebra::convert::<f64, T>(0.5);
+        let mut energy = T::zero();
+        for (i, lower, upper) in self.axes.iter().filter_map(|axis| axis.limits) {
+            let Some(&x) = q.get(i) else {
+                continue;
+            };
+            let past = if x > upper {
+                x - upper
+            } else if x < lower {
+                x - lower
+            } else {
+                continue;
+            };
+            energy += half_k * past * past;
+        }
+        energy
+    }
+
     fn outside_limits(&self, q: &[T]) -> Option<(usize, T)> {
         let mut limits = self.axes.iter().filter_map(|axis| axis.limits);
         limits.find_map(|(i, lower, upper)| {
@@ -358,5 +393,95 @@ impl ModelDrives {
     /// The first position coordinate outside its joint's limits, with how far, if any.
     pub fn outside_limits(&self, q: &nalgebra::DVector<f64>) -> Option<(usize, f64)> {
         self.law().outside_limits(q.as_slice())
+    }
+
+    /// The elastic energy the stops hold at `q` (see [`Drives::stop_energy`]).
+    pub fn stop_energy(&self, q: &nalgebra::DVector<f64>) -> f64 {
+        self.law().stop_energy(q.as_slice())
+    }
+}
+
+#[cfg(all(test, feature = "alloc"))]
+mod tests {
+    use alloc::vec;
+    use alloc::vec::Vec;
+
+    use super::*;
+    use crate::generated::Coordinates;
+
+    /// Two stopped joints, a free one between them, a spherical one (no stops) after.
+    fn law_of(smoothing: &Smoothing<f64>) -> (Vec<Axis<f64>>, Smoothing<f64>) {
+        let stopped = |lower, upper| Drive {
+            lower,
+            upper,
+            damping: 0.3,
+            ..Drive::FREE
+        };
+        // Two revolute joints, a prismatic one, a spherical one in Euler angles.
+        let coordinates = [
+            Coordinates::Vector(1),
+            Coordinates::Vector(1),
+            Coordinates::Vector(1),
+            Coordinates::Vector(3),
+        ];
+        let drives = [
+            stopped(-0.5, 0.5),
+            Drive::FREE,
+            stopped(0.0, 0.04),
+            stopped(-1.0, 1.0),
+        ];
+        (per_velocity(&coordinates, &drives).collect(), *smoothing)
+    }
+
+    /// The stored energy is the potential of the stops' force: at rest (`v = 0`, no damper),
+    /// `−∂E/∂q_i` is the force `apply` gives, by central differences across and inside each
+    /// range, below and above; and it is zero inside every range.
+    #[test]
+    fn stop_energy_is_the_potential_of_the_stop_force() {
+        let smoothing = Smoothing {
+            stop_stiffness: 2.5e3,
+            ..Smoothing::default()
+        };
+        let (axes, smoothing) = law_of(&smoothing);
+        let law = Law {
+            axes: &axes,
+            smoothing: &smoothing,
+        };
+        let at = |q: &[f64]| law.stop_energy(q);
+        let force = |q: &[f64]| {
+            let mut tau = vec![0.0; 6];
+            law.apply(q, &[0.0; 6], &mut tau);
+            tau
+        };
+        assert_eq!(at(&[0.4, 7.0, 0.02, 2.0, -3.0, 0.0]), 0.0);
+        let h = 1e-6;
+        for (i, x) in [
+            (0, 0.53),
+            (0, -0.61),
+            (0, 0.2),
+            (2, 0.045),
+            (2, -0.01),
+            (2, 0.01),
+        ] {
+            let mut q = vec![0.1, 3.0, 0.02, 0.0, 0.0, 0.0];
+            q[i] = x;
+            let (mut up, mut down) = (q.clone(), q.clone());
+            up[i] += h;
+            down[i] -= h;
+            let slope = (at(&up) - at(&down)) / (2.0 * h);
+            let f = force(&q)[i];
+            assert!(
+                (slope + f).abs() <= 1e-6 * f.abs().max(1.0),
+                "q{i} = {x}: −∂E/∂q = {} but the force is {f}",
+                -slope
+            );
+            let range = if i == 0 { -0.5..=0.5 } else { 0.0..=0.04 };
+            if !range.contains(&x) {
+                assert!(f != 0.0, "q{i} = {x} is past a stop");
+            }
+        }
+        // Both stops at once add up; 0.03 past upper and 0.01 below lower.
+        let both = at(&[0.53, 0.0, -0.01, 0.0, 0.0, 0.0]);
+        assert!((both - 0.5 * 2.5e3 * (0.03f64.powi(2) + 0.01f64.powi(2))).abs() < 1e-12);
     }
 }

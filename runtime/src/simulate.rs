@@ -169,8 +169,12 @@ impl<T: RealField + Copy> Simulation<T> {
         Ok(needed)
     }
 
-    /// [`run`](Self::run), appending the states to `trajectory`; on a fault it holds the
-    /// states up to it.
+    /// [`run`](Self::run), appending the states to `trajectory`.
+    ///
+    /// On a fault the trajectory keeps every state up to the last good one: the initial state
+    /// and those of the `fault.step` steps that completed (`fault.step + 1` states, ending at
+    /// `t_{fault.step}`; `Cause::InvalidTime` at step 0 records none), exactly as a run
+    /// without the fault would have recorded them. Write it as usual to see what went wrong.
     ///
     /// # Errors
     /// As [`run`](Self::run).
@@ -201,5 +205,78 @@ impl<T: RealField + Copy> Simulation<T> {
         };
         self.run(system, integrator, initial, record, progress)
             .map(|_| ())
+    }
+}
+
+#[cfg(all(test, feature = "alloc"))]
+mod tests {
+    use nalgebra::{Const, SVector};
+
+    use super::Simulation;
+    use crate::generated::Coordinates;
+    use crate::integrate::{Cause, Method, SecondOrder, State, Stepper};
+    use crate::trajectory::Trajectory;
+
+    /// A unit oscillator whose acceleration cannot be computed from `t_fault` on.
+    struct Oscillator {
+        t_fault: f64,
+    }
+
+    impl SecondOrder<f64, Const<1>, Const<1>> for Oscillator {
+        fn coordinates(&self) -> &[Coordinates] {
+            &[Coordinates::Vector(1)]
+        }
+
+        fn acceleration(
+            &mut self,
+            t: f64,
+            q: &SVector<f64, 1>,
+            _v: &SVector<f64, 1>,
+        ) -> Result<SVector<f64, 1>, Cause<f64>> {
+            if t >= self.t_fault {
+                return Err(Cause::System("past t_fault"));
+            }
+            Ok(-q)
+        }
+    }
+
+    /// Issue 31: a run that stops on a fault keeps, in its trajectory, every state before the
+    /// fault, bit for bit those of a run without it, and no other.
+    #[test]
+    fn a_fault_keeps_every_state_before_it() {
+        let simulation = Simulation::new(0.0, 1.0, 0.01);
+        let start = State::new(0.0, SVector::<f64, 1>::new(1.0), SVector::<f64, 1>::zeros());
+        for method in Method::ALL {
+            let record = |t_fault: f64| {
+                let mut trajectory = Trajectory::new();
+                let result = simulation.record(
+                    &mut Oscillator { t_fault },
+                    &mut Stepper::new(method, 1e-9, 1e-9),
+                    start,
+                    &mut trajectory,
+                    |_, _| {},
+                );
+                (result, trajectory)
+            };
+            let (whole, reference) = record(f64::INFINITY);
+            assert!(whole.is_ok(), "{method}");
+            assert_eq!(reference.len(), 101);
+            let (result, kept) = record(0.555);
+            let fault = result.expect_err("a fault at 0.555 s");
+            assert_eq!(fault.cause, Cause::System("past t_fault"), "{method}");
+            // The step that failed: from 0.55 for a method that evaluates inside its step,
+            // from 0.56 for Euler, which evaluates at its start only. The states up to its
+            // start are kept.
+            assert!([55, 56].contains(&fault.step), "{method}: {fault}");
+            assert_eq!(kept.len(), fault.step + 1, "{method}");
+            assert_eq!(kept.states(), &reference.states()[..kept.len()], "{method}");
+            let last = kept.states()[kept.len() - 1].t;
+            assert!(
+                (last - fault.step as f64 * 0.01).abs() < 1e-12
+                    && last <= fault.t
+                    && fault.t < last + 0.01,
+                "{method}: {last}, {fault}"
+            );
+        }
     }
 }

@@ -1,0 +1,19 @@
+#!/bin/sh
+# Regenerates the committed pages and figures in docs/ that the examples write: each example
+# named (all of them by default) runs in release with docs/ as its output folder (its page in
+# docs/, its figures in docs/figures/). Without that argument an example writes into
+# target/docs/ instead, which git ignores (articulated_examples::output).
+#
+#   scripts/figures.sh                        # every one (trade and drift take minutes)
+#   scripts/figures.sh hemami_two_link drives # just these
+#
+# `trade` and `drift` put wall-clock times in their pages: run them with nothing else running.
+# docs/figures/op_counts.svg comes from the bench crate:
+# `cargo run --release -p articulated-bench --bin op_counts`.
+set -eu
+cd "$(dirname "$0")/.."
+examples="${*:-hemami_two_link drives falling_cat walking_rotation drift extremes trade}"
+for example in $examples; do
+    echo "== $example" >&2
+    cargo run --release -q -p articulated-examples --example "$example" -- docs
+done
