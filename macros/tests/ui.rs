@@ -11,10 +11,11 @@ use std::path::{Path, PathBuf};
 /// cases' `CARGO_MANIFEST_DIR`, against which `#[chain(file = …)]` resolves.
 fn trybuild_project_dir() -> PathBuf {
     let exe = std::env::current_exe().expect("the test binary's path");
-    // The target directory is the nearest ancestor that cargo tagged.
+    // The target directory is the nearest ancestor that cargo tagged, or where it keeps what it
+    // knows of rustc: a target directory that `cargo package` created first has no tag.
     let target = exe
         .ancestors()
-        .find(|d| d.join("CACHEDIR.TAG").exists())
+        .find(|d| d.join("CACHEDIR.TAG").exists() || d.join(".rustc_info.json").exists())
         .expect("the test binary is under cargo's target directory");
     target
         .join("tests")
@@ -23,15 +24,21 @@ fn trybuild_project_dir() -> PathBuf {
 }
 
 /// Copies the fixture files to where the cases look for them, as in a user's crate:
-/// `tests/ui/fixtures/…` relative to the manifest directory.
+/// `tests/ui/fixtures/…` relative to the manifest directory. One more goes one directory above
+/// it, `../shared_models/pendulum.chain`, as a workspace's root holds the models its crates
+/// read (`derive/file_above_the_crate.rs`).
 fn install_fixtures() {
     let from = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/ui/fixtures");
-    let to = trybuild_project_dir().join("tests/ui/fixtures");
+    let project = trybuild_project_dir();
+    let to = project.join("tests/ui/fixtures");
     std::fs::create_dir_all(&to).unwrap();
     for entry in std::fs::read_dir(&from).unwrap() {
         let entry = entry.unwrap();
         std::fs::copy(entry.path(), to.join(entry.file_name())).unwrap();
     }
+    let above = project.parent().unwrap().join("shared_models");
+    std::fs::create_dir_all(&above).unwrap();
+    std::fs::copy(from.join("pendulum.chain"), above.join("pendulum.chain")).unwrap();
 }
 
 #[test]

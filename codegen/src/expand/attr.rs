@@ -3,11 +3,14 @@
 //! every front end can state (`scalar = f32`, `outputs = [mass_matrix, bias]`), each error
 //! spanned at its key or value.
 
+use std::path::Path;
+
 use proc_macro2::Span;
 use syn::meta::ParseNestedMeta;
 use syn::punctuated::Punctuated;
 use syn::{DeriveInput, Ident, LitStr, Token};
 
+use super::path::Key;
 use crate::load::FloatingBase;
 use crate::options::{
     unknown_accuracy, unknown_output, unknown_scalar, Accuracy, Output, ScalarKind,
@@ -126,7 +129,7 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
                 Some("quasi_static") => quasi_static = true,
                 Some("strict") => strict = true,
                 Some("balance_inertia") => balance_inertia = true,
-                _ => return Err(meta.error(format!("unknown key in #[chain(…)]: {KEYS}"))),
+                _ => return Err(unknown_key(&meta)),
             }
             Ok(())
         })?;
@@ -174,6 +177,28 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
         strict,
         balance_inertia,
     })
+}
+
+/// An unknown key, with the likely slip where its value is the path of a description under
+/// another key's name (`path = "x.chain"`, `model = "x.urdf"`): the key that reads it.
+fn unknown_key(meta: &ParseNestedMeta) -> syn::Error {
+    let value = meta.input.fork();
+    let path = value
+        .parse::<Token![=]>()
+        .and_then(|_| value.parse::<LitStr>())
+        .ok();
+    let read_by = path.as_ref().and_then(|lit| {
+        let shown = lit.value();
+        let key = Key::for_extension(Path::new(&shown).extension().and_then(|e| e.to_str()))?;
+        Some((key, shown))
+    });
+    match (read_by, meta.path.get_ident()) {
+        (Some((key, shown)), Some(name)) => meta.error(format!(
+            "unknown key `{name}` in #[chain(…)]: for `{shown}` write `{} = \"{shown}\"`",
+            key.name()
+        )),
+        _ => meta.error(format!("unknown key in #[chain(…)]: {KEYS}")),
+    }
 }
 
 /// `lock = [joint(q, …), …]`, each coordinate a number literal, negative or not.

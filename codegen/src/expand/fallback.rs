@@ -3,11 +3,11 @@
 //! `fallback.rs`). The ui tests in `macros/tests/ui` lock this.
 
 use proc_macro2::{Ident, TokenStream};
-use quote::quote;
+use quote::{format_ident, quote};
 
 use crate::outputs::{Types, SPECS};
 
-/// `NQ` and `NV` (zero) and every output's trait ([`SPECS`]), generic in the scalar and in one
+/// `NQ` and `NV` (zero), every output's operation count (`MASS_MATRIX_OPS`, zero) and trait ([`SPECS`]), generic in the scalar and in one
 /// size `N` for `q`, `v` and the joints, so that uses of them type-check and the sizes are
 /// inferred from `q` (a size left free would be a "type annotations needed" error of its own).
 /// The bodies are never run: the crate does not compile.
@@ -36,8 +36,18 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
             }
         }
     });
+    let ops = SPECS.iter().map(|s| {
+        let name = format_ident!("{}_OPS", s.name.to_uppercase());
+        quote! {
+            /// Stand-in after an error in the description.
+            pub const #name: ::articulated::OpCounts = ::articulated::OpCounts {
+                adds: 0, muls: 0, divs: 0, negs: 0, sin_cos: 0, sqrts: 0,
+            };
+        }
+    });
     quote! {
         impl #name {
+            #(#ops)*
             /// Stand-in after an error in the description.
             pub const NQ: usize = 0;
             /// Stand-in after an error in the description.

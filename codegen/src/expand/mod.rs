@@ -7,6 +7,7 @@
 
 mod attr;
 mod fallback;
+mod path;
 
 use std::path::{Path, PathBuf};
 
@@ -17,6 +18,7 @@ use syn::{Attribute, Data, DeriveInput, Fields, Ident, LitStr, Visibility};
 
 use attr::{parse_attr, Source};
 use fallback::fallback;
+use path::{resolve, unreadable, wrong_extension, Key};
 
 use crate::check::{self, About};
 use crate::generate::{generate, generate_impls};
@@ -66,31 +68,24 @@ fn header(input: ParseStream) -> syn::Result<(Visibility, Ident)> {
     Ok((vis, name))
 }
 
-/// Resolves a path from the attribute against the crate's `CARGO_MANIFEST_DIR`.
-fn resolve(rel: &str) -> PathBuf {
-    let path = Path::new(rel);
-    if path.is_absolute() {
-        return path.to_path_buf();
-    }
-    match std::env::var_os("CARGO_MANIFEST_DIR") {
-        Some(dir) => Path::new(&dir).join(path),
-        None => path.to_path_buf(),
-    }
-}
-
 /// A file that does not load, as errors at the path in the attribute. Messages name the file as
 /// the attribute does (relative to the crate), not by the absolute path it resolved to: that is
-/// the text under the caret, and the same on every machine. Each problem of a `.chain` file is
-/// its own error, `file:line:column: message` (rustc adds the `error: `).
-fn load_error(e: LoadError, path: &Path, lit: &LitStr) -> syn::Error {
+/// the text under the caret, and the same on every machine (a file that cannot be read says
+/// where it was looked for: `path.rs`). Each problem of a `.chain` file is its own error,
+/// `file:line:column: message` (rustc adds the `error: `).
+fn load_error(
+    e: LoadError,
+    key: Key,
+    path: &Path,
+    manifest_dir: Option<&Path>,
+    lit: &LitStr,
+) -> syn::Error {
     let shown = lit.value();
     let error = |m: String| syn::Error::new(lit.span(), m);
     match e {
-        LoadError::Read { error: io, .. } if Path::new(&shown).is_relative() => error(format!(
-            "{shown}: cannot read: {io}; paths in #[chain(…)] are relative to the crate's \
-             directory (CARGO_MANIFEST_DIR)"
-        )),
-        LoadError::Read { error: io, .. } => error(format!("{shown}: cannot read: {io}")),
+        LoadError::Read { error: io, .. } => {
+            error(unreadable(key, &shown, path, manifest_dir, &io))
+        }
         LoadError::Chain(file) => file
             .diagnostics
             .iter()
@@ -159,34 +154,22 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
     }
     let attr = parse_attr(&input)?;
     let lit = attr.source.lit();
-    let (is_urdf, floating) = match attr.source {
-        Source::Chain(_) => (false, FloatingBase::Fixed),
-        Source::Urdf(_, floating) => (true, floating),
+    let (key, floating) = match attr.source {
+        Source::Chain(_) => (Key::File, FloatingBase::Fixed),
+        Source::Urdf(_, floating) => (Key::Urdf, floating),
     };
-    let path = resolve(&lit.value());
-    let expected = if is_urdf { "urdf" } else { "chain" };
-    let found = path.extension().and_then(|e| e.to_str());
-    if found != Some(expected) {
-        // The likely slip: the other key.
-        let hint = match found {
-            Some("urdf") => "; for a URDF write `urdf = \"…\"`",
-            Some("chain") => "; for a `.chain` file write `file = \"…\"`",
-            _ => "",
-        };
-        return Err(syn::Error::new(
-            lit.span(),
-            format!(
-                "expected a `.{expected}` file, found `{}`{hint}",
-                lit.value()
-            ),
-        ));
+    let manifest_dir = std::env::var_os("CARGO_MANIFEST_DIR").map(PathBuf::from);
+    let path = resolve(&lit.value(), manifest_dir.as_deref());
+    if let Some(m) = wrong_extension(key, &lit.value(), &path, floating.is_floating()) {
+        return Err(syn::Error::new(lit.span(), m));
     }
     let options = LoadOptions {
         floating,
         balance_inertia: attr.balance_inertia,
         strict: attr.strict,
     };
-    let mut chain = load_with(&path, options).map_err(|e| load_error(e, &path, lit))?;
+    let mut chain = load_with(&path, options)
+        .map_err(|e| load_error(e, key, &path, manifest_dir.as_deref(), lit))?;
     let warnings = warning_items(&chain.warnings, &lit.value(), lit.span());
     chain.model.name = input.ident.to_string();
     // The struct is the user's: its visibility goes on what is generated beside it.

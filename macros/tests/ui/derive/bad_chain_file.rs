@@ -1,5 +1,5 @@
 // The error names the file, line and column; the span is the path in the attribute. Code using
-// the type adds no error.
+// the type (its functions, its operation counts) adds no error.
 use articulated::nalgebra::SVector;
 use articulated::prelude::*;
 
@@ -10,4 +10,5 @@ struct Arm;
 fn main() {
     let q = SVector::<f64, { Arm::NQ }>::zeros();
     let _ = Arm::gravity(&q);
+    let _ = Arm::GRAVITY_OPS.total();
 }

@@ -1,3 +1,4 @@
+// An unknown key whose value is a description's path: the key that reads it.
 use articulated::Chain;
 
 #[derive(Chain)]

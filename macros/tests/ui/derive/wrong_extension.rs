@@ -1,3 +1,4 @@
+// `file = …` reads a `.chain` file: a URDF given to it gets the key that reads it.
 use articulated::Chain;
 
 #[derive(Chain)]

@@ -1,7 +1,0 @@
-use articulated::Chain;
-
-#[derive(Chain)]
-#[chain(file = "tests/ui/fixtures/no_such_file.chain")]
-struct Arm;
-
-fn main() {}
