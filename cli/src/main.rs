@@ -161,6 +161,11 @@ pub struct SimulateArgs {
     /// The base under a URDF root.
     #[command(flatten)]
     pub base: Base,
+    /// The layout of `--q0` and `--v0`: `articulated` (ours) or `pinocchio` (its free flyer
+    /// `[x, y, z, qx, qy, qz, qw]`, continuous joints as `(cos θ, sin θ)`, its URDF joint order).
+    /// The trajectory is written in ours; its sidecar names every column.
+    #[arg(long, value_enum, default_value_t)]
+    pub q_order: pinocchio::QOrder,
     /// `dopri5`: relative tolerance per component.
     #[arg(long, default_value_t = 1e-9)]
     pub rtol: f64,

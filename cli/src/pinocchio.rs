@@ -87,17 +87,6 @@ impl Pinocchio {
         Ok(out)
     }
 
-    /// Our `q` in Pinocchio's layout (`simulate` writes its trajectory so).
-    #[allow(dead_code)]
-    pub fn q_out(&self, q: &[f64]) -> Result<Vec<f64>, String> {
-        let layout = self.layout()?;
-        let mut out = vec![0.0; layout.nq_pinocchio()];
-        layout
-            .q_to_pinocchio(q, &mut out)
-            .map_err(|e| format!("error: {e}"))?;
-        Ok(out)
-    }
-
     /// For each entry of Pinocchio's `v`, the index of ours it holds.
     pub fn v_sources(&self) -> Result<Vec<usize>, String> {
         let layout = self.layout()?;

@@ -19,7 +19,8 @@ use articulated::simulate::Simulation;
 use articulated::trajectory::{sidecar_path, Column, Outcome, Sidecar, Trajectory};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::{load_reference, parse_vector, SimulateArgs};
+use crate::pinocchio::{Pinocchio, QOrder};
+use crate::{load_described, parse_vector, SimulateArgs};
 
 /// The position stops that a fixed-step explicit integrator cannot step at `dt`: a stop is a
 /// spring and damper on the joint's inertia `I = M_kk(q0)`, whose fastest mode decays at
@@ -81,16 +82,23 @@ const PLOT_POINTS: usize = 2000;
 /// good one, the sidecar (which names the fault) and the plot if asked; the error then says
 /// what was written.
 pub fn run(args: &SimulateArgs) -> Result<String, String> {
-    let (model, reference) = load_reference(&args.model, args.base, args.params.as_deref())?;
+    let (description, reference) = load_described(&args.model, args.base, args.params.as_deref())?;
+    let model = description.model.clone();
     let (nq, nv) = (reference.nq(), reference.nv());
-    let q0 = match &args.q0 {
-        Some(s) => parse_vector(s, "q0", nq)?,
-        None => model.neutral(),
+    // `--q-order pinocchio`: the initial state as Pinocchio writes it; the trajectory is ours
+    // (its sidecar names every column).
+    let pinocchio = (args.q_order == QOrder::Pinocchio).then(|| Pinocchio::of(&description));
+    let q0 = match (&args.q0, &pinocchio) {
+        (Some(s), None) => parse_vector(s, "q0", nq)?,
+        (Some(s), Some(p)) => p.q_in(&parse_vector(s, "q0", p.nq()?)?, "q0")?,
+        (None, _) => model.neutral(),
     };
-    let v0 = match &args.v0 {
-        Some(s) => parse_vector(s, "v0", nv)?,
-        None => vec![0.0; nv],
+    let v0 = match (&args.v0, &pinocchio) {
+        (Some(s), None) => parse_vector(s, "v0", nv)?,
+        (Some(s), Some(p)) => p.v_in(&parse_vector(s, "v0", nv)?, "v0")?,
+        (None, _) => vec![0.0; nv],
     };
+    articulated::reference::check_q(&model, &q0).map_err(|e| format!("error: --q0: {e}"))?;
     let method: Method = args
         .integrator
         .parse()

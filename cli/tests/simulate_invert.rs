@@ -546,3 +546,93 @@ fn leaving_a_range_without_drives_is_noted() {
     assert!(!stderr.contains("note:"), "{stderr}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `simulate --q-order pinocchio`: TIAGo's initial state as Pinocchio wrote it (free flyer
+/// `[x, y, z, qx, qy, qz, qw]`, continuous wheels as `(cos θ, sin θ)`, its joint order) starts
+/// the same run as the state in our layout, converted by hand here from Pinocchio's joint
+/// table; a quaternion far from unit is refused before any step.
+#[test]
+fn simulate_takes_pinocchios_layout() {
+    let dir = scratch("q-order");
+    let text =
+        std::fs::read_to_string(repo().join("tests/data/pinocchio_layout/pinocchio-layout.json"))
+            .unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let m = &json["models"]["tiago"];
+    let urdf = repo().join("tests/data").join(m["urdf"].as_str().unwrap());
+    let urdf = urdf.to_str().unwrap();
+    let q_pin: Vec<f64> = m["states"][0]["q"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    // Ours, by hand: the joints in the file's order (read off the model), each joint's
+    // positions from Pinocchio's `idx_q`.
+    let model = load_model(
+        Path::new(urdf),
+        articulated_codegen::load::FloatingBase::Quaternion,
+    )
+    .unwrap();
+    let joints = m["joints"].as_array().unwrap();
+    let mut q = Vec::new();
+    for j in model.joints.iter().filter(|j| j.nv() > 0) {
+        let p = joints
+            .iter()
+            .find(|p| p["name"] == j.name.as_str())
+            .unwrap();
+        let at = p["idx_q"].as_u64().unwrap() as usize;
+        match p["nq"].as_u64().unwrap() {
+            7 => q.extend([0, 1, 2, 6, 3, 4, 5].map(|k| q_pin[at + k])),
+            2 => q.push(q_pin[at + 1].atan2(q_pin[at])),
+            _ => q.push(q_pin[at]),
+        }
+    }
+    let list = |x: &[f64]| {
+        x.iter()
+            .map(|x| format!("{x:?}"))
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    let simulate = |q0: &str, order: &str, out: &Path| {
+        run(
+            "simulate",
+            &[
+                urdf,
+                "--floating=quaternion",
+                "--t-end",
+                "0.002",
+                "--dt",
+                "0.001",
+                "--q-order",
+                order,
+                "--q0",
+                q0,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        )
+    };
+    let (ours, theirs) = (dir.join("ours.csv"), dir.join("theirs.csv"));
+    let (ok, _, stderr) = simulate(&list(&q), "articulated", &ours);
+    assert!(ok, "{stderr}");
+    let (ok, _, stderr) = simulate(&list(&q_pin), "pinocchio", &theirs);
+    assert!(ok, "{stderr}");
+    let (a, b) = (read_csv(&ours).1, read_csv(&theirs).1);
+    let worst = a
+        .iter()
+        .flatten()
+        .zip(b.iter().flatten())
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(worst < 1e-12, "{worst}");
+    // Pinocchio's q read as ours: the lengths differ (57 against 56), refused.
+    let (ok, _, stderr) = simulate(&list(&q_pin), "articulated", &dir.join("x.csv"));
+    assert!(!ok && stderr.contains("--q0 has 57 values"), "{stderr}");
+    // A quaternion scaled by 2 (our layout): refused, with its norm.
+    let mut scaled = q.clone();
+    for x in &mut scaled[3..7] {
+        *x *= 2.0;
+    }
+    let (ok, _, stderr) = simulate(&list(&scaled), "articulated", &dir.join("y.csv"));
+    assert!(!ok && stderr.contains("has norm 2.0000"), "{stderr}");
+}

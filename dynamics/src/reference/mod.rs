@@ -134,7 +134,7 @@ impl fmt::Display for Error {
             ),
             Error::NotUnitQuaternion { joint, index, norm } => write!(
                 f,
-                "joint `{joint}`: the quaternion at q[{index}..{}] has norm {norm}, not 1 \
+                "joint `{joint}`: the quaternion at q[{index}..{}] has norm {norm:.4}, not 1 \
                  (within {}): it is `[w, x, y, z]`, scalar first (Pinocchio's order is \
                  `[x, y, z, w]`)",
                 index + 4,

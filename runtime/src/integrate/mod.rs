@@ -367,7 +367,7 @@ impl<T: fmt::Display> fmt::Display for Cause<T> {
             ),
             Cause::NotUnitQuaternion { index, norm } => write!(
                 f,
-                "the quaternion at q[{index}..{}] has norm {norm}, not 1: quaternions are \
+                "the quaternion at q[{index}..{}] has norm {norm:.4}, not 1: quaternions are \
                  `[w, x, y, z]`, scalar first",
                 index + 4
             ),
