@@ -6,6 +6,7 @@ use articulated::model::Model;
 use articulated::reference::{check_q, Error, Reference, Singularity};
 use articulated_codegen::options::Output;
 use articulated_codegen::sym::Var;
+use articulated_codegen::trace::frames::FrameAt;
 use articulated_codegen::trace::trace;
 use nalgebra::{DMatrix, DVector};
 use serde_json::Value;
@@ -125,6 +126,18 @@ pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
         ("mimic", Ok(mimics(model))),
     ];
     fields.extend(computed);
+    if let Some(list) = &args.frames {
+        let names: Vec<String> = list.split(',').map(|f| f.trim().to_string()).collect();
+        check_frames(model, &names)?;
+        let mut value = match args.engine {
+            Engine::Reference => frames_by_reference(&reference, &names, &state),
+            Engine::Symbolic => frames_by_graph(model, &names, &state),
+        };
+        if let (Some(p), Ok(v)) = (&pinocchio, value.as_mut()) {
+            reorder_jacobians(v, &p.v_sources()?);
+        }
+        fields.push(("frames", value));
+    }
     let mut errors = Vec::new();
     let values: Vec<(&str, Value)> = fields
         .into_iter()
@@ -418,4 +431,147 @@ fn to_json(fields: &[(&str, Value)]) -> String {
     }
     out.push('}');
     out
+}
+
+/// The frames `names` exist on `model` (the check stage's rule, as for `frames: [...]`).
+fn check_frames(model: &Model, names: &[String]) -> Result<(), String> {
+    let options = articulated_codegen::options::Options {
+        frames: names.to_vec(),
+        outputs: vec![Output::FramePlacements],
+        ..Default::default()
+    };
+    let problems = articulated_codegen::check::options(model, &options);
+    match problems.first() {
+        None => Ok(()),
+        Some(_) => Err(problems
+            .iter()
+            .map(|p| format!("error: --frames: {}", p.message))
+            .collect::<Vec<_>>()
+            .join("\n")),
+    }
+}
+
+/// The three reference frames' keys, in the order of the outputs.
+const REFERENCE_FRAMES: [&str; 3] = ["local", "world", "local_world_aligned"];
+
+/// One frame's values as `eval` prints them (DESIGN §9): `rotation` (rows), `translation`,
+/// `velocity` (LOCAL), `acceleration` (classical, LOCAL_WORLD_ALIGNED), and the Jacobians and
+/// their time variations by reference frame (rows).
+fn frame_json(
+    placement: &[f64],
+    velocity: &[f64],
+    acceleration: &[f64],
+    jacobians: [&[f64]; 3],
+    rates: [&[f64]; 3],
+    nv: usize,
+) -> Value {
+    let rows = |x: &[f64], cols: usize| -> Value {
+        Value::Array(
+            x.chunks(cols.max(1))
+                .map(|r| Value::from(r.to_vec()))
+                .collect(),
+        )
+    };
+    let by_frame = |m: [&[f64]; 3]| -> Value {
+        let mut object = serde_json::Map::new();
+        for (key, x) in REFERENCE_FRAMES.iter().zip(m) {
+            object.insert((*key).into(), rows(x, nv));
+        }
+        Value::Object(object)
+    };
+    serde_json::json!({
+        "rotation": rows(placement.get(..9).unwrap_or_default(), 3),
+        "translation": placement.get(9..12).unwrap_or_default(),
+        "velocity": velocity,
+        "acceleration": acceleration,
+        "jacobian": by_frame(jacobians),
+        "jacobian_time_variation": by_frame(rates),
+    })
+}
+
+/// The frame outputs, in the order [`frame_json`] takes them.
+const FRAME_OUTPUTS: [Output; 9] = [
+    Output::FramePlacements,
+    Output::FrameVelocities,
+    Output::FrameAccelerations,
+    Output::FrameJacobiansLocal,
+    Output::FrameJacobiansWorld,
+    Output::FrameJacobiansLocalWorldAligned,
+    Output::FrameJacobianTimeVariationsLocal,
+    Output::FrameJacobianTimeVariationsWorld,
+    Output::FrameJacobianTimeVariationsLocalWorldAligned,
+];
+
+/// The frames by the generator's expression graphs (`trace::frames`).
+fn frames_by_graph(model: &Model, names: &[String], s: &State) -> Result<Value, String> {
+    let at: Vec<FrameAt> = names
+        .iter()
+        .filter_map(|name| {
+            let (parent, placement) = model.frame(name)?;
+            Some(FrameAt {
+                name: name.clone(),
+                parent,
+                placement,
+            })
+        })
+        .collect();
+    let nv = model.nv();
+    let per_frame: Vec<Vec<f64>> = FRAME_OUTPUTS
+        .iter()
+        .map(|&output| {
+            let traced = articulated_codegen::trace::frames::trace(model, output, &at, false);
+            traced.eval(|var| s.input(var)).0
+        })
+        .collect();
+    let mut object = serde_json::Map::new();
+    for (k, name) in names.iter().enumerate() {
+        let part = |o: usize, size: usize| -> &[f64] {
+            per_frame[o].get(k * size..(k + 1) * size).unwrap_or_default()
+        };
+        let j = 6 * nv;
+        let value = frame_json(
+            part(0, 12),
+            part(1, 6),
+            part(2, 6),
+            [part(3, j), part(4, j), part(5, j)],
+            [part(6, j), part(7, j), part(8, j)],
+            nv,
+        );
+        if let Some(x) = per_frame.iter().flatten().find(|x| !x.is_finite()) {
+            return Err(format!("frame `{name}`: a value is not finite ({x})"));
+        }
+        object.insert(name.clone(), value);
+    }
+    Ok(Value::Object(object))
+}
+
+/// The frames by the interpreted reference.
+fn frames_by_reference(_r: &Reference, _names: &[String], _s: &State) -> Result<Value, String> {
+    Err("the reference's frames are not there yet".into())
+}
+
+/// `--q-order pinocchio`: every Jacobian's columns in Pinocchio's order.
+fn reorder_jacobians(frames: &mut Value, sources: &[usize]) {
+    let Value::Object(frames) = frames else {
+        return;
+    };
+    for frame in frames.values_mut() {
+        for key in ["jacobian", "jacobian_time_variation"] {
+            let Some(Value::Object(by_frame)) = frame.get_mut(key) else {
+                continue;
+            };
+            for rows in by_frame.values_mut() {
+                if let Value::Array(rows) = rows {
+                    for row in rows.iter_mut() {
+                        if let Value::Array(entries) = row {
+                            *row = sources
+                                .iter()
+                                .map(|&k| entries.get(k).cloned().unwrap_or(Value::Null))
+                                .collect();
+                        }
+                    }
+                }
+            }
+        }
+    }
 }

@@ -86,6 +86,11 @@ pub struct EvalArgs {
     /// The base under a URDF root.
     #[command(flatten)]
     pub base: Base,
+    /// Frames to evaluate, comma-separated (bodies, `frame` items, URDF links): their
+    /// placement, LOCAL velocity, classical acceleration, Jacobians and their time variations
+    /// in LOCAL, WORLD and LOCAL_WORLD_ALIGNED, under `"frames"`.
+    #[arg(long)]
+    pub frames: Option<String>,
     /// The layout of `--q`, `--v`, `--a`, `--tau` and of every vector and matrix printed:
     /// `articulated` (ours) or `pinocchio` (its free flyer `[x, y, z, qx, qy, qz, qw]`,
     /// continuous joints as `(cos θ, sin θ)`, its URDF joint order).
