@@ -12,6 +12,8 @@
 //!   `J_lwa·a + J̇_lwa·v` and the spatial one `J_local·a + J̇_local·v`, they differ by
 //!   `[0; ω × v]` in LOCAL axes, WORLD is `Ad(⁰M_f)` of LOCAL and LOCAL_WORLD_ALIGNED its
 //!   rotation, for `J` and (differentiated) for `J̇`;
+//! - mimic joints: a model with them is its independent tree at `q_tree = G·q + o` (`G` and `o`
+//!   written here from the `Mimic`s), with `J = J_tree·G` and `J̇ = J̇_tree·G`;
 //! - the centre-of-mass Jacobian (`Reference::center_of_mass_jacobian`, another code path) as
 //!   the mass-weighted mean of the linear rows of each body's LOCAL_WORLD_ALIGNED Jacobian at
 //!   its centre of mass;
@@ -548,4 +550,84 @@ fn an_unknown_frame_is_an_error_that_names_the_frames() {
         r.frame_placement(&nan, "body0"),
         Err(Error::NonFinite { vector: "q", .. })
     ));
+}
+
+/// The same tree with every joint independent, its `q = G·q + o` and `G` (`nv_tree × nv`),
+/// written here from the [`Mimic`]s (not through the reference's `Coupling`).
+fn independent(model: &Model, q: &[f64]) -> (Model, Vec<f64>, DMatrix<f64>) {
+    let mut tree = model.clone();
+    for j in &mut tree.joints {
+        j.mimic = None;
+    }
+    let (mut q_tree, mut at_tree, mut at_model) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut t, mut m) = (0, 0);
+    for (i, j) in model.joints.iter().enumerate() {
+        match j.mimic {
+            Some(c) => q_tree.push(c.multiplier * q[model.q_offset(c.joint)] + c.offset),
+            None => {
+                let at = model.q_offset(i);
+                q_tree.extend_from_slice(&q[at..at + j.kind.nq()]);
+            }
+        }
+        at_tree.push(t);
+        at_model.push(m);
+        t += j.kind.nv();
+        m += j.nv();
+    }
+    let mut g = DMatrix::zeros(t, m);
+    for (i, j) in model.joints.iter().enumerate() {
+        match j.mimic {
+            Some(c) => g[(at_tree[i], at_model[c.joint])] = c.multiplier,
+            None => {
+                for k in 0..j.kind.nv() {
+                    g[(at_tree[i] + k, at_model[i] + k)] = 1.0;
+                }
+            }
+        }
+    }
+    (tree, q_tree, g)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    /// A model with mimic joints is its independent tree at `q_tree = G·q + o`,
+    /// `v_tree = G·v`, `a_tree = G·a`: the same placements, velocities and accelerations, and
+    /// `J = J_tree·G`, `J̇ = J̇_tree·G` in every reference frame.
+    #[test]
+    fn mimic_frames_are_those_of_the_independent_tree(seed in any::<u64>(), n in 2usize..=30) {
+        let model = random_case(seed, n, true);
+        let (q, v, a) = random_state(&model, seed);
+        let (tree, q_tree, g) = independent(&model, &q);
+        let (r, rt) = (Reference::new(&model).unwrap(), Reference::new(&tree).unwrap());
+        let along = |x: &[f64]| (&g * DMatrix::from_column_slice(x.len(), 1, x)).as_slice().to_vec();
+        let (v_tree, a_tree) = (along(&v), along(&a));
+        let mut worst = 0.0f64;
+        for name in names(&model) {
+            let f = name.as_str();
+            let ((rm, pm), (rtr, ptr)) = (
+                r.frame_placement(&q, f).unwrap(),
+                rt.frame_placement(&q_tree, f).unwrap(),
+            );
+            worst = worst.max((rm - rtr).amax()).max((pm - ptr).amax());
+            let pairs = [
+                (r.frame_velocity(&q, &v, f), rt.frame_velocity(&q_tree, &v_tree, f)),
+                (
+                    r.frame_acceleration(&q, &v, &a, f),
+                    rt.frame_acceleration(&q_tree, &v_tree, &a_tree, f),
+                ),
+            ];
+            for (x, y) in pairs {
+                worst = worst.max(rel(&col(x.unwrap()), &col(y.unwrap())));
+            }
+            for rf in ReferenceFrame::ALL {
+                let j = rt.frame_jacobian(&q_tree, f, rf).unwrap() * &g;
+                worst = worst.max(rel(&r.frame_jacobian(&q, f, rf).unwrap(), &j));
+                let jd = rt.frame_jacobian_time_variation(&q_tree, &v_tree, f, rf).unwrap() * &g;
+                let ours = r.frame_jacobian_time_variation(&q, &v, f, rf).unwrap();
+                worst = worst.max(rel(&ours, &jd));
+            }
+        }
+        prop_assert!(worst < TOL, "seed {seed}, n {n}: off by {worst:e}");
+    }
 }
