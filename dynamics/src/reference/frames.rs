@@ -25,7 +25,8 @@
 //! On the tree ([`super::tree`]: Euler joints expanded into single-axis nodes, so every node's
 //! motion subspace `S_i` is constant in its own frame and `c_J = 0`), the forward pass of RNEA
 //! without gravity (Featherstone 2008, RBDA Table 5.1, lines 5–9), per node `i` with parent `λ`:
-//! - `ⁱX_0 = X_up[i]·ᵏX_0` (world → node `i`), `X_up[i] = X_J(q_i)·X_T[i]`;
+//! - `ⁱX_0 = X_up[i]·X_0[λ]` (world → node `i`; `X_0[λ]` is the parent's, the identity for the
+//!   world), with `X_up[i] = X_J(q_i)·X_T[i]`;
 //! - `v_i = X_up[i]·v_λ + S_i·q̇_i`;
 //! - `a_i = X_up[i]·a_λ + S_i·q̈_i + v_i ×m S_i·q̇_i` (RBDA eq. 5.7).
 //!
@@ -41,7 +42,7 @@
 //! The linear part of the spatial acceleration is the rate of change of the velocity field at a
 //! point fixed in the frame's axes, not the acceleration of a body point. The **classical**
 //! acceleration of the frame origin is `p̈ = a_f.lin + ω × v_f.lin` (frame axes;
-//! Featherstone 2008, RBDA eq. 2.47). This module's frame acceleration
+//! Featherstone 2008, RBDA §2.11). This module's frame acceleration
 //! ([`Reference::frame_acceleration`]) is the classical one in LOCAL_WORLD_ALIGNED:
 //!
 //! `[ω̇; p̈]_lwa = R·[a_f.ang; a_f.lin + ω × v_f.lin] = J_lwa·a + J̇_lwa·v`.
@@ -56,7 +57,8 @@
 //! body angular velocity, and a free base's linear velocity in its body frame), so that the
 //! frame's velocity in a reference frame is `J·v`. The column of the tree's velocity coordinate
 //! `k`, column `j` of `S_n` for a node `n` that supports the frame (its body's node or an
-//! ancestor), is, in WORLD, `J_w = ⁰X_n·S_n,j`; other columns are zero. Then
+//! ancestor), is, in WORLD, `J_w = ⁰X_n·S_n,j` (`⁰X_n = (ⁿX_0)⁻¹`: node `n` → world); other
+//! columns are zero. Then
 //! - LOCAL: `J_l = ᶠX_0·J_w`;
 //! - LOCAL_WORLD_ALIGNED: `J_a = [J_w.ang; J_w.lin + J_w.ang × p]`.
 //!
@@ -69,6 +71,13 @@
 //! - LOCAL: `d/dt ᶠX_0 = −(v_f ×m)·ᶠX_0`, so `J̇_l = ᶠX_0·J̇_w − v_f ×m J_l`;
 //! - LOCAL_WORLD_ALIGNED: `J̇_a = [J̇_w.ang; J̇_w.lin + J̇_w.ang × p + J_w.ang × ṗ]`, with
 //!   `ṗ = R·v_f.lin` the frame origin's velocity in world axes.
+//!
+//! Pinocchio's `dJ = ⁰v_n ×m J_w` holds only where `S` is constant in its joint's frame: for its
+//! `SphericalZYX` joint and a composite `Translation + SphericalZYX` base, whose `S` depends on
+//! `q`, Pinocchio 4.1's time variation leaves out the `⁰X_n·Ṡ` term and is not `dJ/dt`. The tree
+//! here expands such joints into single-axis nodes, whose `S` is constant, so the formula is exact
+//! (`tests/data/pinocchio_frames/make_pinocchio_frames.py` takes Pinocchio's values for the Euler
+//! base from six single-axis joints for that reason).
 //!
 //! # Mimic joints
 //! The tree gives a mimic joint a coordinate of its own ([`crate::model::Coupling`]): everything
