@@ -20,11 +20,15 @@
 //! - The `f64` front door [`Reference`], which checks everything and returns [`Error`]s instead
 //!   of panicking or returning NaN.
 //! - An independent cross-check, [`jacobian`]: Wieber 2005, eqs. 6–8 from plain 3D kinematics.
+//! - [`frames`]: where a named frame is, its velocity, its classical and spatial accelerations,
+//!   its Jacobians and their time variation in the LOCAL, WORLD and LOCAL_WORLD_ALIGNED reference
+//!   frames (DESIGN.md §9), `f64` only.
 
 pub mod aba;
 pub mod centroidal;
 pub mod crba;
 pub mod derivatives;
+pub mod frames;
 pub mod jacobian;
 pub mod ltdl;
 pub mod rnea;
@@ -38,6 +42,7 @@ use nalgebra::{DMatrix, DVector, Vector3, Vector6};
 
 pub use aba::{aba, AbaOutput};
 pub use crba::{composite_inertias_with, crba, crba_columns, crba_with};
+pub use frames::ReferenceFrame;
 pub use ltdl::{ltdl_factor, ltdl_factor_of, ltdl_solve, Ltdl};
 pub use rnea::{bottom_up, inertial_forces, joint_forces, node_forces, project, rnea, transmit};
 pub use tree::{Node, NodeJoint, Tree};
@@ -109,6 +114,13 @@ pub enum Error {
         /// Which output (`"mass_matrix"`, `"bias"`, …).
         output: &'static str,
     },
+    /// No body or frame of the model has this name ([`frames`]).
+    UnknownFrame {
+        /// The name asked for.
+        name: String,
+        /// Every frame's name, the bodies' first ([`Model::frame_names`]).
+        known: Vec<String>,
+    },
 }
 
 impl core::error::Error for Error {}
@@ -157,6 +169,25 @@ impl fmt::Display for Error {
                 f,
                 "`{output}` overflowed to a non-finite value (inputs too large)"
             ),
+            Error::UnknownFrame { name, known } => {
+                write!(f, "no body or frame is called `{name}`")?;
+                const SHOWN: usize = 12;
+                match known.len() {
+                    0 => write!(f, ": the model has none"),
+                    n => {
+                        let names: Vec<String> = known
+                            .iter()
+                            .take(SHOWN)
+                            .map(|k| alloc::format!("`{k}`"))
+                            .collect();
+                        write!(f, "; the frames are {}", names.join(", "))?;
+                        if n > SHOWN {
+                            write!(f, ", … ({n} in all)")?;
+                        }
+                        Ok(())
+                    }
+                }
+            }
         }
     }
 }

@@ -90,7 +90,8 @@ pub fn quat_rot(q: [f64; 4]) -> nalgebra::Matrix3<f64> {
 /// The configuration reached from `q` by moving along the velocity `v` for time `h`, exactly
 /// for constant `v` on every joint (quaternions by the exponential map, body-frame angular
 /// velocity; a free quaternion joint's position moves by `R·v_lin·h`, which is exact to first
-/// order and symmetric in `h`, enough for central differences).
+/// order and symmetric in `h`, enough for central differences). Mimic joints have no coordinate
+/// of their own.
 pub fn integrate(model: &Model, q: &[f64], v: &[f64], h: f64) -> Vec<f64> {
     let mut out = q.to_vec();
     let (mut qa, mut va) = (0, 0);
@@ -111,14 +112,15 @@ pub fn integrate(model: &Model, q: &[f64], v: &[f64], h: f64) -> Vec<f64> {
                 let dq = quat_exp([v[va + 3] * h, v[va + 4] * h, v[va + 5] * h]);
                 out[qa + 3..qa + 7].copy_from_slice(&quat_mul(q0, dq));
             }
+            // A mimic joint owns no coordinate (`j.nq() = 0`): it moves with the one it follows.
             _ => {
-                for k in 0..j.kind.nq() {
+                for k in 0..j.nq() {
                     out[qa + k] = q[qa + k] + h * v[va + k];
                 }
             }
         }
-        qa += j.kind.nq();
-        va += j.kind.nv();
+        qa += j.nq();
+        va += j.nv();
     }
     out
 }
