@@ -526,7 +526,9 @@ fn frames_by_graph(model: &Model, names: &[String], s: &State) -> Result<Value, 
     let mut object = serde_json::Map::new();
     for (k, name) in names.iter().enumerate() {
         let part = |o: usize, size: usize| -> &[f64] {
-            per_frame[o].get(k * size..(k + 1) * size).unwrap_or_default()
+            per_frame[o]
+                .get(k * size..(k + 1) * size)
+                .unwrap_or_default()
         };
         let j = 6 * nv;
         let value = frame_json(
@@ -546,8 +548,50 @@ fn frames_by_graph(model: &Model, names: &[String], s: &State) -> Result<Value, 
 }
 
 /// The frames by the interpreted reference.
-fn frames_by_reference(_r: &Reference, _names: &[String], _s: &State) -> Result<Value, String> {
-    Err("the reference's frames are not there yet".into())
+fn frames_by_reference(r: &Reference, names: &[String], s: &State) -> Result<Value, String> {
+    use articulated::reference::ReferenceFrame::{Local, LocalWorldAligned, World};
+    let nv = r.nv();
+    let flat = |m: &DMatrix<f64>| -> Vec<f64> {
+        (0..m.nrows())
+            .flat_map(|i| (0..m.ncols()).map(move |j| (i, j)))
+            .map(|ij| m[ij])
+            .collect()
+    };
+    let mut object = serde_json::Map::new();
+    for name in names {
+        let text = |e: Error| format!("frame `{name}`: {e}");
+        let (rotation, translation) = r.frame_placement(&s.q, name).map_err(text)?;
+        let placement: Vec<f64> = (0..3)
+            .flat_map(|i| (0..3).map(move |j| (i, j)))
+            .map(|ij| rotation[ij])
+            .chain(translation.iter().copied())
+            .collect();
+        let velocity = r.frame_velocity(&s.q, &s.v, name).map_err(text)?;
+        let acceleration = r.frame_acceleration(&s.q, &s.v, &s.a, name).map_err(text)?;
+        let mut jacobians = Vec::new();
+        let mut rates = Vec::new();
+        for frame in [Local, World, LocalWorldAligned] {
+            jacobians.push(flat(&r.frame_jacobian(&s.q, name, frame).map_err(text)?));
+            rates.push(flat(
+                &r.frame_jacobian_time_variation(&s.q, &s.v, name, frame)
+                    .map_err(text)?,
+            ));
+        }
+        let three = |m: &[Vec<f64>]| -> [Vec<f64>; 3] {
+            [0, 1, 2].map(|k| m.get(k).cloned().unwrap_or_default())
+        };
+        let (j, d) = (three(&jacobians), three(&rates));
+        let value = frame_json(
+            &placement,
+            velocity.as_slice(),
+            acceleration.as_slice(),
+            [&j[0], &j[1], &j[2]],
+            [&d[0], &d[1], &d[2]],
+            nv,
+        );
+        object.insert(name.clone(), value);
+    }
+    Ok(Value::Object(object))
 }
 
 /// `--q-order pinocchio`: every Jacobian's columns in Pinocchio's order.
