@@ -526,8 +526,9 @@ fn frames_by_graph(model: &Model, names: &[String], s: &State) -> Result<Value, 
     let mut object = serde_json::Map::new();
     for (k, name) in names.iter().enumerate() {
         let part = |o: usize, size: usize| -> &[f64] {
-            per_frame[o]
-                .get(k * size..(k + 1) * size)
+            per_frame
+                .get(o)
+                .and_then(|x| x.get(k * size..(k + 1) * size))
                 .unwrap_or_default()
         };
         let j = 6 * nv;
@@ -563,7 +564,7 @@ fn frames_by_reference(r: &Reference, names: &[String], s: &State) -> Result<Val
         let (rotation, translation) = r.frame_placement(&s.q, name).map_err(text)?;
         let placement: Vec<f64> = (0..3)
             .flat_map(|i| (0..3).map(move |j| (i, j)))
-            .map(|ij| rotation[ij])
+            .map(|ij| rotation.get(ij).copied().unwrap_or(f64::NAN))
             .chain(translation.iter().copied())
             .collect();
         let velocity = r.frame_velocity(&s.q, &s.v, name).map_err(text)?;
