@@ -310,8 +310,13 @@ impl Builder {
             };
             let g = generate(&chain.model, &chain.options).map_err(failed)?;
             out.push_str(&format!("// {} from {label}\n", chain.model.name));
+            let width = g
+                .functions
+                .iter()
+                .map(|f| f.output.name().len())
+                .fold(24, usize::max);
             for f in &g.functions {
-                out.push_str(&format!("//   {:<24} {}\n", f.output.name(), f.ops));
+                out.push_str(&format!("//   {:<width$} {}\n", f.output.name(), f.ops));
             }
             out.push_str(&emit::format(g.tokens).map_err(failed)?);
             out.push('\n');

@@ -71,6 +71,8 @@ pub enum Each {
     Vector(usize),
     /// A matrix `rows × cols`, its values in `order`.
     Matrix(usize, Dim, Order),
+    /// `n` matrices `rows × cols` (a tuple), each's values in `order`, one after the other.
+    Matrices(usize, usize, Dim, Order),
 }
 
 /// One part of an output's traced values and what the function makes of it.
@@ -683,6 +685,44 @@ outputs! {
                     of a point contact. It differs from the spatial acceleration: `p̈` is the \
                     spatial linear acceleration plus `ω × v`.",
     },
+    /// `frame_velocity_derivatives(q, v)`: `(∂v/∂q, ∂v/∂v)` of each frame's LOCAL velocity.
+    FrameVelocityDerivatives {
+        name: "frame_velocity_derivatives",
+        trait_name: "FrameVelocityDerivatives",
+        group: Some(Group::Frames),
+        default: false,
+        args: [Q, V],
+        parts: [Frames(Each::Matrices(2, 6, Nv, Rows))],
+        fallible: false,
+        whole_body: false,
+        value: "The derivatives of the frames' velocities",
+        equation: "`(∂v_f/∂q, ∂v_f/∂v)` of each frame's LOCAL velocity `v_f = J_local·v`, \
+                   `6 × NV` each (`∂v_f/∂v = J_local`), `∂/∂q` along the configuration's \
+                   tangent as for `inverse_dynamics_derivatives` (Pinocchio's \
+                   `getFrameVelocityDerivatives(…, LOCAL)`, halves swapped).",
+        trait_doc: "`(∂v_f/∂q, ∂v_f/∂v)` of each frame's LOCAL velocity, `6 × NV` each, `∂/∂q` \
+                    along the configuration's tangent: what a cost on a tool's or a foot's \
+                    velocity needs in DDP and MPC.",
+    },
+    /// `frame_acceleration_derivatives(q, v, a)`: `(∂α/∂q, ∂α/∂v, ∂α/∂a)` of each frame's
+    /// classical acceleration.
+    FrameAccelerationDerivatives {
+        name: "frame_acceleration_derivatives",
+        trait_name: "FrameAccelerationDerivatives",
+        group: Some(Group::Frames),
+        default: false,
+        args: [Q, V, A],
+        parts: [Frames(Each::Matrices(3, 6, Nv, Rows))],
+        fallible: false,
+        whole_body: false,
+        value: "The derivatives of the frames' classical accelerations",
+        equation: "`(∂α/∂q, ∂α/∂v, ∂α/∂a)` of each frame's classical acceleration \
+                   `α = [ω̇; p̈] = J_lwa·a + J̇_lwa·v` (world axes), `6 × NV` each (`∂α/∂a = \
+                   J_lwa`), `∂/∂q` along the configuration's tangent.",
+        trait_doc: "`(∂α/∂q, ∂α/∂v, ∂α/∂a)` of each frame's classical acceleration (world axes), \
+                    `6 × NV` each, `∂/∂q` along the configuration's tangent: what a cost or a \
+                    contact constraint on a frame's acceleration needs in DDP and MPC.",
+    },
     /// `frame_jacobians_local(q)`: each frame's Jacobian in LOCAL, `6 × NV`.
     FrameJacobiansLocal {
         name: "frame_jacobians_local",
@@ -981,6 +1021,11 @@ impl Spec {
                     }
                     Each::Vector(n) => t.vector(&t.dim(Dim::N(n))),
                     Each::Matrix(r, c, _) => t.matrix(&t.dim(Dim::N(r)), &t.dim(c)),
+                    Each::Matrices(n, r, c, _) => {
+                        let m = t.matrix(&t.dim(Dim::N(r)), &t.dim(c));
+                        let all = std::iter::repeat_n(m, n);
+                        quote!((#(#all),*))
+                    }
                 };
                 let nf = &t.nf;
                 Some(quote!([#one; #nf]))

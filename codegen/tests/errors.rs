@@ -168,7 +168,8 @@ fn unknown_output() {
          `centroidal_momentum`, `centroidal_momentum_matrix`, `kinetic_energy`, \
          `potential_energy`, `coriolis_matrix`, `inverse_dynamics_derivatives`, \
          `forward_dynamics_derivatives`, `mass_matrix_inverse`, `frame_placements`, \
-         `frame_velocities`, `frame_accelerations`, `frame_jacobians_local`, \
+         `frame_velocities`, `frame_accelerations`, `frame_velocity_derivatives`, \
+         `frame_acceleration_derivatives`, `frame_jacobians_local`, \
          `frame_jacobians_world`, `frame_jacobians_local_world_aligned`, \
          `frame_jacobian_time_variations_local`, `frame_jacobian_time_variations_world` or \
          `frame_jacobian_time_variations_local_world_aligned`, or a group: `dynamics`, \

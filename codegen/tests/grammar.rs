@@ -186,7 +186,13 @@ fn outputs_sorted_and_deduplicated() {
         [Output::MassMatrix, Output::Bias, Output::Gravity]
     );
     let all: Vec<&str> = Output::ALL.iter().rev().map(|(_, n)| *n).collect();
-    let d = describe_chain(&[&format!("outputs: [{}];", all.join(", ")), B, J]);
+    // The frame outputs compute the frames named: body `a`'s.
+    let d = describe_chain(&[
+        &format!("outputs: [{}];", all.join(", ")),
+        "frames: [a];",
+        B,
+        J,
+    ]);
     let want: Vec<Output> = Output::ALL.iter().map(|(o, _)| *o).collect();
     assert_eq!(d.options.outputs, want);
     assert!(describe_chain(&["outputs: [];", B, J])
@@ -234,8 +240,8 @@ fn output_groups_expand_to_their_outputs() {
         ]
     );
     // Every output but the serial chains' `joint_wrenches_bottom_up` is in exactly one group.
-    let groups = "dynamics, kept, wrenches, whole_body, derivatives";
-    let d = describe_chain(&[&format!("outputs: [{groups}];"), B, J]);
+    let groups = "dynamics, kept, wrenches, whole_body, derivatives, frames";
+    let d = describe_chain(&[&format!("outputs: [{groups}];"), "frames: [a];", B, J]);
     let want: Vec<Output> = Output::ALL
         .iter()
         .map(|(o, _)| *o)

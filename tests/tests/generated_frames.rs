@@ -415,3 +415,124 @@ fn frame_graphs_agree_with_the_reference_on_random_trees() {
     }
     println!("random trees: worst {worst:.1e}");
 }
+
+#[derive(Chain)]
+#[chain(
+    urdf = "../models/humanoid.urdf",
+    floating = quaternion,
+    outputs = [frame_velocity_derivatives, frame_acceleration_derivatives],
+    frames = [left_foot, right_hand]
+)]
+struct HumanoidDerivatives;
+
+#[derive(Chain)]
+#[chain(
+    urdf = "data/gripper_mimic.urdf",
+    outputs = [frame_velocity_derivatives, frame_acceleration_derivatives],
+    frames = [left_tip, thumb]
+)]
+struct GripperDerivatives;
+
+/// The derivatives of the frames' LOCAL velocities and classical accelerations against central
+/// differences of the reference's values along the configuration's tangent (`q ⊕ ε·e_k`,
+/// `articulated::configuration`, the same increment as the dynamics' derivatives) and along
+/// `v`; `∂v/∂v` and `∂α/∂a` against the reference's Jacobians. The worst error.
+fn check_derivatives<C, const NQ: usize, const NV: usize, const NF: usize>(
+    label: &str,
+    model: &Model,
+) -> f64
+where
+    C: FrameVelocityDerivatives<f64, NQ, NV, NF> + FrameAccelerationDerivatives<f64, NQ, NV, NF>,
+{
+    let r = Reference::new(model).unwrap();
+    let coords = articulated::interpreted::coordinates_of(model);
+    let h = 1e-6;
+    let mut worst = 0.0f64;
+    for seed in 0..4 {
+        let (q, v, a) = random_state(model, seed);
+        let (qs, vs, as_) = (
+            SVector::<f64, NQ>::from_column_slice(&q),
+            SVector::<f64, NV>::from_column_slice(&v),
+            SVector::<f64, NV>::from_column_slice(&a),
+        );
+        let vel = C::frame_velocity_derivatives(&qs, &vs);
+        let acc = C::frame_acceleration_derivatives(&qs, &vs, &as_);
+        for (k, &name) in C::FRAMES.iter().enumerate() {
+            // Column by column: ∂/∂q_j by central differences along the tangent, ∂/∂v_j too.
+            let (mut vq, mut aq, mut vv, mut av) = (
+                vec![0.0; 6 * NV],
+                vec![0.0; 6 * NV],
+                vec![0.0; 6 * NV],
+                vec![0.0; 6 * NV],
+            );
+            for j in 0..NV {
+                let moved = |s: f64| {
+                    let mut qq = q.clone();
+                    let mut d = vec![0.0; NV];
+                    d[j] = s * h;
+                    articulated::configuration::integrate_in_place(&coords, &mut qq, &d);
+                    qq
+                };
+                let (qp, qm) = (moved(1.0), moved(-1.0));
+                let mut vp = v.clone();
+                let mut vm = v.clone();
+                vp[j] += h;
+                vm[j] -= h;
+                let fv = |q: &[f64], v: &[f64]| r.frame_velocity(q, v, name).unwrap();
+                let fa = |q: &[f64], v: &[f64]| r.frame_acceleration(q, v, &a, name).unwrap();
+                for i in 0..6 {
+                    vq[i * NV + j] = (fv(&qp, &v)[i] - fv(&qm, &v)[i]) / (2.0 * h);
+                    aq[i * NV + j] = (fa(&qp, &v)[i] - fa(&qm, &v)[i]) / (2.0 * h);
+                    vv[i * NV + j] = (fv(&q, &vp)[i] - fv(&q, &vm)[i]) / (2.0 * h);
+                    av[i * NV + j] = (fa(&q, &vp)[i] - fa(&q, &vm)[i]) / (2.0 * h);
+                }
+            }
+            let j_local = dense_rows(&r.frame_jacobian(&q, name, ReferenceFrame::Local).unwrap());
+            let j_lwa = dense_rows(
+                &r.frame_jacobian(&q, name, ReferenceFrame::LocalWorldAligned)
+                    .unwrap(),
+            );
+            let (dv_dq, dv_dv) = vel[k];
+            let (da_dq, da_dv, da_da) = acc[k];
+            let fd = [
+                ("∂v/∂q", err(&rows(&dv_dq), &vq), 1e-6),
+                ("∂v/∂v (differences)", err(&rows(&dv_dv), &vv), 1e-6),
+                ("∂α/∂q", err(&rows(&da_dq), &aq), 1e-6),
+                ("∂α/∂v", err(&rows(&da_dv), &av), 1e-6),
+                ("∂v/∂v = J_local", err(&rows(&dv_dv), &j_local), TOL),
+                ("∂α/∂a = J_lwa", err(&rows(&da_da), &j_lwa), TOL),
+            ];
+            for (what, e, tol) in fd {
+                assert!(
+                    e < tol,
+                    "{label} `{name}` seed {seed}: {what} off by {e:.1e}"
+                );
+                worst = worst.max(e);
+            }
+        }
+    }
+    println!("{label}: derivatives' worst error {worst:.1e}");
+    worst
+}
+
+#[test]
+fn frame_derivatives_agree_with_finite_differences() {
+    check_derivatives::<
+        HumanoidDerivatives,
+        { HumanoidDerivatives::NQ },
+        { HumanoidDerivatives::NV },
+        2,
+    >(
+        "humanoid, quaternion base",
+        &model("../models/humanoid.urdf", FloatingBase::Quaternion),
+    );
+    check_derivatives::<
+        GripperDerivatives,
+        { GripperDerivatives::NQ },
+        { GripperDerivatives::NV },
+        2,
+    >(
+        "gripper (mimic)",
+        &model("data/gripper_mimic.urdf", FloatingBase::Fixed),
+    );
+}

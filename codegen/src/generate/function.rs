@@ -285,6 +285,7 @@ fn built(cx: &Context, output: Output, values: &[TokenStream]) -> TokenStream {
         Each::Placement => 12,
         Each::Vector(n) => n,
         Each::Matrix(r, c, _) => r * size(c),
+        Each::Matrices(n, r, c, _) => n * r * size(c),
     };
     let mut rest = values;
     let mut parts = Vec::new();
@@ -321,6 +322,13 @@ fn built(cx: &Context, output: Output, values: &[TokenStream]) -> TokenStream {
                     Each::Vector(_) => vector(cx, v),
                     Each::Matrix(r, _, Order::Columns) => columns(cx, v, r),
                     Each::Matrix(r, _, Order::Rows) => columns(cx, &transposed(v, r), r),
+                    Each::Matrices(n, r, _, order) => {
+                        let each = v.chunks((v.len() / n.max(1)).max(1)).map(|m| match order {
+                            Order::Columns => columns(cx, m, r),
+                            Order::Rows => columns(cx, &transposed(m, r), r),
+                        });
+                        quote!((#(#each),*))
+                    }
                 });
                 quote!([#(#each),*])
             }

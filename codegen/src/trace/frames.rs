@@ -25,6 +25,7 @@
 
 use articulated_dynamics::model::{Model, Placement};
 use articulated_dynamics::reference::centroidal::world_transforms;
+use articulated_dynamics::reference::derivatives::{configuration_tangent, map_tree, Dual, Wrt};
 use articulated_dynamics::reference::Tree;
 use articulated_dynamics::spatial::{Mat3, Motion, Transform, Vec3};
 use articulated_dynamics::Scalar;
@@ -114,6 +115,21 @@ pub fn trace(model: &Model, output: Output, frames: &[FrameAt], quasi_static: bo
                         model.nv(),
                     ));
                 }
+                Output::FrameVelocityDerivatives => {
+                    let nv = model.nv();
+                    let (dq, dv) = derivatives(&tree, &q, &v, &a, f, &params, false);
+                    values.extend(label_matrix(c.reduce_columns(&dq, 6), name, "dv_dq", nv));
+                    values.extend(label_matrix(c.reduce_columns(&dv, 6), name, "dv_dv", nv));
+                }
+                Output::FrameAccelerationDerivatives => {
+                    let nv = model.nv();
+                    let (dq, dv) = derivatives(&tree, &q, &v, &a, f, &params, true);
+                    values.extend(label_matrix(c.reduce_columns(&dq, 6), name, "da_dq", nv));
+                    values.extend(label_matrix(c.reduce_columns(&dv, 6), name, "da_dv", nv));
+                    // ∂α/∂a is the LOCAL_WORLD_ALIGNED Jacobian.
+                    let j = k.jacobian(&frame, In::LocalWorldAligned);
+                    values.extend(label_matrix(c.reduce_columns(&j, 6), name, "da_da", nv));
+                }
                 other => unreachable!("`{}` is not a frame output", other.name()),
             }
         }
@@ -127,6 +143,62 @@ pub fn trace(model: &Model, output: Output, frames: &[FrameAt], quasi_static: bo
         variant,
         candidates: Vec::new(),
     }
+}
+
+/// `(∂x/∂q, ∂x/∂v)` of the frame's LOCAL velocity (`acceleration`: its classical
+/// acceleration at `a`), `6 × nv` of the tree each, row-major: the kinematics run on dual
+/// numbers once per tangent direction (`q` along the configuration's tangent, as the dynamics'
+/// derivatives take it), the value parts hash-consing to the same nodes.
+fn derivatives(
+    tree: &Tree<Sym>,
+    q: &[Sym],
+    v: &[Sym],
+    a: &[Sym],
+    f: &FrameAt,
+    params: &[Sym],
+    acceleration: bool,
+) -> (Vec<Sym>, Vec<Sym>) {
+    let nv = tree.nv;
+    let dual_tree = map_tree(tree, Dual::constant);
+    let constant = |x: &[Sym]| -> Vec<Dual<Sym>> { x.iter().map(|&x| Dual::constant(x)).collect() };
+    let (qc, vc, ac, pc) = (constant(q), constant(v), constant(a), constant(params));
+    let value = |q: &[Dual<Sym>], v: &[Dual<Sym>]| -> [Dual<Sym>; 6] {
+        let k = Kinematics::new(&dual_tree, q, v);
+        let frame = k.frame(f, &pc);
+        let (x, y) = if acceleration {
+            k.classical_acceleration(&frame, &ac)
+        } else {
+            k.local_velocity(&frame)
+        };
+        [x.0[0], x.0[1], x.0[2], y.0[0], y.0[1], y.0[2]]
+    };
+    let (mut dq, mut dv) = (vec![Sym::zero(); 6 * nv], vec![Sym::zero(); 6 * nv]);
+    for col in 0..nv {
+        let tangent = configuration_tangent(tree, q, col);
+        let qk: Vec<Dual<Sym>> = q
+            .iter()
+            .zip(tangent)
+            .map(|(&x, d)| Dual::seeded(x, d, Wrt::Q(col)))
+            .collect();
+        for (r, x) in value(&qk, &vc).into_iter().enumerate() {
+            dq[r * nv + col] = x.du;
+        }
+        let vk: Vec<Dual<Sym>> = v
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| {
+                Dual::seeded(
+                    x,
+                    Sym::from_f64(if i == col { 1.0 } else { 0.0 }),
+                    Wrt::V(col),
+                )
+            })
+            .collect();
+        for (r, x) in value(&qc, &vk).into_iter().enumerate() {
+            dv[r * nv + col] = x.du;
+        }
+    }
+    (dq, dv)
 }
 
 fn reference_frame(output: Output) -> In {

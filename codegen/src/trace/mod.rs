@@ -592,6 +592,8 @@ fn label_outputs(output: Output, values: Vec<Sym>, nv: usize) -> Vec<Sym> {
         | Output::MassMatrixInverse
         | Output::FramePlacements
         | Output::FrameVelocities
+        | Output::FrameVelocityDerivatives
+        | Output::FrameAccelerationDerivatives
         | Output::FrameAccelerations
         | Output::FrameJacobiansLocal
         | Output::FrameJacobiansWorld
