@@ -143,6 +143,7 @@ pub mod drives;
 #[cfg(feature = "std")]
 pub mod files;
 mod generated;
+pub mod ik;
 pub mod integrate;
 #[cfg(feature = "alloc")]
 pub mod interpreted;
