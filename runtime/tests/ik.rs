@@ -1,11 +1,13 @@
-//! Inverse kinematics (`articulated::ik`) on arm7 (`models/arm7.urdf`, 7 revolute joints
+//! Inverse kinematics (`articulated::ik`) and the operational-space quantities
+//! (`articulated::control::operational_space`) on arm7 (`models/arm7.urdf`, 7 revolute joints
 //! with limits; its flange is the link `link7`) and on a chain of quaternion joints.
 //!
 //! `cargo test -p articulated --test ik -- --nocapture` prints the success rate and the
 //! iterations of the 1,000 random targets.
 
+use articulated::control::operational_space::{OperationalSpace, OperationalSpaceError};
 use articulated::ik::{self, exp6, jlog6, log6, IkError, Options, Stop, Task, Vec6};
-use articulated::nalgebra::{SMatrix, SVector, Vector3};
+use articulated::nalgebra::{DMatrix, SMatrix, SVector, Vector3};
 use articulated::prelude::*;
 use articulated::{Drive, FramePlacement};
 use articulated_dynamics::random::Rng;
@@ -374,4 +376,114 @@ fn quaternion_joints_step_on_their_manifold() {
     }
     println!("two ball joints and a hinge: {reached} of {runs} poses reached");
     assert!(reached >= 190);
+}
+
+// ---- Operational space ----
+
+/// `A⁻¹` by nalgebra's dynamic LU.
+fn inverse(a: DMatrix<f64>) -> DMatrix<f64> {
+    a.try_inverse().unwrap()
+}
+
+/// The largest entry of `a − b` over the largest of `b`.
+fn relative(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
+    (a - b).amax() / b.amax()
+}
+
+#[test]
+fn operational_space_inertia_against_a_direct_inverse() {
+    let mut rng = Rng::new(17);
+    let mut worst = 0.0_f64;
+    for _ in 0..100 {
+        let q = random_configuration(&mut rng);
+        let m = Arm7::mass_matrix(&q);
+        let m_inv = Arm7::mass_matrix_inverse(&q).unwrap();
+        let j6 = Arm7::frame_jacobians_local_world_aligned(&q)[FLANGE];
+        let j3: SMatrix<f64, 3, 7> = j6.fixed_rows::<3>(3).into_owned();
+        let tol = articulated::control::operational_space::RANK_TOLERANCE;
+        for (os, j) in [
+            (
+                OperationalSpace::from_mass_matrix(&m, &j6, tol).map(dynamic),
+                DMatrix::from_column_slice(6, 7, j6.as_slice()),
+            ),
+            (
+                OperationalSpace::from_mass_matrix_inverse(&m_inv, &j6, tol).map(dynamic),
+                DMatrix::from_column_slice(6, 7, j6.as_slice()),
+            ),
+            (
+                OperationalSpace::from_mass_matrix(&m, &j3, tol).map(dynamic),
+                DMatrix::from_column_slice(3, 7, j3.as_slice()),
+            ),
+        ] {
+            let (lambda, jbar) = os.unwrap();
+            let md = DMatrix::from_column_slice(7, 7, m.as_slice());
+            let m_inv_d = inverse(md);
+            let direct = inverse(&j * &m_inv_d * j.transpose());
+            let jbar_direct = &m_inv_d * j.transpose() * &direct;
+            let r = j.nrows();
+            let identity = (&j * &jbar - DMatrix::identity(r, r)).amax();
+            let err = relative(&lambda, &direct).max(relative(&jbar, &jbar_direct));
+            worst = worst.max(err);
+            assert!(err < 1e-8, "Λ or J̄ off by {err:e}");
+            assert!(identity < 1e-9, "J·J̄ − I = {identity:e}");
+        }
+    }
+    println!("Λ and J̄ against nalgebra's dynamic inverse: worst relative {worst:.1e}");
+}
+
+/// `(Λ, J̄)` as dynamic matrices.
+fn dynamic<const R: usize>(os: OperationalSpace<R, 7>) -> (DMatrix<f64>, DMatrix<f64>) {
+    (
+        DMatrix::from_column_slice(R, R, os.inertia.as_slice()),
+        DMatrix::from_column_slice(7, R, os.jbar.as_slice()),
+    )
+}
+
+#[test]
+fn torques_in_the_null_space_leave_the_task_alone() {
+    let mut rng = Rng::new(19);
+    for _ in 0..50 {
+        let q = random_configuration(&mut rng);
+        let m = Arm7::mass_matrix(&q);
+        let j = Arm7::frame_jacobians_local_world_aligned(&q)[FLANGE];
+        let os = OperationalSpace::from_mass_matrix(&m, &j, 1e-10).unwrap();
+        let tau = SVector::<f64, 7>::from_fn(|_, _| rng.symmetric(10.0));
+        let projected = os.project_torque(&j, &tau);
+        // The task's acceleration J·M⁻¹·τ_null is zero.
+        let a = j * m.cholesky().unwrap().solve(&projected);
+        assert!(a.amax() < 1e-9 * tau.amax(), "J·M⁻¹·N·τ = {:e}", a.amax());
+        assert!((os.null_space_projector(&j) * tau - projected).amax() < 1e-12 * tau.amax());
+    }
+}
+
+#[test]
+fn a_rank_deficient_jacobian_is_an_error() {
+    let q = Q7::from([0.3, 0.7, -0.2, -1.2, 0.4, 0.8, 0.1]);
+    let m = Arm7::mass_matrix(&q);
+    let tol = articulated::control::operational_space::RANK_TOLERANCE;
+    // Two identical rows.
+    let mut j = Arm7::frame_jacobians_local_world_aligned(&q)[FLANGE];
+    let row = j.row(3).into_owned();
+    j.set_row(4, &row);
+    let e = OperationalSpace::from_mass_matrix(&m, &j, tol).unwrap_err();
+    println!("two identical rows: {e}");
+    assert!(
+        matches!(e, OperationalSpaceError::RankLoss { smallest, largest, .. } if smallest <= tol * largest)
+    );
+    // Straight up, the arm is singular: joints 1, 3, 5, 7 turn the flange about one axis.
+    let zero = Q7::zeros();
+    let j = Arm7::frame_jacobians_local_world_aligned(&zero)[FLANGE];
+    let e = OperationalSpace::from_mass_matrix(&Arm7::mass_matrix(&zero), &j, tol).unwrap_err();
+    println!("arm straight up: {e}");
+    assert!(matches!(e, OperationalSpaceError::RankLoss { .. }));
+    // The position rows alone lose rank there too (no motion along the arm), but not at q.
+    let j3: SMatrix<f64, 3, 7> = j.fixed_rows::<3>(3).into_owned();
+    assert!(OperationalSpace::from_mass_matrix(&Arm7::mass_matrix(&zero), &j3, tol).is_err());
+    let jq: SMatrix<f64, 3, 7> = Arm7::frame_jacobians_local_world_aligned(&q)[FLANGE]
+        .fixed_rows::<3>(3)
+        .into_owned();
+    assert!(OperationalSpace::from_mass_matrix(&m, &jq, tol).is_ok());
+    // A mass matrix that is not positive definite.
+    let e = OperationalSpace::from_mass_matrix(&-m, &jq, tol).unwrap_err();
+    assert_eq!(e, OperationalSpaceError::MassMatrix);
 }
