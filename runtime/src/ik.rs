@@ -87,7 +87,9 @@
 //!         body upper { mass: 1.0, com: [0.5, 0.0, 0.0], inertia: diag(0.01, 0.1, 0.1) }
 //!         body lower { mass: 1.0, com: [0.5, 0.0, 0.0], inertia: diag(0.01, 0.1, 0.1) }
 //!         joint shoulder: revolute(z) { parent: world, child: upper }
-//!         joint elbow: revolute(z) { parent: upper, child: lower, xyz: [1.0, 0.0, 0.0], lower: 0.0, upper: 3.0 }
+//!         joint elbow: revolute(z) {
+//!             parent: upper, child: lower, xyz: [1.0, 0.0, 0.0], lower: 0.0, upper: 3.0
+//!         }
 //!         frame tip { parent: lower, xyz: [1.0, 0.0, 0.0] }
 //!     }
 //! }
@@ -96,7 +98,8 @@
 //! let start = SVector::from([0.3, 0.5]);
 //! let solution = ik::solve::<Planar, 2, 2, 1>(&tasks, &start, &Options::default())?;
 //! assert!(solution.residual.position < 1e-6);
-//! assert!((solution.q[0]).abs() < 1e-5 && (solution.q[1] - core::f64::consts::FRAC_PI_2).abs() < 1e-5);
+//! let elbow = solution.q[1] - core::f64::consts::FRAC_PI_2;
+//! assert!(solution.q[0].abs() < 1e-5 && elbow.abs() < 1e-5);
 //!
 //! // Out of reach (the arm is 2 m long): an error, with the best configuration and its residual.
 //! let far = [Task::position(Vector3::new(3.0, 0.0, 0.0))];
@@ -544,7 +547,8 @@ where
     configuration::normalize(coordinates, q.as_mut_slice());
     limits.clamp(&mut q);
     let mut iterations = 0;
-    let mut now = Errors::at(tasks, &placements(&q));
+    let mut placed = placements(&q);
+    let mut now = Errors::at(tasks, &placed);
     let stop = |stop, q, residual, iterations| IkError {
         stop,
         q,
@@ -561,7 +565,7 @@ where
             residual: now.residual,
         });
     }
-    let (mut h, mut g) = now.normal_equations(tasks, &placements(&q), &jacobians(&q));
+    let (mut h, mut g) = now.normal_equations(tasks, &placed, &jacobians(&q));
     let scale = |h: &SMatrix<f64, NV, NV>| h.diagonal().max();
     if scale(&h).is_nan() || scale(&h) <= 0.0 {
         let why = if scale(&h).is_finite() {
@@ -600,12 +604,12 @@ where
         configuration::normalize(coordinates, next.as_mut_slice());
         // Rounding only: the step was cut at the limits.
         limits.clamp(&mut next);
-        let then = Errors::at(tasks, &placements(&next));
+        let there = placements(&next);
+        let then = Errors::at(tasks, &there);
         let rho = (now.residual.cost - then.residual.cost) / predicted;
         if predicted > 0.0 && rho > 0.0 && then.residual.cost.is_finite() {
-            q = next;
-            now = then;
-            (h, g) = now.normal_equations(tasks, &placements(&q), &jacobians(&q));
+            (q, placed, now) = (next, there, then);
+            (h, g) = now.normal_equations(tasks, &placed, &jacobians(&q));
             if !h.iter().chain(g.iter()).all(|x| x.is_finite()) {
                 return Err(stop(Stop::NonFinite, q, now.residual, iterations));
             }
