@@ -6,7 +6,7 @@
 //! iterations of the 1,000 random targets.
 
 use articulated::control::operational_space::{OperationalSpace, OperationalSpaceError};
-use articulated::ik::{self, exp6, jlog6, log6, IkError, Options, Stop, Task, Vec6};
+use articulated::ik::{self, exp6, jlog6, log6, Goal, IkError, Options, Stop, Task, Vec6};
 use articulated::nalgebra::{DMatrix, SMatrix, SVector, Vector3};
 use articulated::prelude::*;
 use articulated::{Drive, FramePlacement};
@@ -213,6 +213,18 @@ fn an_unreachable_target_returns_the_residual() {
 }
 
 #[test]
+fn a_zero_gradient_away_from_the_target_is_a_stall() {
+    // Straight up, the arm cannot move its flange up: a target above it gives a zero gradient
+    // at the start, and the solver stops there rather than call it a solution.
+    let above = Vector3::new(0.0, 0.0, 3.0);
+    let tasks = [Task::position(above), Task::FREE];
+    let e = ik::solve::<Arm7, 7, 7, 2>(&tasks, &Q7::zeros(), &Options::default()).unwrap_err();
+    assert_eq!((e.stop, e.iterations), (Stop::Stalled, 0), "{e}");
+    let upright = Arm7::frame_placements(&Q7::zeros())[FLANGE].translation;
+    assert_eq!(e.residual.position, (above - upright).norm());
+}
+
+#[test]
 fn position_only_targets() {
     let mut rng = Rng::new(11);
     let mut reached = 0;
@@ -254,25 +266,72 @@ fn two_frames_with_weights() {
     let flange = Arm7::frame_placements(&truth)[FLANGE];
     let mut turned = truth;
     turned[1] += 0.4;
-    let off = Arm7::frame_placements(&turned)[1].translation;
-    let errors = |wf: f64, we: f64| {
-        let tasks = [
-            Task::pose(flange).weighted(wf),
-            Task::position(off).weighted(we),
-        ];
-        let e = ik::solve::<Arm7, 7, 7, 2>(&tasks, &truth, &Options::default()).unwrap_err();
-        assert!(matches!(e.stop, Stop::Stalled | Stop::MaxIterations), "{e}");
-        let [f, el] = Arm7::frame_placements(&e.q);
-        (distance(&f, &flange).0, (el.translation - off).norm())
+    let off = Arm7::frame_placements(&turned)[1];
+    // Each kind of goal on each frame, so that both kinds' weights are seen.
+    for pose_on_flange in [true, false] {
+        let errors = |wf: f64, we: f64| {
+            let tasks = if pose_on_flange {
+                [Task::pose(flange), Task::position(off.translation)]
+            } else {
+                [Task::position(flange.translation), Task::pose(off)]
+            };
+            let tasks = [tasks[0].weighted(wf), tasks[1].weighted(we)];
+            let e = ik::solve::<Arm7, 7, 7, 2>(&tasks, &truth, &Options::default()).unwrap_err();
+            assert_eq!(e.stop, Stop::Stalled, "{e}");
+            // A minimum of the weighted cost ½·Σ w_k·|e_k|²: its gradient, by central
+            // differences, vanishes.
+            let gradient = gradient(&tasks, &e.q);
+            assert!(gradient < 1e-7, "|∇f| = {gradient:e} at {e}");
+            let [f, el] = Arm7::frame_placements(&e.q);
+            (
+                distance(&f, &flange).0,
+                (el.translation - off.translation).norm(),
+            )
+        };
+        let (flange_heavy, elbow_light) = errors(100.0, 1.0);
+        let (flange_light, elbow_heavy) = errors(1.0, 100.0);
+        println!(
+            "conflict ({} on the flange): flange weight 100: flange {flange_heavy:.2e} m, elbow \
+             {elbow_light:.2e} m; elbow weight 100: flange {flange_light:.2e} m, elbow \
+             {elbow_heavy:.2e} m",
+            if pose_on_flange { "pose" } else { "position" }
+        );
+        assert!(flange_heavy < elbow_light && elbow_heavy < flange_light);
+        assert!(flange_heavy < flange_light && elbow_heavy < elbow_light);
+    }
+}
+
+/// The largest entry of the gradient of `½·Σ w_k·|e_k|²` at `q`, by central differences, the
+/// errors as the module docs define them (`log6` for a pose, checked above).
+fn gradient(tasks: &[Task; 2], q: &Q7) -> f64 {
+    let cost = |q: &Q7| {
+        let placed = Arm7::frame_placements(q);
+        tasks
+            .iter()
+            .zip(&placed)
+            .map(|(task, m)| {
+                let e = match task.goal {
+                    Goal::Pose(target) => log6(&FramePlacement {
+                        rotation: m.rotation.transpose() * target.rotation,
+                        translation: m.rotation.transpose() * (target.translation - m.translation),
+                    })
+                    .norm_squared(),
+                    Goal::Position(p) => (p - m.translation).norm_squared(),
+                    Goal::Free => 0.0,
+                };
+                0.5 * task.weight * e
+            })
+            .sum::<f64>()
     };
-    let (flange_heavy, elbow_light) = errors(100.0, 1.0);
-    let (flange_light, elbow_heavy) = errors(1.0, 100.0);
-    println!(
-        "conflict: flange weight 100: flange {flange_heavy:.2e} m, elbow {elbow_light:.2e} m; \
-         elbow weight 100: flange {flange_light:.2e} m, elbow {elbow_heavy:.2e} m"
-    );
-    assert!(flange_heavy < elbow_light && elbow_heavy < flange_light);
-    assert!(flange_heavy < flange_light && elbow_heavy < elbow_light);
+    let h = 1e-6;
+    (0..7)
+        .map(|k| {
+            let (mut up, mut down) = (*q, *q);
+            up[k] += h;
+            down[k] -= h;
+            ((cost(&up) - cost(&down)) / (2.0 * h)).abs()
+        })
+        .fold(0.0, f64::max)
 }
 
 #[test]
@@ -302,8 +361,14 @@ fn joint_limits_hold_the_configuration_in_its_box() {
     );
     assert!(e.q.iter().all(|x| x.abs() <= 0.3));
     assert!(e.q.iter().any(|x| x.abs() == 0.3), "no joint at its limit");
-    // The same target with arm7's own limits is reached.
+    // The same target with arm7's own limits is reached, from a start outside them too.
     assert!(ik::solve::<Arm7, 7, 7, 2>(&tasks, &Q7::zeros(), &Options::default()).is_ok());
+    let outside = Q7::from([3.5, 0.0, -4.0, 0.0, 0.0, 0.0, 0.0]);
+    let s = ik::solve::<Arm7, 7, 7, 2>(&tasks, &outside, &Options::default()).unwrap();
+    assert!(within_limits(&s.q), "{:?}", s.q.as_slice());
+    // With nothing to reach, the start comes back clamped into the limits.
+    let s = ik::solve::<Arm7, 7, 7, 2>(&[Task::FREE; 2], &outside, &Options::default()).unwrap();
+    assert_eq!((s.q[0], s.q[2], s.iterations), (2.96, -2.96, 0));
 }
 
 #[test]
