@@ -21,6 +21,10 @@
 //!   derivatives of sampled signals on their actual times, and `(q, q̇, q̈) → (v, v̇)`),
 //!   [`samples`] (reading a trajectory CSV, `std`) and [`invert`] (the inverse plant).
 //! - To stabilize (§4): [`control`] (linearization, Riccati/LQR, computed torque).
+//! - To reach: [`ik`] (inverse kinematics of the frames a description names, by
+//!   Levenberg–Marquardt on their SE(3) or position errors, within the joint limits) and
+//!   [`control::operational_space`] (`Λ`, the dynamically consistent inverse, the null-space
+//!   projector); both allocation-free.
 //!
 //! # Conventions
 //! Each is checked by the example under it (the README's "Conventions" lists them all).
@@ -143,6 +147,7 @@ pub mod drives;
 #[cfg(feature = "std")]
 pub mod files;
 mod generated;
+pub mod ik;
 pub mod integrate;
 #[cfg(feature = "alloc")]
 pub mod interpreted;

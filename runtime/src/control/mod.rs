@@ -5,6 +5,9 @@
 //!   their exponential and logarithm), no allocation.
 //! - [`computed_torque`]: `τ = ID(q, v, a_ref + Kp·(q_ref ⊖ q) + Kd·(v_ref − v))` as a
 //!   controller closure `(t, q, v) ↦ τ`, no allocation.
+//! - [`operational_space`]: the task-space inertia `Λ = (J·M⁻¹·Jᵀ)⁻¹`, the dynamically
+//!   consistent inverse `J̄ = M⁻¹·Jᵀ·Λ` and the null-space projector of torques, with a rank
+//!   test, no allocation.
 //! - [`state_feedback`]: `τ = τ_eq − K·(x ⊖ x_eq)`, the LQR law, no allocation.
 //! - [`linearize`] (`alloc`): `A`, `B` from a generated chain's exact derivatives
 //!   (`linearize::exact`), or by central differences of any forward dynamics.
@@ -39,6 +42,7 @@ impl<F, const NQ: usize, const NV: usize> Controller<NQ, NV> for F where
 pub mod computed_torque;
 #[cfg(feature = "alloc")]
 pub mod linearize;
+pub mod operational_space;
 #[cfg(feature = "alloc")]
 pub mod riccati;
 pub mod state_feedback;
