@@ -276,8 +276,16 @@ pub(crate) fn one_of(names: &[&str]) -> String {
 pub fn unknown_output(found: &str) -> String {
     let names: Vec<&str> = Output::ALL.iter().map(|(_, n)| *n).collect();
     let groups: Vec<&str> = crate::outputs::Group::ALL.iter().map(|(_, n)| *n).collect();
+    // The nearest name, where one is near (a typo): said first, as rustc does.
+    let nearest = names
+        .iter()
+        .chain(&groups)
+        .map(|n| (strsim::damerau_levenshtein(found, n), *n))
+        .min()
+        .filter(|&(d, n)| d <= 2.max(n.len() / 5));
+    let hint = nearest.map_or_else(String::new, |(_, n)| format!(" did you mean `{n}`?"));
     format!(
-        "unknown output `{found}`: expected one of {}, or a group: {}",
+        "unknown output `{found}`:{hint} expected one of {}, or a group: {}",
         one_of(&names),
         one_of(&groups)
     )

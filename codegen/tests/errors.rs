@@ -160,7 +160,7 @@ fn unknown_output() {
         &["outputs: [mass_matrix, mas_matrix];", B, J],
         2,
         24,
-        "unknown output `mas_matrix`: expected one of `mass_matrix`, `mass_matrix_update`, \
+        "unknown output `mas_matrix`: did you mean `mass_matrix`? expected one of `mass_matrix`, `mass_matrix_update`, \
          `mass_matrix_lower`, `bias`, `gravity`, `inverse_dynamics`, `forward_dynamics`, \
          `nonlinear_effects`, \
          `mass_matrix_and_nonlinear_effects`, `joint_wrenches`, `joint_wrenches_bottom_up`, \

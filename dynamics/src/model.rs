@@ -138,12 +138,7 @@ impl EulerSeq {
     }
 }
 
-/// How far from 1 the norm of a quaternion in `q` may be: within it the quaternion is
-/// normalized (so a state printed to a few digits, or integrated for long, is taken as meant);
-/// beyond it the state is refused (`reference::Error::NotUnitQuaternion`, and the runtime's
-/// integrators' `Cause::NotUnitQuaternion`). A quaternion that far off unit is a mistake: a
-/// vector of zeros, a quaternion scaled by hand, or the four numbers of another layout.
-pub const QUATERNION_NORM_TOLERANCE: f64 = 1e-3;
+pub use crate::spatial::QUATERNION_NORM_TOLERANCE;
 
 /// What a joint lets its child do relative to the joint frame, and how its coordinates read.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -19,6 +19,13 @@ use core::ops::{Add, Mul, Neg, Sub};
 
 use crate::scalar::Scalar;
 
+/// How far from 1 the norm of a quaternion in `q` may be: within it the quaternion is
+/// normalized (so a state printed to a few digits, or integrated for long, is taken as meant);
+/// beyond it the state is refused (`reference::Error::NotUnitQuaternion`, and the runtime's
+/// integrators' `Cause::NotUnitQuaternion`). A quaternion that far off unit is a mistake: a
+/// vector of zeros, a quaternion scaled by hand, or the four numbers of another layout.
+pub const QUATERNION_NORM_TOLERANCE: f64 = 1e-3;
+
 /// A 3-vector.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vec3<T>(pub [T; 3]);

@@ -113,7 +113,7 @@ pub fn check(coords: &[Coordinates], nq: usize, nv: usize) -> Result<(), SizeMis
 }
 
 /// Whether every quaternion of `q` has unit norm, within
-/// [`QUATERNION_NORM_TOLERANCE`](crate::model::QUATERNION_NORM_TOLERANCE) (a non-finite norm
+/// [`QUATERNION_NORM_TOLERANCE`](crate::spatial::QUATERNION_NORM_TOLERANCE) (a non-finite norm
 /// is off). What the integrators check before each step: the generated functions take a
 /// quaternion as the rotation of `Q/|Q|`, so one far from unit, which no integrator makes, is a
 /// mistake in the state given.
@@ -121,7 +121,7 @@ pub fn check(coords: &[Coordinates], nq: usize, nv: usize) -> Result<(), SizeMis
 /// # Errors
 /// The index of the first such quaternion's `w` entry in `q`, and its norm.
 pub fn check_unit<T: RealField + Copy>(coords: &[Coordinates], q: &[T]) -> Result<(), (usize, T)> {
-    let tolerance = T::from_subset(&crate::model::QUATERNION_NORM_TOLERANCE);
+    let tolerance = T::from_subset(&crate::spatial::QUATERNION_NORM_TOLERANCE);
     for (c, iq, _) in joints(coords) {
         let w = match c {
             Coordinates::Vector(_) => continue,

@@ -246,7 +246,7 @@ pub trait Chain<T> {
     /// The frames the frame outputs compute (`frames: [tool, left_sole]` in the description),
     /// in that order: a frame output returns `[X; NF]`, entry `k` for `FRAMES[k]`. Empty when
     /// none is named.
-    const FRAMES: &'static [&'static str];
+    const FRAMES: &'static [&'static str] = &[];
     /// Its joints' drives, one per entry of [`COORDINATES`](Chain::COORDINATES): the armature
     /// (already in the generated `M`, `τ` and `q̈`), and the damping, friction and limits that
     /// [`Drives`](crate::drives::Drives) applies in a simulation.

@@ -62,7 +62,6 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
             const COORDINATES: &'static [::articulated::Coordinates] = &[];
             const Q_NAMES: &'static [&'static str] = &[];
             const V_NAMES: &'static [&'static str] = &[];
-            const FRAMES: &'static [&'static str] = &[];
             const DRIVES: &'static [::articulated::Drive] = &[];
             type Params = ();
             fn default_params() {}

@@ -390,6 +390,9 @@ impl<'a> Context<'a> {
             .map(|j| drive_tokens(&j.drive));
         let (q_names, v_names) = self.model.coordinate_names();
         let frames = &self.options.frames;
+        // The trait's default is no frame.
+        let frames_const = (!frames.is_empty())
+            .then(|| quote!(const FRAMES: &'static [&'static str] = &[#(#frames),*];));
         let params_ty = &self.params_ty;
         // `-> ()` would trip clippy's `unused_unit` in the user's crate.
         let default_fn = if self.param_idents.is_empty() {
@@ -405,7 +408,7 @@ impl<'a> Context<'a> {
                 const COORDINATES: &'static [::articulated::Coordinates] = &[#(#coordinates),*];
                 const Q_NAMES: &'static [&'static str] = &[#(#q_names),*];
                 const V_NAMES: &'static [&'static str] = &[#(#v_names),*];
-                const FRAMES: &'static [&'static str] = &[#(#frames),*];
+                #frames_const
                 const DRIVES: &'static [::articulated::Drive] = &[#(#drives),*];
                 type Params = #params_ty;
                 #default_fn

@@ -314,7 +314,7 @@ pub enum Cause<T> {
         capacity: usize,
     },
     /// A quaternion of the state's `q` has a norm off 1 by more than
-    /// [`QUATERNION_NORM_TOLERANCE`](crate::model::QUATERNION_NORM_TOLERANCE): a mistake in
+    /// [`QUATERNION_NORM_TOLERANCE`](crate::spatial::QUATERNION_NORM_TOLERANCE): a mistake in
     /// the initial state (zeros, another library's `[x, y, z, w]` order scaled, …), since the
     /// integrators keep quaternions unit to rounding.
     NotUnitQuaternion {
