@@ -197,3 +197,56 @@ pub extern "C" fn linearized_derivatives(
     }
     0
 }
+
+articulated::chain! {
+    /// A tool frame on an arm with a quaternion shoulder: every frame output.
+    pub chain Tooled {
+        gravity: [0.0, 0.0, -9.81];
+        outputs: [frames];
+        frames: [tool, fore];
+        body upper { mass: 1.0, com: [0.0, 0.0, -0.3], inertia: diag(0.01, 0.01, 0.001) }
+        body fore { mass: 0.5, com: [0.0, 0.0, -0.2], inertia: diag(0.005, 0.005, 0.001) }
+        joint shoulder: spherical(quaternion) { parent: world, child: upper }
+        joint elbow: revolute(y) { parent: upper, child: fore, xyz: [0.0, 0.0, -0.6] }
+        frame tool { parent: fore, xyz: [0.0, 0.1, -0.4], rpy: [0.3, 0.0, 0.2] }
+    }
+}
+
+/// The tool frame of `Tooled` at `(q, v, a)`: its translation (3), rotation (9, column-major),
+/// LOCAL velocity (6), classical acceleration (6), then the column sums of its Jacobians
+/// (LOCAL, WORLD, LOCAL_WORLD_ALIGNED, 4 each) and their time variations (4 each), and of the
+/// derivatives of its velocity (2 × 4) and acceleration (3 × 4).
+#[no_mangle]
+pub extern "C" fn tooled_frames(q: &[f64; 5], v: &[f64; 4], a: &[f64; 4], out: &mut [f64; 68]) {
+    let (q, v, a) = (SVector::from(*q), SVector::from(*v), SVector::from(*a));
+    let [tool, _] = Tooled::frame_placements(&q);
+    let [velocity, _] = Tooled::frame_velocities(&q, &v);
+    let [acceleration, _] = Tooled::frame_accelerations(&q, &v, &a);
+    let jacobians = [
+        Tooled::frame_jacobians_local(&q)[0],
+        Tooled::frame_jacobians_world(&q)[0],
+        Tooled::frame_jacobians_local_world_aligned(&q)[0],
+        Tooled::frame_jacobian_time_variations_local(&q, &v)[0],
+        Tooled::frame_jacobian_time_variations_world(&q, &v)[0],
+        Tooled::frame_jacobian_time_variations_local_world_aligned(&q, &v)[0],
+    ];
+    let (dv_dq, dv_dv) = Tooled::frame_velocity_derivatives(&q, &v)[0];
+    let (da_dq, da_dv, da_da) = Tooled::frame_acceleration_derivatives(&q, &v, &a)[0];
+    let values = tool
+        .translation
+        .iter()
+        .chain(tool.rotation.iter())
+        .chain(velocity.iter())
+        .chain(acceleration.iter())
+        .copied();
+    let matrices = jacobians
+        .into_iter()
+        .chain([dv_dq, dv_dv, da_dq, da_dv, da_da]);
+    let sums = matrices.flat_map(|m| {
+        let s = m.row_sum_tr();
+        [s[0], s[1], s[2], s[3]]
+    });
+    for (o, x) in out.iter_mut().zip(values.chain(sums)) {
+        *o = x;
+    }
+}
