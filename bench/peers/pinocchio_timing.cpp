@@ -1,8 +1,8 @@
 // Pinocchio's side of the comparison (bench/peers/run.sh builds it, run.py runs it).
 //
-//   pinocchio_timing --urdf FILE [--floating] --states FILE --values MODEL
-//   pinocchio_timing --urdf FILE [--floating] --states FILE --time [--batches N] [--batch-ms T] MODEL
-//   pinocchio_timing --urdf FILE [--floating] --states FILE --calls K MODEL OUTPUT
+//   pinocchio_timing --urdf FILE [--floating] [--frames F,G] --states FILE --values MODEL
+//   pinocchio_timing --urdf FILE [--floating] [--frames F,G] --states FILE --time [--batches N] [--batch-ms T] MODEL
+//   pinocchio_timing --urdf FILE [--floating] [--frames F,G] --states FILE --calls K MODEL OUTPUT
 //
 // The model comes from pinocchio::urdf::buildModel (with a JointModelFreeFlyer root for
 // --floating), gravity (0, 0, -9.81). The states file holds "nq nv count", then per state the
@@ -41,8 +41,30 @@
 //   mass_matrix_inverse                computeMinverse(model, data, q)  (the upper triangle of
 //                                      data.Minv)
 //
+// and, with --frames (URDF links, Pinocchio's BODY frames, comma-separated), for those frames
+// only, all of them in each call:
+//
+//   frame_placements                   forwardKinematics(model, data, q), then
+//                                      updateFramePlacement(model, data, id) per frame
+//                                      (data.oMf[id]; not framesForwardKinematics, which
+//                                      updates every frame of the model)
+//   frame_jacobians_local_world_aligned
+//                                      computeFrameJacobian(model, data, q, id,
+//                                      LOCAL_WORLD_ALIGNED, J) per frame (the kinematics of
+//                                      the frame's support only)
+//   frame_jacobians_local_world_aligned_joint_jacobians
+//                                      computeJointJacobians(model, data, q), then
+//                                      getFrameJacobian(model, data, id, LOCAL_WORLD_ALIGNED, J)
+//                                      per frame (the whole tree once: for several frames)
+//   frame_jacobian_time_variations_local_world_aligned
+//                                      computeJointJacobiansTimeVariation(model, data, q, v),
+//                                      then getFrameJacobianTimeVariation(model, data, id,
+//                                      LOCAL_WORLD_ALIGNED, dJ) per frame
+//
+// Each frame has its own J and dJ (6 x nv, zeroed once), as a user keeps them.
+//
 // In --values mode these are given in articulated's conventions: h_G and the rows of A_G
-// angular first (Pinocchio's are linear first).
+// angular first (Pinocchio's are linear first), and so the rows of the frames' J and dJ.
 //
 // A timed call cycles through the states; the inputs are Eigen::Ref views made once, and an
 // empty asm statement with a memory clobber after each call makes the compiler assume the
@@ -69,6 +91,9 @@
 #include <pinocchio/algorithm/centroidal.hpp>
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/energy.hpp>
+#include <pinocchio/algorithm/frames.hpp>
+#include <pinocchio/algorithm/jacobian.hpp>
+#include <pinocchio/algorithm/kinematics.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/parsers/urdf.hpp>
@@ -79,16 +104,39 @@ using Vec = Eigen::VectorXd;
 using Ref = Eigen::Ref<const Vec>;
 
 const char *const USAGE =
-    "usage: pinocchio_timing --urdf FILE [--floating] --states FILE --values MODEL\n"
-    "       pinocchio_timing --urdf FILE [--floating] --states FILE --time [--batches N] "
-    "[--batch-ms T] MODEL\n"
-    "       pinocchio_timing --urdf FILE [--floating] --states FILE --calls K MODEL OUTPUT";
+    "usage: pinocchio_timing --urdf FILE [--floating] [--frames F,G] --states FILE --values MODEL\n"
+    "       pinocchio_timing --urdf FILE [--floating] [--frames F,G] --states FILE --time "
+    "[--batches N] [--batch-ms T] MODEL\n"
+    "       pinocchio_timing --urdf FILE [--floating] [--frames F,G] --states FILE --calls K "
+    "MODEL OUTPUT";
 
 // Tells the compiler that memory (the result in data, the inputs) is read and written here.
 inline void clobber() { asm volatile("" ::: "memory"); }
 
 struct State {
   Vec q, v, a, tau;
+};
+
+// The frames of --frames: their ids, and a Jacobian and its rate per frame (zeroed once).
+struct Frames {
+  std::vector<pinocchio::FrameIndex> ids;
+  std::vector<pinocchio::Data::Matrix6x> J, dJ;
+
+  // The BODY frames of the links `names` (comma-separated; empty: none).
+  Frames(const pinocchio::Model &model, const std::string &names) {
+    size_t start = 0;
+    while (start < names.size()) {
+      size_t end = names.find(',', start);
+      if (end == std::string::npos) end = names.size();
+      const std::string name = names.substr(start, end - start);
+      if (!model.existFrame(name, pinocchio::BODY))
+        throw std::runtime_error("no link (BODY frame) named " + name);
+      ids.push_back(model.getFrameId(name, pinocchio::BODY));
+      start = end + 1;
+    }
+    J.assign(ids.size(), pinocchio::Data::Matrix6x::Zero(6, model.nv));
+    dJ = J;
+  }
 };
 
 // Reads "nq nv count", then count times q, v, a, tau.
@@ -169,7 +217,7 @@ struct Runner {
 
 // Hands run the closure of every output.
 template <class R>
-void each_output(const pinocchio::Model &model, pinocchio::Data &data,
+void each_output(const pinocchio::Model &model, pinocchio::Data &data, Frames &frames,
                  const std::vector<Ref> &q, const std::vector<Ref> &v, const std::vector<Ref> &a,
                  const std::vector<Ref> &tau, R &run) {
   using pinocchio::Convention;
@@ -217,6 +265,29 @@ void each_output(const pinocchio::Model &model, pinocchio::Data &data,
     pinocchio::computeABADerivatives(model, data, q[i & mask], v[i & mask], tau[i & mask]);
   });
   run("mass_matrix_inverse", [&](long i) { pinocchio::computeMinverse(model, data, q[i & mask]); });
+  if (frames.ids.empty()) return;
+  using pinocchio::LOCAL_WORLD_ALIGNED;
+  const auto &ids = frames.ids;
+  auto &J = frames.J;
+  auto &dJ = frames.dJ;
+  run("frame_placements", [&](long i) {
+    pinocchio::forwardKinematics(model, data, q[i & mask]);
+    for (auto id : ids) pinocchio::updateFramePlacement(model, data, id);
+  });
+  run("frame_jacobians_local_world_aligned", [&](long i) {
+    for (size_t k = 0; k < ids.size(); ++k)
+      pinocchio::computeFrameJacobian(model, data, q[i & mask], ids[k], LOCAL_WORLD_ALIGNED, J[k]);
+  });
+  run("frame_jacobians_local_world_aligned_joint_jacobians", [&](long i) {
+    pinocchio::computeJointJacobians(model, data, q[i & mask]);
+    for (size_t k = 0; k < ids.size(); ++k)
+      pinocchio::getFrameJacobian(model, data, ids[k], LOCAL_WORLD_ALIGNED, J[k]);
+  });
+  run("frame_jacobian_time_variations_local_world_aligned", [&](long i) {
+    pinocchio::computeJointJacobiansTimeVariation(model, data, q[i & mask], v[i & mask]);
+    for (size_t k = 0; k < ids.size(); ++k)
+      pinocchio::getFrameJacobianTimeVariation(model, data, ids[k], LOCAL_WORLD_ALIGNED, dJ[k]);
+  });
 }
 
 std::string json_vector(const Vec &x) {
@@ -249,9 +320,50 @@ std::string json_number(double x) {
   return buf;
 }
 
+// The frame outputs at state s, as JSON members (none without frames): per frame, in the order
+// of --frames, the placement (rotation row by row, translation), J and dJ angular rows first.
+std::string frame_values(const pinocchio::Model &model, pinocchio::Data &data, Frames &frames,
+                         const State &s) {
+  if (frames.ids.empty()) return "";
+  using pinocchio::LOCAL_WORLD_ALIGNED;
+  const auto &ids = frames.ids;
+  auto list = [&](auto item) {
+    std::string out = "[";
+    for (size_t k = 0; k < ids.size(); ++k) out += (k ? ", " : "") + item(k);
+    return out + "]";
+  };
+  pinocchio::forwardKinematics(model, data, s.q);
+  for (auto id : ids) pinocchio::updateFramePlacement(model, data, id);
+  std::string out = ", \"frame_placements\": " + list([&](size_t k) {
+    const auto &m = data.oMf[ids[k]];
+    return "{\"rotation\": " + json_matrix(m.rotation()) +
+           ", \"translation\": " + json_vector(m.translation()) + "}";
+  });
+  for (auto &j : frames.J) j.setZero();
+  out += ", \"frame_jacobians_local_world_aligned\": " + list([&](size_t k) {
+    pinocchio::computeFrameJacobian(model, data, s.q, ids[k], LOCAL_WORLD_ALIGNED, frames.J[k]);
+    return json_matrix(angular_first(frames.J[k]));
+  });
+  for (auto &j : frames.J) j.setZero();
+  pinocchio::computeJointJacobians(model, data, s.q);
+  out += ", \"frame_jacobians_local_world_aligned_joint_jacobians\": " + list([&](size_t k) {
+    pinocchio::getFrameJacobian(model, data, ids[k], LOCAL_WORLD_ALIGNED, frames.J[k]);
+    return json_matrix(angular_first(frames.J[k]));
+  });
+  for (auto &j : frames.dJ) j.setZero();
+  pinocchio::computeJointJacobiansTimeVariation(model, data, s.q, s.v);
+  out += ", \"frame_jacobian_time_variations_local_world_aligned\": " + list([&](size_t k) {
+    pinocchio::getFrameJacobianTimeVariation(model, data, ids[k], LOCAL_WORLD_ALIGNED,
+                                             frames.dJ[k]);
+    return json_matrix(angular_first(frames.dJ[k]));
+  });
+  return out;
+}
+
 // The outputs at state s, as JSON; the mass matrices and their inverses as Pinocchio leaves them
 // (upper triangle), the centroidal momentum and its matrix angular first.
-std::string values(const pinocchio::Model &model, pinocchio::Data &data, const State &s) {
+std::string values(const pinocchio::Model &model, pinocchio::Data &data, Frames &frames,
+                   const State &s) {
   using pinocchio::Convention;
   std::string out = "{";
   data.M.setZero();
@@ -300,11 +412,12 @@ std::string values(const pinocchio::Model &model, pinocchio::Data &data, const S
          "}";
   data.Minv.setZero();
   out += ", \"mass_matrix_inverse\": " + json_matrix(pinocchio::computeMinverse(model, data, s.q));
+  out += frame_values(model, data, frames, s);
   return out + "}";
 }
 
 int run(int argc, char **argv) {
-  std::string urdf, states_path;
+  std::string urdf, states_path, frame_names;
   bool floating = false, do_values = false, do_time = false, do_calls = false;
   Runner runner;
   std::vector<std::string> rest;
@@ -316,6 +429,7 @@ int run(int argc, char **argv) {
     };
     if (a == "--urdf") urdf = next();
     else if (a == "--floating") floating = true;
+    else if (a == "--frames") frame_names = next();
     else if (a == "--states") states_path = next();
     else if (a == "--values") do_values = true;
     else if (a == "--time") do_time = true;
@@ -338,10 +452,11 @@ int run(int argc, char **argv) {
     pinocchio::urdf::buildModel(urdf, model);
   model.gravity.linear(Eigen::Vector3d(0, 0, -9.81));
   pinocchio::Data data(model);
+  Frames frames(model, frame_names);
   const auto states = read_states(states_path, model.nq, model.nv);
 
   if (do_values) {
-    std::printf("%s\n", values(model, data, states[0]).c_str());
+    std::printf("%s\n", values(model, data, frames, states[0]).c_str());
     return 0;
   }
   std::vector<Ref> q, v, a, tau;
@@ -354,11 +469,11 @@ int run(int argc, char **argv) {
   if (do_calls) {
     runner.mode = Runner::Calls;
     runner.only = rest[1];
-    each_output(model, data, q, v, a, tau, runner);
+    each_output(model, data, frames, q, v, a, tau, runner);
     if (!runner.found) throw std::runtime_error("unknown output " + rest[1]);
     return 0;
   }
-  each_output(model, data, q, v, a, tau, runner);
+  each_output(model, data, frames, q, v, a, tau, runner);
   std::string out = "{";
   for (size_t i = 0; i < runner.json.size(); ++i) out += (i ? ", " : "") + runner.json[i];
   std::printf("%s}\n", out.c_str());

@@ -8,8 +8,9 @@ For every model of MODELS it
      program in that program's own convention and joint order;
   3. checks the values: every program's outputs at the first state, mapped back to Pinocchio's
      convention, against Pinocchio's; ours to a relative 1e-9 (else it stops; the quantities
-     of the whole system to 1e-10; the derivatives, where ours has them, to 1e-9), MuJoCo to a
-     looser bound (its worst difference is reported either way);
+     of the whole system to 1e-10; the derivatives, where ours has them, to 1e-9; the frame
+     outputs, where ours has them, to 1e-10), MuJoCo to a looser bound (its worst difference
+     is reported either way);
   4. times: ROUNDS rounds, each running every program once per model in a rotating order;
      each run reports per output the fastest and the median of its ~1 ms batches; the driver
      keeps the fastest over rounds (and the median of the medians);
@@ -100,6 +101,23 @@ DERIV_ROWS = [
     ("mass_matrix_inverse", "mass_matrix_inverse", None, None),
 ]
 DERIV_TOL = 1e-9
+
+# The frame outputs (their own table), for the models generated with frames (`peers --layout`
+# lists them; Pinocchio's program is given the same with --frames): our output name, Pinocchio's
+# program outputs (the first is the call the comparison names; the fastest of them is the
+# figure). Every call computes all the model's frames. MuJoCo's program times none of them.
+FRAME_ROWS = [
+    ("frame_placements", ["frame_placements"]),
+    (
+        "frame_jacobians_local_world_aligned",
+        ["frame_jacobians_local_world_aligned", "frame_jacobians_local_world_aligned_joint_jacobians"],
+    ),
+    (
+        "frame_jacobian_time_variations_local_world_aligned",
+        ["frame_jacobian_time_variations_local_world_aligned"],
+    ),
+]
+FRAME_TOL = 1e-10
 # Central differences (step 1e-6) against the analytical values: a sanity check of the kernel.
 DIFFERENCES_TOL = 1e-4
 
@@ -115,20 +133,27 @@ def log(msg):
     print(f"[run.py] {msg}", flush=True)
 
 
-def programs(model):
-    """The timing programs of one model: key -> command (without the mode arguments)."""
+def ours_binary(build):
+    return os.path.join(OUT, f"rust-{build}", "release", "peers")
+
+
+def programs(model, frames):
+    """The timing programs of one model: key -> command (without the mode arguments). `frames`:
+    the links whose frame outputs ours has (Pinocchio's program times the same)."""
     name, _chain, urdf, floating = model
     pin_args = ["--urdf", os.path.join(ROOT, urdf)] + (["--floating"] if floating else [])
+    if frames:
+        pin_args += ["--frames", ",".join(frames)]
 
     def states(conv):
         return ["--states", os.path.join(OUT, "states", f"{name}.{conv}.txt")]
 
     return {
-        "ours_v3": [os.path.join(OUT, "rust-v3", "release", "peers")] + states("ours"),
-        "ours_default": [os.path.join(OUT, "rust-default", "release", "peers")] + states("ours"),
+        "ours_v3": [ours_binary("v3")] + states("ours"),
+        "ours_default": [ours_binary("default")] + states("ours"),
         "pin_v3": [os.path.join(OUT, "bin", "pinocchio_v3")] + pin_args + states("pin"),
         "pin_wheel": [os.path.join(OUT, "bin", "pinocchio_wheel")] + pin_args + states("pin"),
-        "ours_native": [os.path.join(OUT, "rust-native", "release", "peers")] + states("ours"),
+        "ours_native": [ours_binary("native")] + states("ours"),
         "pin_native": [os.path.join(OUT, "bin", "pinocchio_native")] + pin_args + states("pin"),
         "mujoco": [os.path.join(OUT, "bin", "mujoco_timing"), "--mjb", mjb_path(name)]
         + states("mujoco"),
@@ -414,9 +439,47 @@ def check_derivatives(name, key, vals, ref, P):
     return worst, differences
 
 
-def check_values(model_entry, progs, maps, state0, derivatives):
+def frame_arrays(vals, P=None):
+    """The frame outputs of a program's JSON as {(quantity, frame index): array}: the rotation
+    and translation of each placement, each J and dJ (angular rows first on both sides); with
+    P (v_ours = P v_pin), our Jacobians' columns mapped to Pinocchio's joint order (J P)."""
+    cols = (lambda m: np.asarray(m, float) @ P) if P is not None else (lambda m: np.asarray(m, float))
+    out = {}
+    for k, p in enumerate(vals["frame_placements"]):
+        out[("rotation", k)] = np.asarray(p["rotation"], float)
+        out[("translation", k)] = np.asarray(p["translation"], float)
+    for key, what in (
+        ("frame_jacobians_local_world_aligned", "J lwa"),
+        ("frame_jacobians_local_world_aligned_joint_jacobians", "J lwa (computeJointJacobians)"),
+        ("frame_jacobian_time_variations_local_world_aligned", "dJ lwa"),
+    ):
+        for k, m in enumerate(vals.get(key, [])):
+            out[(what, k)] = cols(m)
+    return out
+
+
+def check_frames(name, key, frames, x, ref):
+    """Frame outputs x against ref ({(quantity, frame index): array}, frame_arrays), each to
+    FRAME_TOL relative to the largest entry of ref's; stops above it, returns the worst."""
+    worst = 0.0
+    for (what, k), r in ref.items():
+        if (what, k) not in x:
+            continue
+        e = rel(x[(what, k)], r)
+        worst = max(worst, e)
+        if e > FRAME_TOL:
+            sys.exit(
+                f"[run.py] VALUES DISAGREE: {name} {key}: frame {frames[k]} {what} differs from "
+                f"Pinocchio's by {e:.3g} (relative) > {FRAME_TOL}\n  ours:      {x[(what, k)].ravel()[:8]}\n"
+                f"  Pinocchio: {r.ravel()[:8]}"
+            )
+    return worst
+
+
+def check_values(model_entry, progs, maps, state0, derivatives, frames):
     """Every program's outputs against Pinocchio's (pin_v3); returns the worst MuJoCo difference.
-    `derivatives`: whether our program has the derivative outputs of this model."""
+    `derivatives`: whether our program has the derivative outputs of this model; `frames`: the
+    frames of its frame outputs (none: empty)."""
     name = model_entry[0]
     ref = run_json(progs["pin_v3"] + ["--values", name])
     up = lambda m: np.triu(np.asarray(m, float))
@@ -460,6 +523,12 @@ def check_values(model_entry, progs, maps, state0, derivatives):
         e = rel(ref_d["minv (aba derivatives)"], ref_d["mass_matrix_inverse"])
         if e > DERIV_TOL:
             sys.exit(f"[run.py] VALUES DISAGREE: {name} {key}: Minv of computeABADerivatives and computeMinverse differ by {e:.3g}")
+        if frames:
+            ref_f = frame_arrays(ref)
+            check_frames(name, key, frames, frame_arrays(vals), ref_f)
+            # Both ways to the Jacobians agree.
+            both = {("J lwa", k): m for (w, k), m in frame_arrays(vals).items() if w == "J lwa (computeJointJacobians)"}
+            check_frames(name, f"{key} computeJointJacobians", frames, both, ref_f)
     # Ours, every build.
     for key in ("ours_v3", "ours_default", "ours_native"):
         vals = run_json(progs[key] + ["--values", name])
@@ -528,6 +597,11 @@ def check_values(model_entry, progs, maps, state0, derivatives):
                 f"{name}: {key} agrees with Pinocchio on the derivatives to {worst_d:.1e} (relative); "
                 f"central differences {differences['dtau_dq']:.1e} (∂τ/∂q), {differences['ddq_dq']:.1e} (∂q̈/∂q)"
             )
+        if frames:
+            # Ours: the same frames in the same order; Jacobian columns in our joint order.
+            worst_f = check_frames(name, key, frames, frame_arrays(vals, P), frame_arrays(ref))
+            report.append((f"{key} (frames)", worst_f))
+            log(f"{name}: {key} agrees with Pinocchio on the frame outputs ({', '.join(frames)}) to {worst_f:.1e} (relative)")
     # MuJoCo: reported, with a looser bound.
     vals = run_json(progs["mujoco"] + ["--values", name])
     m = maps["mujoco"].back(
@@ -789,7 +863,10 @@ def report(env, models, ops, results, instr, checks, args, load_end):
         (key_worst, mj_worst, mj_diffs) = checks[name]
         extra.append(
             "values at the first state against Pinocchio's (relative to the largest entry): "
-            + ", ".join(f"{k} {e:.1e}" for k, e in key_worst if "derivatives" not in k and "differences" not in k)
+            + ", ".join(
+                f"{k} {e:.1e}" for k, e in key_worst
+                if "derivatives" not in k and "differences" not in k and "frames" not in k
+            )
             + f"; MuJoCo {mj_worst:.1e} (worst: {max(mj_diffs, key=mj_diffs.get)})"
             + (f" — **above {MUJOCO_TOL:g}: MuJoCo's model differs**" if mj_worst > MUJOCO_TOL else "")
         )
@@ -797,6 +874,7 @@ def report(env, models, ops, results, instr, checks, args, load_end):
             w(f"- {e}")
     whole_report(w, models, ops, results, instr)
     derivatives_report(w, models, ops, results, instr, checks)
+    frames_report(w, models, ops, results, instr, checks)
     native_report(w, models, ops, results, env)
     bytes_report(w, models, results, code_bytes(os.path.join(OUT, "rust-v3", "release", "peers")))
     w("")
@@ -931,6 +1009,116 @@ def bytes_report(w, models, results, sizes):
         w(f"| {name} | {output} | {b} | {fmt_ns(ns)} | {b / ns:.0f} |")
 
 
+FRAMES_MUJOCO = """MuJoCo: n/a. Its program (`bench/peers/mujoco_timing.c`) times the dynamics terms only.
+MuJoCo's `mj_kinematics` places every body (its `xpos`, `xmat`) and `mj_jacBody` gives a
+body's Jacobian (world axes, at its origin); they are not timed here yet."""
+
+
+def frames_report(w, models, ops, results, instr, checks):
+    """The section of the frame outputs."""
+    with_f = [m for m in models if ops[m[0]]["frames"]]
+    if not with_f:
+        return
+    w("")
+    w("## Frames")
+    w("")
+    w("The placements of a model's named frames, their Jacobians in LOCAL_WORLD_ALIGNED (the frame's")
+    w("origin, world axes) and the time variations of those Jacobians, timed in the same runs as the")
+    w("tables above, on the same states, after a values check: ours against Pinocchio's to 1e-10")
+    w("relative to the largest entry of each frame's value, rows angular first and columns in")
+    w("Pinocchio's joint order on both sides (Pinocchio's rows are linear first: its halves are")
+    w("swapped). The frames are URDF links (Pinocchio's BODY frames); every call, on either side,")
+    w("computes all of the model's frames listed in the heading.")
+    w("")
+    w("**ours**: `C::frame_placements(&q)` → `[FramePlacement; NF]` (rotation and translation),")
+    w("`C::frame_jacobians_local_world_aligned(&q)` → `[SMatrix<f64, 6, NV>; NF]`,")
+    w("`C::frame_jacobian_time_variations_local_world_aligned(&q, &v)` → `[SMatrix<f64, 6, NV>; NF]`,")
+    w("one call each (`#[chain(…, frames = [link7])]`). **Pinocchio**: `forwardKinematics(model, data,")
+    w("q)` then `updateFramePlacement(model, data, id)` per frame (not `framesForwardKinematics`, which")
+    w("updates every frame of the model); `computeFrameJacobian(model, data, q, id, LOCAL_WORLD_ALIGNED,")
+    w("J)` per frame (each runs the kinematics of that frame's support), and besides")
+    w("`computeJointJacobians(model, data, q)` then `getFrameJacobian(model, data, id,")
+    w("LOCAL_WORLD_ALIGNED, J)` per frame (the whole tree once), the faster of the two being the")
+    w("figure (a ᴶ marks where that was the second); `computeJointJacobiansTimeVariation(model, data,")
+    w("q, v)` then `getFrameJacobianTimeVariation(model, data, id, LOCAL_WORLD_ALIGNED, dJ)` per frame.")
+    w("Each frame has its own `J` and `dJ` (6 × nv, zeroed once), as a user keeps them.")
+    w("")
+    w(FRAMES_MUJOCO)
+    w("")
+    w("In short (fastest batches; a ratio above 1 means ours is faster):")
+    w("")
+
+    def pin_best(res, k, pins):
+        return min((res[k][p][0], p) for p in pins)
+
+    for (name, *_rest) in with_f:
+        res = results[name]
+        parts = []
+        for o, pins in FRAME_ROWS:
+            p3 = pin_best(res, "pin_v3", pins)[0]
+            parts.append(
+                f"{o} {fmt_ratio(p3 / res['ours_v3'][o][0])} (v3), {fmt_ratio(p3 / res['ours_default'][o][0])} (default)"
+            )
+        w(f"- **{name}** ({', '.join(ops[name]['frames'])}), Pinocchio v3 / ours: " + "; ".join(parts))
+    for (name, chain, urdf, floating) in with_f:
+        res, ins = results[name], instr.get(name, {})
+        frames = ops[name]["frames"]
+        w("")
+        w(
+            f"### {name}: frames ({len(frames)} frame{'s' if len(frames) > 1 else ''}: "
+            f"{', '.join(f'`{f}`' for f in frames)}; {'floating base, ' if floating else ''}"
+            f"nq {ops[name]['nq']}, nv {ops[name]['nv']})"
+        )
+        w("")
+        w("| output | ops | ours v3 (ns) | ours default (ns) | Pinocchio v3 (ns) | Pinocchio wheel (ns) | MuJoCo (ns) | Pinocchio / ours (v3) | Pinocchio / ours (default) | instructions ours v3 / Pinocchio v3 |")
+        w("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        for o, pins in FRAME_ROWS:
+            p3, p3_which = pin_best(res, "pin_v3", pins)
+            pw = pin_best(res, "pin_wheel", pins)[0]
+            mark = "ᴶ" if p3_which != pins[0] else ""
+            o3, od = res["ours_v3"][o][0], res["ours_default"][o][0]
+            i_ours = ins.get("ours_v3", {}).get(o)
+            i_pin = ins.get("pin_v3", {}).get(p3_which)
+            instr_cell = (
+                f"{i_ours:.0f} / {i_pin:.0f} ({i_pin / i_ours:.1f}×)" if i_ours and i_pin else "–"
+            )
+            w(
+                f"| {o} | {ops[name]['ops'][o]} | {fmt_ns(o3)} | {fmt_ns(od)} | {fmt_ns(p3)}{mark} | "
+                f"{fmt_ns(pw)} | n/a | {fmt_ratio(p3 / o3)} | {fmt_ratio(p3 / od)} | {instr_cell} |"
+            )
+        w("")
+        med = lambda k, o: fmt_ns(res[k][o][1])
+        w(
+            "- medians (ns; ours v3 / ours default / Pinocchio v3 / Pinocchio wheel): "
+            + "; ".join(
+                f"{o} {med('ours_v3', o)} / {med('ours_default', o)} / "
+                f"{' or '.join(med('pin_v3', p) for p in ps)} / {' or '.join(med('pin_wheel', p) for p in ps)}"
+                for o, ps in FRAME_ROWS
+            )
+        )
+        jac, joint = FRAME_ROWS[1][1]
+        w(
+            f"- Pinocchio `computeFrameJacobian` per frame / `computeJointJacobians` + `getFrameJacobian` per frame: "
+            f"v3 {fmt_ns(res['pin_v3'][jac][0])} / {fmt_ns(res['pin_v3'][joint][0])} ns, "
+            f"wheel {fmt_ns(res['pin_wheel'][jac][0])} / {fmt_ns(res['pin_wheel'][joint][0])} ns"
+            + (
+                f"; instructions (v3) {ins['pin_v3'][jac]:.0f} / {ins['pin_v3'][joint]:.0f}"
+                if jac in ins.get("pin_v3", {}) and joint in ins.get("pin_v3", {})
+                else ""
+            )
+        )
+        if "ours_default" in ins:
+            w(
+                "- instructions per call, ours default: "
+                + ", ".join(f"{o} {ins['ours_default'][o]:.0f}" for o, _ in FRAME_ROWS)
+            )
+        key_worst = checks[name][0]
+        w(
+            "- values at the first state against Pinocchio's (relative to the largest entry of each "
+            "frame's value): " + ", ".join(f"{k} {e:.1e}" for k, e in key_worst if "frames" in k)
+        )
+
+
 def native_report(w, models, ops, results, env):
     """The section of the builds for this machine's CPU, both sides."""
     w("")
@@ -959,6 +1147,8 @@ def native_report(w, models, ops, results, env):
         rows += [(o, pins) for o, pins in WHOLE_ROWS]
         if ops[name]["derivatives"]:
             rows += [(o, [p]) for o, p, _d, _v in DERIV_ROWS]
+        if ops[name]["frames"]:
+            rows += FRAME_ROWS
         w("")
         w(f"### {name}: native")
         w("")
@@ -1143,6 +1333,9 @@ the run stops; MuJoCo's difference is shown above. A timed call's inputs and res
   or `computeCentroidalMap(model, data, q)` (A_G alone), `computeKineticEnergy(model, data, q, v)`,
   `computePotentialEnergy(model, data, q)` (−Σ m gᵀ x, as ours), `computeCoriolisMatrix(model,
   data, q, v)` (the same matrix as ours on these models: fixed bases and a free flyer).
+- **frames, ours**: one call computes every frame of the model (`Arm7::frame_placements(&q)` →
+  `[FramePlacement<f64>; 1]`; the humanoid's four in one call), as described in the section
+  [Frames](#frames); **Pinocchio**: the calls listed there, one per frame after the kinematics.
 - **instructions**: `valgrind --tool=callgrind` on `PROGRAM --calls K MODEL OUTPUT`,
   (Ir(K = 1024) − Ir(K = 0)) / K: one call plus the loop around it, independent of the load.
 
@@ -1185,9 +1378,9 @@ def main():
         pm = pinocchio_model(urdf, floating)
         common = pinocchio_joints(pm)
         mm = mujoco_model(name, urdf, floating)
-        progs[name] = programs(entry)
-        layout = run_json(progs[name]["ours_v3"][:1] + ["--layout", name])
+        layout = run_json([ours_binary("v3"), "--layout", name])
         ops[name] = layout
+        progs[name] = programs(entry, layout["frames"])
         maps = {
             "ours": Map(common, layout["joints"], layout["nq"], layout["nv"], False),
             "mujoco": Map(common, mujoco_joints(mm), mm.nq, mm.nv, True),
@@ -1201,7 +1394,9 @@ def main():
                 [mp.state(s) for s in states], mp.nq, mp.nv,
             )
         log(f"model {name}: checking values")
-        checks[name] = check_values(entry, progs[name], maps, states[0], layout["derivatives"])
+        checks[name] = check_values(
+            entry, progs[name], maps, states[0], layout["derivatives"], layout["frames"]
+        )
     results = time_all(MODELS, progs, args.rounds, args.batches)
     instr = {}
     if not args.quick:
@@ -1211,6 +1406,9 @@ def main():
             if ops[name]["derivatives"]:
                 ours += [r[0] for r in DERIV_ROWS] + [r[2] for r in DERIV_ROWS if r[2]]
                 pin += [r[1] for r in DERIV_ROWS]
+            if ops[name]["frames"]:
+                ours += [r[0] for r in FRAME_ROWS]
+                pin += [p for r in FRAME_ROWS for p in r[1]]
             return {"ours_v3": ours, "ours_default": ours, "pin_v3": pin, "mujoco": [r[2] for r in ROWS]}
 
         instr = instructions(MODELS, progs, which)

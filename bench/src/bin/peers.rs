@@ -3,7 +3,7 @@
 //! program of the comparison measures the same inputs.
 //!
 //! ```text
-//! peers --layout MODEL                               # joints, coordinates, op counts (JSON)
+//! peers --layout MODEL                               # joints, coordinates, op counts, frames (JSON)
 //! peers --states FILE --values MODEL                 # outputs at the first state (JSON)
 //! peers --states FILE --time [--batches N] [--batch-ms T] MODEL   # ns per call (JSON)
 //! peers --states FILE --calls K MODEL OUTPUT         # exactly K calls, then exit (callgrind)
@@ -37,6 +37,10 @@
 //! (`run.sh`, once per target) `chain50`'s `coriolis_matrix` is about 85 s of this binary's
 //! 147 s.
 //!
+//! The models given `frames [..]` in `models!` (`arm7`: its flange `link7`; the humanoid: both
+//! soles and both hands) also have three frame outputs ([`FRAME_OUTPUTS`]) for those frames:
+//! their placements, their Jacobians in LOCAL_WORLD_ALIGNED and the time variations of those.
+//!
 //! The derivative outputs: `arm7`'s are small (about 4,100 and 6,400 operations). The humanoid's
 //! (`inverse_dynamics_derivatives` about 41,000 operations, `forward_dynamics_derivatives`
 //! 131,000, `mass_matrix_inverse` 21,000; measured when they were 41,000, 144,000 and 34,000)
@@ -45,6 +49,11 @@
 //! (opt-level 1 with debug info; measured on a crate of their own) that CI's `cargo test
 //! --workspace` builds this binary with: hence the feature `humanoid-derivatives`, off by
 //! default, which `run.sh` turns on.
+//!
+//! The frame outputs are small enough to stay out of that feature (the humanoid's four frames:
+//! 824, 1,468 and 4,854 operations): `cargo test -p articulated-bench --no-run` after touching
+//! this file took 29–42 s with them and 41 s without (measured while adding them, with other
+//! builds running beside it).
 
 use std::hint::black_box;
 use std::path::Path;
@@ -85,6 +94,14 @@ const DERIVATIVE_OUTPUTS: [Output; 3] = [
     Output::MassMatrixInverse,
 ];
 
+/// The frame outputs, timed after the [`DIFFERENCES`] for the models generated with frames:
+/// each returns one value per frame of `C::FRAMES`, all of them in one call.
+const FRAME_OUTPUTS: [Output; 3] = [
+    Output::FramePlacements,
+    Output::FrameJacobiansLocalWorldAligned,
+    Output::FrameJacobianTimeVariationsLocalWorldAligned,
+];
+
 /// The timing of `C::mass_matrix_update(&q, &mut kept)`: `M` into a [`KeptMassMatrix`], only the
 /// entries that can be non-zero written (reported beside `mass_matrix`).
 const MASS_MATRIX_UPDATE: &str = "mass_matrix_update";
@@ -122,6 +139,13 @@ trait Peer<const NQ: usize, const NV: usize>:
     fn derivative_values(_x: &State<NQ, NV>) -> Option<DerivativeValues> {
         None
     }
+    /// Hands `visitor` the closures of the [`FRAME_OUTPUTS`], for a model generated with them
+    /// ([`each_frame`]); nothing otherwise.
+    fn each_frame<V: Visit>(_states: &[State<NQ, NV>], _visitor: &mut V) {}
+    /// The frame outputs at `x` ([`frame_values`]); `None` for a model without them.
+    fn frame_values(_x: &State<NQ, NV>) -> Option<FrameValues> {
+        None
+    }
 }
 
 /// What a model marked `derivatives` in `models!` implements besides [`Peer`].
@@ -135,8 +159,27 @@ impl<C, const NQ: usize, const NV: usize> DerivativePeer<NQ, NV> for C where
 {
 }
 
-/// The generated type of one model (for `models!`): the outputs of the comparison, and the
-/// [`DERIVATIVE_OUTPUTS`] after `derivatives`.
+/// What a model given `frames [..]` in `models!` implements besides [`Peer`], with `NF` its
+/// number of frames.
+trait FramePeer<const NQ: usize, const NV: usize, const NF: usize>:
+    Peer<NQ, NV>
+    + FramePlacements<f64, NQ, NV, NF>
+    + FrameJacobiansLocalWorldAligned<f64, NQ, NV, NF>
+    + FrameJacobianTimeVariationsLocalWorldAligned<f64, NQ, NV, NF>
+{
+}
+
+impl<C, const NQ: usize, const NV: usize, const NF: usize> FramePeer<NQ, NV, NF> for C where
+    C: Peer<NQ, NV>
+        + FramePlacements<f64, NQ, NV, NF>
+        + FrameJacobiansLocalWorldAligned<f64, NQ, NV, NF>
+        + FrameJacobianTimeVariationsLocalWorldAligned<f64, NQ, NV, NF>
+{
+}
+
+/// The generated type of one model (for `models!`): the outputs of the comparison, the
+/// [`DERIVATIVE_OUTPUTS`] after `derivatives`, and the [`FRAME_OUTPUTS`] of the frames in
+/// `frames [..]` where there are any.
 macro_rules! peer_type {
     (derivatives $($rest:tt)*) => {
         peer_type!(
@@ -147,7 +190,7 @@ macro_rules! peer_type {
     (plain $($rest:tt)*) => {
         peer_type!(@outputs [] $($rest)*);
     };
-    (@outputs [$($extra:ident),*] $(#[$attr:meta])* $ty:ident, $file:literal) => {
+    (@outputs [$($extra:ident),*] [] $(#[$attr:meta])* $ty:ident, $file:literal) => {
         $(#[$attr])*
         #[doc = concat!("The generated `", $file, "`.")]
         #[derive(articulated::Chain)]
@@ -156,6 +199,60 @@ macro_rules! peer_type {
             outputs = [dynamics, kept, whole_body $(, $extra)*]
         )]
         struct $ty;
+    };
+    (
+        @outputs [$($extra:ident),*] [$($frame:ident),+]
+        $(#[$attr:meta])* $ty:ident, $file:literal
+    ) => {
+        $(#[$attr])*
+        #[doc = concat!("The generated `", $file, "`, with frames.")]
+        #[derive(articulated::Chain)]
+        #[chain(
+            file = $file,
+            outputs = [
+                dynamics,
+                kept,
+                whole_body,
+                $($extra,)*
+                frame_placements,
+                frame_jacobians_local_world_aligned,
+                frame_jacobian_time_variations_local_world_aligned
+            ],
+            frames = [$($frame),+]
+        )]
+        struct $ty;
+    };
+}
+
+/// The members of a `Peer` impl that a model given frames overrides (for `models!`).
+macro_rules! frame_members {
+    ([] $ty:ident) => {};
+    ([$($frame:ident),+] $ty:ident) => {
+        fn each_frame<V: Visit>(states: &[State<{ $ty::NQ }, { $ty::NV }>], visitor: &mut V) {
+            each_frame::<$ty, V, { $ty::NQ }, { $ty::NV }, { $ty::NF }>(states, visitor);
+        }
+        fn frame_values(x: &State<{ $ty::NQ }, { $ty::NV }>) -> Option<FrameValues> {
+            Some(frame_values::<$ty, { $ty::NQ }, { $ty::NV }, { $ty::NF }>(
+                x,
+            ))
+        }
+    };
+}
+
+/// The operation counts of the frame outputs of a model given frames (for `models!`).
+macro_rules! frame_ops {
+    ([] $ty:ident, $output:expr) => {
+        OpCounts::default()
+    };
+    ([$($frame:ident),+] $ty:ident, $output:expr) => {
+        match $output {
+            Output::FramePlacements => $ty::FRAME_PLACEMENTS_OPS,
+            Output::FrameJacobiansLocalWorldAligned => $ty::FRAME_JACOBIANS_LOCAL_WORLD_ALIGNED_OPS,
+            Output::FrameJacobianTimeVariationsLocalWorldAligned => {
+                $ty::FRAME_JACOBIAN_TIME_VARIATIONS_LOCAL_WORLD_ALIGNED_OPS
+            }
+            _ => OpCounts::default(),
+        }
     };
 }
 
@@ -190,12 +287,16 @@ macro_rules! derivative_ops {
 }
 
 /// Declares each model: a generated type, its `Peer` impl, and its entry in [`with_model`].
-/// `derivatives` generates the [`DERIVATIVE_OUTPUTS`] too, `plain` does not; attributes (a `cfg`)
-/// apply to all three.
+/// `derivatives` generates the [`DERIVATIVE_OUTPUTS`] too, `plain` does not; `frames [a, b]`
+/// generates the [`FRAME_OUTPUTS`] for the frames `a` and `b` (a body's name, or a frame the
+/// file declares), `frames []` none; attributes (a `cfg`) apply to all three.
 macro_rules! models {
-    ($($(#[$attr:meta])* $name:literal => $ty:ident, $file:literal, $kind:ident;)*) => {
+    ($(
+        $(#[$attr:meta])*
+        $name:literal => $ty:ident, $file:literal, $kind:ident, frames [$($frame:ident),*];
+    )*) => {
         $(
-            peer_type!($kind $(#[$attr])* $ty, $file);
+            peer_type!($kind [$($frame),*] $(#[$attr])* $ty, $file);
 
             $(#[$attr])*
             impl Peer<{ $ty::NQ }, { $ty::NV }> for $ty {
@@ -218,10 +319,14 @@ macro_rules! models {
                         Output::KineticEnergy => $ty::KINETIC_ENERGY_OPS,
                         Output::PotentialEnergy => $ty::POTENTIAL_ENERGY_OPS,
                         Output::CoriolisMatrix => $ty::CORIOLIS_MATRIX_OPS,
-                        _ => derivative_ops!($kind $ty, output),
+                        Output::InverseDynamicsDerivatives
+                        | Output::ForwardDynamicsDerivatives
+                        | Output::MassMatrixInverse => derivative_ops!($kind $ty, output),
+                        _ => frame_ops!([$($frame),*] $ty, output),
                     }
                 }
                 derivative_members!($kind $ty);
+                frame_members!([$($frame),*] $ty);
             }
         )*
 
@@ -240,13 +345,15 @@ macro_rules! models {
 }
 
 models! {
-    "arm7" => Arm7, "../models/arm7.chain", derivatives;
-    "arm7_floating" => Arm7Floating, "peers/arm7_floating.chain", plain;
+    "arm7" => Arm7, "../models/arm7.chain", derivatives, frames [link7];
+    "arm7_floating" => Arm7Floating, "peers/arm7_floating.chain", plain, frames [];
     #[cfg(feature = "humanoid-derivatives")]
-    "humanoid" => Humanoid, "../models/humanoid.chain", derivatives;
+    "humanoid" => Humanoid, "../models/humanoid.chain", derivatives,
+        frames [left_foot, right_foot, left_hand, right_hand];
     #[cfg(not(feature = "humanoid-derivatives"))]
-    "humanoid" => Humanoid, "../models/humanoid.chain", plain;
-    "chain50" => Chain50, "../models/chain50.chain", plain;
+    "humanoid" => Humanoid, "../models/humanoid.chain", plain,
+        frames [left_foot, right_foot, left_hand, right_hand];
+    "chain50" => Chain50, "../models/chain50.chain", plain, frames [];
 }
 
 /// Our side of the comparison against Pinocchio and MuJoCo (`bench/peers/run.py` runs it):
@@ -284,8 +391,9 @@ struct Cli {
     batch_ms: f64,
     /// The model: arm7, arm7_floating, humanoid, chain50.
     model: String,
-    /// With --calls: the output or kernel to call (an output's name, mass_matrix_update,
-    /// mass_matrix_lower, inverse_dynamics_differences, forward_dynamics_differences).
+    /// With --calls: the output or kernel to call (an output's name, frame outputs included,
+    /// mass_matrix_update, mass_matrix_lower, inverse_dynamics_differences,
+    /// forward_dynamics_differences).
     #[arg(requires = "calls")]
     output: Option<String>,
 }
@@ -311,7 +419,8 @@ enum Command {
         states: String,
         /// How many calls.
         calls: usize,
-        /// Which output or kernel ([`OUTPUTS`], [`DERIVATIVE_OUTPUTS`], [`DIFFERENCES`]).
+        /// Which output or kernel ([`OUTPUTS`], [`DERIVATIVE_OUTPUTS`], [`DIFFERENCES`],
+        /// [`FRAME_OUTPUTS`]).
         output: String,
     },
 }
@@ -365,7 +474,8 @@ fn read_states<const NQ: usize, const NV: usize>(path: &str) -> Result<Vec<State
 /// Receives one closure per output; each makes one call on state `i` (masked to the states).
 trait Visit {
     /// Called once per output, by name, in the order of [`OUTPUTS`], then
-    /// [`DERIVATIVE_OUTPUTS`] and [`DIFFERENCES`] where the model has them.
+    /// [`DERIVATIVE_OUTPUTS`] and [`DIFFERENCES`], then [`FRAME_OUTPUTS`], where the model has
+    /// them.
     fn visit<F: FnMut(usize)>(&mut self, name: &'static str, f: F);
 }
 
@@ -450,6 +560,7 @@ where
         black_box(M::coriolis_matrix(black_box(&x.q), black_box(&x.v)));
     });
     M::each_derivative(states, visitor);
+    M::each_frame(states, visitor);
 }
 
 /// `∂f/∂q` at `q` by central differences along the configuration's tangent
@@ -540,6 +651,35 @@ fn each_derivative<M, V, const NQ: usize, const NV: usize>(
     visitor.visit(DIFFERENCES[1], |i| {
         black_box(forward_dynamics_differences::<M, NQ, NV>(black_box(s(i))));
     });
+}
+
+/// Hands `visitor` the closures of the [`FRAME_OUTPUTS`] of model `M` on `states`: each call
+/// computes all `NF` frames.
+fn each_frame<M, V, const NQ: usize, const NV: usize, const NF: usize>(
+    states: &[State<NQ, NV>],
+    visitor: &mut V,
+) where
+    M: FramePeer<NQ, NV, NF>,
+    V: Visit,
+{
+    let mask = states.len() - 1;
+    let s = |i: usize| &states[i & mask];
+    visitor.visit(Output::FramePlacements.name(), |i| {
+        black_box(M::frame_placements(black_box(&s(i).q)));
+    });
+    visitor.visit(Output::FrameJacobiansLocalWorldAligned.name(), |i| {
+        black_box(M::frame_jacobians_local_world_aligned(black_box(&s(i).q)));
+    });
+    visitor.visit(
+        Output::FrameJacobianTimeVariationsLocalWorldAligned.name(),
+        |i| {
+            let x = s(i);
+            black_box(M::frame_jacobian_time_variations_local_world_aligned(
+                black_box(&x.q),
+                black_box(&x.v),
+            ));
+        },
+    );
 }
 
 /// Times each output: `batches` batches of about `batch`, the fastest and the median.
@@ -657,6 +797,9 @@ struct Layout {
     ops: Members<usize>,
     /// Whether the model has the [`DERIVATIVE_OUTPUTS`].
     derivatives: bool,
+    /// The frames of the [`FRAME_OUTPUTS`], in their order (`C::FRAMES`); empty for a model
+    /// without them.
+    frames: &'static [&'static str],
 }
 
 /// The joints with coordinates of model `M` (name, kind, where its coordinates start), and
@@ -695,9 +838,15 @@ fn layout<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>() -> Result<Layout,
     } else {
         &[]
     };
+    let frames: &[Output] = if <M as Chain<f64>>::FRAMES.is_empty() {
+        &[]
+    } else {
+        &FRAME_OUTPUTS
+    };
     let ops = OUTPUTS
         .iter()
         .chain(derivatives)
+        .chain(frames)
         .map(|&o| (o.name(), M::ops(o).total()))
         .collect();
     Ok(Layout {
@@ -706,6 +855,7 @@ fn layout<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>() -> Result<Layout,
         joints,
         ops: Members(ops),
         derivatives: M::DERIVATIVES,
+        frames: <M as Chain<f64>>::FRAMES,
     })
 }
 
@@ -768,6 +918,51 @@ fn derivative_values<M: DerivativePeer<NQ, NV>, const NQ: usize, const NV: usize
     }
 }
 
+/// One frame's placement (`--values`).
+#[derive(Serialize)]
+struct Placement {
+    /// `world_R_frame`, row by row.
+    rotation: Rows,
+    /// The frame's origin in the world.
+    translation: Vec<f64>,
+}
+
+/// The [`FRAME_OUTPUTS`] at one state (`--values`), one entry per frame in the order of
+/// `C::FRAMES`; the Jacobians and their rates angular rows first, columns in our joint order.
+#[derive(Serialize)]
+struct FrameValues {
+    /// `frame_placements`.
+    frame_placements: Vec<Placement>,
+    /// `frame_jacobians_local_world_aligned`.
+    frame_jacobians_local_world_aligned: Vec<Rows>,
+    /// `frame_jacobian_time_variations_local_world_aligned`.
+    frame_jacobian_time_variations_local_world_aligned: Vec<Rows>,
+}
+
+/// The [`FRAME_OUTPUTS`] of model `M` at `x`.
+fn frame_values<M: FramePeer<NQ, NV, NF>, const NQ: usize, const NV: usize, const NF: usize>(
+    x: &State<NQ, NV>,
+) -> FrameValues {
+    FrameValues {
+        frame_placements: M::frame_placements(&x.q)
+            .iter()
+            .map(|p| Placement {
+                rotation: rows(&p.rotation),
+                translation: vector(&p.translation),
+            })
+            .collect(),
+        frame_jacobians_local_world_aligned: M::frame_jacobians_local_world_aligned(&x.q)
+            .iter()
+            .map(rows)
+            .collect(),
+        frame_jacobian_time_variations_local_world_aligned:
+            M::frame_jacobian_time_variations_local_world_aligned(&x.q, &x.v)
+                .iter()
+                .map(rows)
+                .collect(),
+    }
+}
+
 /// `mass_matrix_and_nonlinear_effects` (`--values`).
 #[derive(Serialize)]
 struct MassMatrixAndNonlinearEffects {
@@ -800,6 +995,9 @@ struct Values {
     /// For the models generated with them.
     #[serde(flatten)]
     derivatives: Option<DerivativeValues>,
+    /// For the models generated with frames.
+    #[serde(flatten)]
+    frames: Option<FrameValues>,
 }
 
 /// The outputs of model `M` at `x`.
@@ -829,6 +1027,7 @@ fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(x: &State<NQ, NV>) 
         coriolis_matrix: rows(&M::coriolis_matrix(&x.q, &x.v)),
         mass_matrix_lower: rows(&lower.symmetric()),
         derivatives: M::derivative_values(x),
+        frames: M::frame_values(x),
     }
 }
 
