@@ -171,13 +171,20 @@ pub fn sincos_array<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
         cos[i..i + 4].copy_from_slice(&c);
         i += 4;
     }
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    if N - i == 3 {
+        let (s, c) = lanes([x[i], x[i + 1], x[i + 2], 0.0]);
+        sin[i..].copy_from_slice(&s[..3]);
+        cos[i..].copy_from_slice(&c[..3]);
+        i += 3;
+    }
     while i + 2 <= N {
         let (s, c) = lanes([x[i], x[i + 1]]);
         sin[i..i + 2].copy_from_slice(&s);
         cos[i..i + 2].copy_from_slice(&c);
         i += 2;
     }
-    if N % 2 == 1 {
+    if i < N {
         let ([s], [c]) = lanes([x[N - 1]]);
         sin[N - 1] = s;
         cos[N - 1] = c;
@@ -334,7 +341,10 @@ fn lanes<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
         let x = x[i];
 
         // n = round(x·2/π), |n| ≤ 2^15; n mod 4 is in the low bits of `t`'s representation.
-        let t = x * INV_PIO2 + TOINT;
+        // Fused where the target has FMA (`mul_add`): one rounding instead of two, which can
+        // only move `n` by one where x·2/π lies within an ulp of a half-integer (|y| then ≈ π/4,
+        // inside the kernels' range either way), and a shorter latency before the kernels.
+        let t = mul_add(x, INV_PIO2, TOINT);
         let quadrant = t.to_bits();
         let n = t - TOINT;
 
@@ -351,10 +361,10 @@ fn lanes<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
         //   the error is below 2^-60 of |y|, 1/100 of an ulp; the closest x to a multiple of
         //   π/2, x = 45.553…, n = 29, has |y| = 2^-60.5 and |yn| ≈ 2^-71.5.
         // yn enters the kernels only in their first-order corrections, late.
-        let r1 = x - n * PIO2_1;
+        let r1 = mul_add(-n, PIO2_1, x);
         let p2 = n * PIO2_2;
         let y0 = r1 - p2;
-        let yn = (p2 - (r1 - y0)) + n * PIO2_3;
+        let yn = mul_add(n, PIO2_3, p2 - (r1 - y0));
 
         let (s, c) = kernels(y0, yn);
 
