@@ -2,8 +2,10 @@
 //! engine: the interpreted reference, or the generator's own expression graphs
 //! (`--engine symbolic`), which checks the generator without compiling what it emits.
 
+use articulated::constraint::dynamic::FrameKinematics;
 use articulated::model::Model;
 use articulated::reference::{check_q, Error, Reference, Singularity};
+use articulated::FramePlacement;
 use articulated_codegen::options::Output;
 use articulated_codegen::sym::Var;
 use articulated_codegen::trace::frames::FrameAt;
@@ -11,6 +13,7 @@ use articulated_codegen::trace::trace;
 use nalgebra::{DMatrix, DVector};
 use serde_json::Value;
 
+use crate::contacts::{self, Kinematics};
 use crate::pinocchio::{Pinocchio, QOrder};
 use crate::{load_described, parse_vector, Engine, EvalArgs};
 
@@ -137,6 +140,50 @@ pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
             reorder_jacobians(v, &p.v_sources()?);
         }
         fields.push(("frames", value));
+    }
+    if let Some(list) = &args.contacts {
+        let contacts = contacts::parse(list)?;
+        let names: Vec<String> = contacts.iter().map(|c| c.0.clone()).collect();
+        // A frame may carry two constraints (redundant ones are the solver's to name).
+        let mut distinct = names.clone();
+        distinct.sort();
+        distinct.dedup();
+        check_frames(model, &distinct).map_err(|e| e.replace("--frames", "--contacts"))?;
+        let gains = args
+            .baumgarte
+            .as_deref()
+            .map(contacts::parse_gains)
+            .transpose()?;
+        let restitution = args
+            .restitution
+            .as_deref()
+            .map(contacts::parse_restitution)
+            .transpose()?;
+        let kinematics = match args.engine {
+            Engine::Reference => contact_kinematics_by_reference(&reference, &names, &state),
+            Engine::Symbolic => contact_kinematics_by_graph(model, &names, &state),
+        };
+        let (mut constrained, mut impulse) = match kinematics {
+            Ok(k) => contacts::solve(&k, &contacts, &state.v, &state.tau, gains, restitution),
+            Err(e) => (Err(e.clone()), restitution.map(|_| Err(e))),
+        };
+        if let Some(p) = &pinocchio {
+            let sources = p.v_sources()?;
+            for (value, key) in [(constrained.as_mut().ok(), "qdd")]
+                .into_iter()
+                .chain([(impulse.as_mut().and_then(|i| i.as_mut().ok()), "v_plus")])
+            {
+                if let Some(Value::Object(object)) = value {
+                    if let Some(x) = object.get_mut(key) {
+                        *x = in_order(x, &sources);
+                    }
+                }
+            }
+        }
+        fields.push(("constrained", constrained));
+        if let Some(impulse) = impulse {
+            fields.push(("impulse", impulse));
+        }
     }
     let mut errors = Vec::new();
     let values: Vec<(&str, Value)> = fields
@@ -619,4 +666,129 @@ fn reorder_jacobians(frames: &mut Value, sources: &[usize]) {
             }
         }
     }
+}
+
+/// What the constraints of `--contacts` are made of, by the interpreted reference: `M`,
+/// `nle = N·q̇ + g`, and each frame's placement, LOCAL Jacobian, LOCAL velocity and classical
+/// acceleration at `q̈ = 0`.
+fn contact_kinematics_by_reference(
+    r: &Reference,
+    names: &[String],
+    s: &State,
+) -> Result<Kinematics, String> {
+    use articulated::reference::ReferenceFrame::Local;
+    let text = |e: Error| e.to_string();
+    let m = r.mass_matrix(&s.q).map_err(text)?;
+    let nle = r.bias(&s.q, &s.v).map_err(text)? + r.gravity(&s.q).map_err(text)?;
+    let zero = vec![0.0; r.nv()];
+    let mut frames = Vec::new();
+    for name in names {
+        let text = |e: Error| format!("frame `{name}`: {e}");
+        let (rotation, translation) = r.frame_placement(&s.q, name).map_err(text)?;
+        frames.push(FrameKinematics {
+            placement: FramePlacement {
+                rotation,
+                translation,
+            },
+            jacobian: r.frame_jacobian(&s.q, name, Local).map_err(text)?,
+            velocity: r.frame_velocity(&s.q, &s.v, name).map_err(text)?,
+            drift: r
+                .frame_acceleration(&s.q, &s.v, &zero, name)
+                .map_err(text)?,
+        });
+    }
+    Ok(Kinematics { m, nle, frames })
+}
+
+/// [`contact_kinematics_by_reference`] by the generator's expression graphs.
+fn contact_kinematics_by_graph(
+    model: &Model,
+    names: &[String],
+    s: &State,
+) -> Result<Kinematics, String> {
+    let nv = model.nv();
+    let at: Vec<FrameAt> = names
+        .iter()
+        .filter_map(|name| {
+            let (parent, placement) = model.frame(name)?;
+            Some(FrameAt {
+                name: name.clone(),
+                parent,
+                placement,
+            })
+        })
+        .collect();
+    // The drifts are the classical accelerations at q̈ = 0.
+    let still = State {
+        a: vec![0.0; nv],
+        q: s.q.clone(),
+        v: s.v.clone(),
+        tau: s.tau.clone(),
+        params: s.params.clone(),
+    };
+    let finite = |what: &str, x: Vec<f64>| -> Result<Vec<f64>, String> {
+        match x.iter().find(|x| !x.is_finite()) {
+            Some(bad) => Err(format!("{what}: a value is not finite ({bad})")),
+            None => Ok(x),
+        }
+    };
+    let m = finite(
+        "mass_matrix",
+        trace(model, Output::MassMatrix).eval(|v| s.input(v)).0,
+    )?;
+    let nle = finite(
+        "nonlinear_effects",
+        trace(model, Output::NonlinearEffects)
+            .eval(|v| s.input(v))
+            .0,
+    )?;
+    let frame = |output: Output| -> Result<Vec<f64>, String> {
+        let traced = articulated_codegen::trace::frames::trace(model, output, &at, false);
+        finite(output.name(), traced.eval(|v| still.input(v)).0)
+    };
+    let (placements, jacobians) = (
+        frame(Output::FramePlacements)?,
+        frame(Output::FrameJacobiansLocal)?,
+    );
+    let (velocities, drifts) = (
+        frame(Output::FrameVelocities)?,
+        frame(Output::FrameAccelerations)?,
+    );
+    let nf = at.len();
+    let sizes = [
+        (m.len(), nv * nv),
+        (nle.len(), nv),
+        (placements.len(), 12 * nf),
+        (jacobians.len(), 6 * nv * nf),
+        (velocities.len(), 6 * nf),
+        (drifts.len(), 6 * nf),
+    ];
+    if sizes.iter().any(|(found, expected)| found != expected) {
+        return Err(format!(
+            "the expression graphs' sizes are not the model's: {sizes:?}"
+        ));
+    }
+    let part = |x: &[f64], k: usize, size: usize| -> Vec<f64> {
+        x.get(k * size..(k + 1) * size).unwrap_or_default().to_vec()
+    };
+    let frames = (0..at.len())
+        .map(|k| {
+            let p = part(&placements, k, 12);
+            let six = |x: &[f64]| nalgebra::Vector6::from_iterator(part(x, k, 6));
+            FrameKinematics {
+                placement: FramePlacement {
+                    rotation: nalgebra::Matrix3::from_row_iterator(p.iter().take(9).copied()),
+                    translation: nalgebra::Vector3::from_iterator(p.iter().skip(9).copied()),
+                },
+                jacobian: DMatrix::from_row_slice(6, nv, &part(&jacobians, k, 6 * nv)),
+                velocity: six(&velocities),
+                drift: six(&drifts),
+            }
+        })
+        .collect();
+    Ok(Kinematics {
+        m: DMatrix::from_row_slice(nv, nv, &m),
+        nle: DVector::from_vec(nle),
+        frames,
+    })
 }

@@ -23,6 +23,7 @@ use std::process::ExitCode;
 use articulated_codegen::load::FloatingBase;
 use clap::{Parser, Subcommand, ValueEnum};
 
+mod contacts;
 mod eval;
 mod expand;
 mod invert;
@@ -91,6 +92,21 @@ pub struct EvalArgs {
     /// in LOCAL, WORLD and LOCAL_WORLD_ALIGNED, under `"frames"`.
     #[arg(long)]
     pub frames: Option<String>,
+    /// Constraints on frames, comma-separated `FRAME:KIND` with KIND `six_d` (the frame's
+    /// spatial acceleration held, a wrench `[n; f]` in its axes) or `point` (its origin's
+    /// acceleration held, a force in world axes), e.g. `--contacts left_foot:six_d,tip:point`:
+    /// the constrained `q̈` at `--tau`, the forces and the residual `max |J·q̈ + γ|`, under
+    /// `"constrained"`.
+    #[arg(long)]
+    pub contacts: Option<String>,
+    /// Baumgarte gains `KP,KD` of the constraints: `J·q̈ + γ = −KD·J·v − KP·e`, with the
+    /// reference the current placement (`e = 0`: at one state only `KD` acts).
+    #[arg(long, allow_hyphen_values = true, requires = "contacts")]
+    pub baumgarte: Option<String>,
+    /// An impact on the constraints at `--v` with this coefficient of restitution (≥ 0):
+    /// `v⁺` and the impulses, under `"impulse"`.
+    #[arg(long, allow_hyphen_values = true, requires = "contacts")]
+    pub restitution: Option<String>,
     /// The layout of `--q`, `--v`, `--a`, `--tau` and of every vector and matrix printed:
     /// `articulated` (ours) or `pinocchio` (its free flyer `[x, y, z, qx, qy, qz, qw]`,
     /// continuous joints as `(cos θ, sin θ)`, its URDF joint order).

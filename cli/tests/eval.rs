@@ -793,3 +793,139 @@ fn frames_by_both_engines_agree() {
     }
     assert!(compared > 100, "{compared}");
 }
+
+/// `--contacts` (and `--restitution`) against Pinocchio 4.1's `constraintDynamics` and
+/// `impulseDynamics` (`tests/data/pinocchio_constraints/`): the humanoid on its free flyer on
+/// two flat feet, one foot, a foot and a hand, a hand alone, and the arm with its flange welded
+/// or held at a point, by both engines; `q̈` relative to its largest entry, forces and
+/// impulses relative to `m·‖g‖` and to their largest entry.
+#[test]
+fn contacts_agree_with_pinocchio_by_both_engines() {
+    let path = repo().join("tests/data/pinocchio_constraints/pinocchio-constraints.json");
+    let json: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let mut compared = 0;
+    for (name, case) in json["cases"].as_object().unwrap() {
+        if !case["baumgarte"].is_null() {
+            continue; // eval's reference is the current placement: e = 0.
+        }
+        let model = case["model"].as_str().unwrap();
+        let entry = &json["models"][model];
+        let weight = entry["mass"].as_f64().unwrap() * 9.81;
+        let contacts: Vec<String> = case["contacts"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| {
+                format!(
+                    "{}:{}",
+                    c["frame"].as_str().unwrap(),
+                    c["kind"].as_str().unwrap()
+                )
+            })
+            .collect();
+        let frames: Vec<&str> = case["contacts"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c["frame"].as_str().unwrap())
+            .collect();
+        let urdf = repo().join(entry["urdf"].as_str().unwrap());
+        for (k, state) in case["states"].as_array().unwrap().iter().enumerate() {
+            let impulse = state["impulses"]
+                .as_array()
+                .and_then(|i| i.iter().find(|i| i["restitution"] == 0.5));
+            let mut args: Vec<String> = vec![
+                urdf.to_str().unwrap().into(),
+                "--q".into(),
+                csv(&state["q"]),
+                "--v".into(),
+                csv(&state["v"]),
+                "--tau".into(),
+                csv(&state["tau"]),
+                "--contacts".into(),
+                contacts.join(","),
+            ];
+            if entry["floating"] == "quaternion" {
+                args.push("--floating=quaternion".into());
+            }
+            if impulse.is_some() {
+                args.extend(["--restitution".into(), "0.5".into()]);
+            }
+            // The symbolic engine traces the whole humanoid: its first state only.
+            let engines: &[&str] = if k == 0 {
+                &["reference", "symbolic"]
+            } else {
+                &["reference"]
+            };
+            for engine in engines {
+                let mut args: Vec<&str> = args.iter().map(String::as_str).collect();
+                args.extend(["--engine", engine]);
+                let (ok, out, err) = eval(&args);
+                assert!(ok, "{name} state {k} {engine}: {err}");
+                let ours: Value = serde_json::from_str(&out).unwrap();
+                let c = &ours["constrained"];
+                let e_qdd = rel_err(&c["qdd"], &state["qdd"]);
+                let mut e_f = 0.0f64;
+                for f in &frames {
+                    let (a, b) = (flat(&c["forces"][f]), flat(&state["forces"][f]));
+                    assert_eq!(a.len(), b.len());
+                    e_f = a
+                        .iter()
+                        .zip(&b)
+                        .fold(e_f, |m, (x, y)| m.max((x - y).abs() / weight));
+                }
+                assert!(
+                    e_qdd < 1e-9 && e_f < 1e-9,
+                    "{name} state {k} {engine}: q̈ {e_qdd:.1e}, forces {e_f:.1e}"
+                );
+                assert!(c["residual"].as_f64().unwrap() < 1e-9, "{name}: {c}");
+                if let Some(i) = impulse {
+                    let ours = &ours["impulse"];
+                    let e_v = rel_err(&ours["v_plus"], &i["v_plus"]);
+                    let e_p = frames
+                        .iter()
+                        .map(|f| rel_err(&ours["impulses"][f], &i["impulses"][f]))
+                        .fold(0.0f64, f64::max);
+                    assert!(
+                        e_v < 1e-9 && e_p < 1e-9,
+                        "{name} state {k} {engine}: v⁺ {e_v:.1e}, impulses {e_p:.1e}"
+                    );
+                }
+                compared += 1;
+            }
+        }
+    }
+    assert_eq!(compared, 24);
+}
+
+/// `--contacts` refuses a bad list, an unknown frame, a bad restitution or gains at the
+/// argument; redundant contacts name the contact.
+#[test]
+fn bad_contacts_are_errors() {
+    let arm = repo().join("models/arm7.chain");
+    let arm = arm.to_str().unwrap();
+    for (args, expected) in [
+        (vec!["--contacts", "link7:plane"], "expected FRAME:KIND"),
+        (vec!["--contacts", "link7"], "expected FRAME:KIND"),
+        (vec!["--contacts", "hand:point"], "hand"),
+        (
+            vec!["--contacts", "link7:point", "--restitution", "-1"],
+            "--restitution",
+        ),
+        (
+            vec!["--contacts", "link7:point", "--baumgarte", "1"],
+            "baumgarte",
+        ),
+        (
+            vec!["--contacts", "link7:six_d,link7:point"],
+            "row 0 of the contact on `link7` depends on the rows before it",
+        ),
+    ] {
+        // Away from the upright arm, where the flange's Jacobian loses rank.
+        let mut all = vec![arm, "--q", "0.1,0.5,0.3,-0.8,0.5,0.6,0.7"];
+        all.extend(&args);
+        let (ok, out, err) = eval(&all);
+        assert!(!ok, "{args:?}: {out}");
+        assert!(err.contains(expected), "{args:?}: {err}");
+    }
+}

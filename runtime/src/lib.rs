@@ -134,6 +134,11 @@
 extern crate alloc;
 
 pub mod configuration;
+// Dense linear algebra on matrices whose sizes the types fix, indexed by loop counters below the
+// rows in use (at most the capacity `R`, checked by `System::push`) or by a frame index checked
+// against `NF` first.
+#[allow(clippy::indexing_slicing)]
+pub mod constraint;
 // Exceptions to the panics audit (the crate denies indexing below): dense linear algebra on
 // matrices whose sizes the types fix (`SMatrix<_, N, N>`, or `n × n` built here), indexed by
 // loop counters below them.

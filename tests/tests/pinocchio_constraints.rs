@@ -1,0 +1,358 @@
+//! The runtime's constrained dynamics (`articulated::constraint`) on generated code against
+//! Pinocchio 4.1's `constraintDynamics` (exact: proximal `mu = 0`) and `impulseDynamics`
+//! (`tests/data/pinocchio_constraints/`, values and script committed): the humanoid on its free
+//! flyer on two flat feet, one foot, a foot and a hand, a hand alone, with Baumgarte terms on
+//! six-dimensional and point contacts; the arm with its flange welded or held at a point;
+//! impacts with restitution 0 and 0.5. Forces are compared relative to `m·‖g‖`, accelerations
+//! and velocities relative to their largest entry; and, independently of Pinocchio, each
+//! solution is checked against the equations it solves with the reference's `M` and `nle`.
+//!
+//! `cargo test -p articulated-tests --test pinocchio_constraints -- --nocapture` prints the
+//! worst error of each case.
+
+mod common;
+
+use articulated::constraint::{
+    self, Baumgarte, ConstraintError, Contact, Kind, Settings, Solution, System,
+};
+use articulated::nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use articulated::prelude::*;
+use articulated::FramePlacement;
+use common::{read_json, rel_err, rows_of, vec_of};
+use serde_json::Value as Json;
+
+/// Forces relative to `m·‖g‖`, accelerations relative to their largest entry.
+const TOL: f64 = 1e-9;
+
+#[derive(Chain)]
+#[chain(
+    urdf = "../models/humanoid.urdf",
+    floating = quaternion,
+    outputs = [
+        mass_matrix_and_nonlinear_effects,
+        frame_placements,
+        frame_jacobians_local,
+        frame_velocities,
+        frame_accelerations
+    ],
+    frames = [left_foot, right_foot, left_hand, right_hand]
+)]
+struct Humanoid;
+
+#[derive(Chain)]
+#[chain(
+    urdf = "../models/arm7.urdf",
+    outputs = [
+        mass_matrix_and_nonlinear_effects,
+        frame_placements,
+        frame_jacobians_local,
+        frame_velocities,
+        frame_accelerations
+    ],
+    frames = [link7]
+)]
+struct Arm7;
+
+/// The capacity of the stacked rows: two six-dimensional contacts.
+const R: usize = 12;
+
+fn data() -> Json {
+    read_json("data/pinocchio_constraints/pinocchio-constraints.json")
+}
+
+/// The case's contacts on the chain's frames `names`.
+fn contacts(case: &Json, names: &[&str]) -> Vec<Contact> {
+    case["contacts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            let name = c["frame"].as_str().unwrap();
+            let frame = names
+                .iter()
+                .position(|n| *n == name)
+                .unwrap_or_else(|| panic!("frame {name} not generated"));
+            let kind = match c["kind"].as_str().unwrap() {
+                "six_d" => Kind::SixD,
+                "point" => Kind::Point,
+                other => panic!("kind {other}"),
+            };
+            Contact { frame, kind }
+        })
+        .collect()
+}
+
+/// The forces of the case's contacts, concatenated in its order, from a JSON map by frame.
+fn forces_of(case: &Json, forces: &Json) -> Vec<f64> {
+    case["contacts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|c| vec_of(&forces[c["frame"].as_str().unwrap()]))
+        .collect()
+}
+
+/// The reference placements of a Baumgarte state, indexed like `names`.
+fn references<const NF: usize>(state: &Json, names: &[&str]) -> [FramePlacement<f64>; NF] {
+    core::array::from_fn(|i| {
+        let c = &state["contacts"][names[i]]["reference"];
+        if c.is_null() {
+            return FramePlacement {
+                rotation: Matrix3::identity(),
+                translation: Vector3::zeros(),
+            };
+        }
+        FramePlacement {
+            rotation: Matrix3::from_row_slice(&rows_of(&c["rotation"])),
+            translation: Vector3::from_column_slice(&vec_of(&c["translation"])),
+        }
+    })
+}
+
+/// Runs every state of `case` on chain `C`; returns the worst error.
+fn check_case<C, const NQ: usize, const NV: usize, const NF: usize>(
+    name: &str,
+    case: &Json,
+    weight: f64,
+) -> f64
+where
+    C: Chain<f64>
+        + MassMatrixAndNonlinearEffects<f64, NQ, NV>
+        + FramePlacements<f64, NQ, NV, NF>
+        + FrameJacobiansLocal<f64, NQ, NV, NF>
+        + FrameVelocities<f64, NQ, NV, NF>
+        + FrameAccelerations<f64, NQ, NV, NF>,
+{
+    let names = C::FRAMES;
+    let contacts = contacts(case, names);
+    let gains = (!case["baumgarte"].is_null()).then(|| Baumgarte {
+        kp: case["baumgarte"]["kp"].as_f64().unwrap(),
+        kd: case["baumgarte"]["kd"].as_f64().unwrap(),
+    });
+    let settings = Settings::default();
+    let mut worst = 0.0f64;
+    for (k, state) in case["states"].as_array().unwrap().iter().enumerate() {
+        let q = SVector::<f64, NQ>::from_column_slice(&vec_of(&state["q"]));
+        let v = SVector::<f64, NV>::from_column_slice(&vec_of(&state["v"]));
+        let tau = SVector::<f64, NV>::from_column_slice(&vec_of(&state["tau"]));
+        let refs: [FramePlacement<f64>; NF] = references(state, names);
+        let s: Solution<NV, R> = constraint::constrained_forward_dynamics::<C, NQ, NV, NF, R>(
+            &q,
+            &v,
+            &tau,
+            &contacts,
+            gains.map(|g| (g, &refs)),
+            &settings,
+        )
+        .unwrap_or_else(|e| panic!("{name} state {k}: {e}"));
+        let qdd = vec_of(&state["qdd"]);
+        let e_qdd = rel_err(s.acceleration.as_slice(), &qdd);
+        let theirs = forces_of(case, &state["forces"]);
+        let e_f = common::abs_err(&s.forces.as_slice()[..s.rows], &theirs) / weight;
+        assert!(
+            e_qdd < TOL && e_f < TOL,
+            "{name} state {k}: q̈ {e_qdd:.1e}, forces {e_f:.1e} (of m·|g|)\n ours {:?}\n theirs {theirs:?}",
+            &s.forces.as_slice()[..s.rows]
+        );
+        assert!(
+            s.residual < 1e-9,
+            "{name} state {k}: residual {:e}",
+            s.residual
+        );
+        if gains.is_some() {
+            // Our position errors against the ones Pinocchio used.
+            let frames = constraint::Frames::<NV, NF>::of::<C, NQ>(&q, &v);
+            let system: System<NV, R> = frames.system(&contacts, Some(&refs)).unwrap();
+            let theirs: Vec<f64> = case["contacts"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .flat_map(|c| vec_of(&state["contacts"][c["frame"].as_str().unwrap()]["error"]))
+                .collect();
+            let e_e = rel_err(&system.error.as_slice()[..system.rows], &theirs);
+            assert!(e_e < TOL, "{name} state {k}: position error {e_e:.1e}");
+        }
+        worst = worst.max(e_qdd).max(e_f);
+
+        for imp in state["impulses"].as_array().into_iter().flatten() {
+            let e = imp["restitution"].as_f64().unwrap();
+            let v_minus = SVector::<f64, NV>::from_column_slice(&vec_of(&imp["v_minus"]));
+            let s: Solution<NV, R> = constraint::constrained_impulse_dynamics::<C, NQ, NV, NF, R>(
+                &q, &v_minus, &contacts, e, &settings,
+            )
+            .unwrap_or_else(|err| panic!("{name} state {k} impulse e={e}: {err}"));
+            let e_v = rel_err(s.acceleration.as_slice(), &vec_of(&imp["v_plus"]));
+            let theirs = forces_of(case, &imp["impulses"]);
+            let e_p = rel_err(&s.forces.as_slice()[..s.rows], &theirs);
+            assert!(
+                e_v < TOL && e_p < TOL,
+                "{name} state {k} impulse e={e}: v⁺ {e_v:.1e}, impulses {e_p:.1e}"
+            );
+            worst = worst.max(e_v).max(e_p);
+        }
+    }
+    println!("{name:28} worst {worst:.1e}");
+    worst
+}
+
+#[test]
+fn constrained_dynamics_and_impulses_agree_with_pinocchio() {
+    let data = data();
+    let cases = data["cases"].as_object().unwrap();
+    assert_eq!(cases.len(), 8, "cases in the data file");
+    for (name, case) in cases {
+        let model = case["model"].as_str().unwrap();
+        let weight = data["models"][model]["mass"].as_f64().unwrap() * 9.81;
+        match model {
+            "humanoid_free_flyer" => {
+                check_case::<Humanoid, 38, 37, 4>(name, case, weight);
+            }
+            "arm7" => {
+                check_case::<Arm7, 7, 7, 1>(name, case, weight);
+            }
+            other => panic!("model {other}"),
+        }
+    }
+}
+
+/// The impact's energy balance, a closed form independent of Pinocchio: for restitution `e`,
+/// `T⁺ − T⁻ = −½(1 − e²)·(J·v⁻)ᵀ·G⁻¹·(J·v⁻)`, and `J·v⁺ = −e·J·v⁻`.
+#[test]
+fn impacts_lose_the_energy_the_closed_form_gives() {
+    let data = data();
+    let case = &data["cases"]["humanoid_feet"];
+    let contacts = contacts(case, Humanoid::FRAMES);
+    for state in case["states"].as_array().unwrap() {
+        let q = SVector::<f64, 38>::from_column_slice(&vec_of(&state["q"]));
+        let v = SVector::<f64, 37>::from_column_slice(&vec_of(&state["v"]));
+        let (m, _) = Humanoid::mass_matrix_and_nonlinear_effects(&q, &v);
+        let frames = constraint::Frames::<37, 4>::of::<Humanoid, 38>(&q, &v);
+        let system: System<37, R> = frames.system(&contacts, None).unwrap();
+        let j: SMatrix<f64, 12, 37> = system.jacobian;
+        let g = j * m.try_inverse().unwrap() * j.transpose();
+        let jv = j * v;
+        let t_minus = 0.5 * v.dot(&(m * v));
+        for e in [0.0, 0.3, 1.0] {
+            let s: Solution<37, R> =
+                constraint::impulse_dynamics(&m, &v, &system, e, &Settings::default()).unwrap();
+            let t_plus = 0.5 * s.acceleration.dot(&(m * s.acceleration));
+            let expected = -0.5 * (1.0 - e * e) * jv.dot(&(g.try_inverse().unwrap() * jv));
+            let d = (t_plus - t_minus - expected).abs() / t_minus;
+            assert!(d < 1e-10, "e = {e}: energy change off by {d:e} of T⁻");
+            let bounce = rel_err((j * s.acceleration).as_slice(), (-e * jv).as_slice());
+            assert!(bounce < 1e-10, "e = {e}: J·v⁺ off by {bounce:e}");
+        }
+    }
+}
+
+/// Redundant constraints: the same foot twice makes `G` singular. Exactly (`mu = 0`) it is an
+/// error naming the second constraint's first row; with a proximal `mu` it converges to forces
+/// that hold the constraints (the residual at machine precision) and together equal the single
+/// foot's wrench; inconsistent Baumgarte references on the doubled foot never converge.
+#[test]
+fn redundant_constraints_are_named_or_solved_by_proximal_iterations() {
+    let data = data();
+    let state = &data["cases"]["humanoid_left_foot"]["states"][0];
+    let q = SVector::<f64, 38>::from_column_slice(&vec_of(&state["q"]));
+    let v = SVector::<f64, 37>::from_column_slice(&vec_of(&state["v"]));
+    let tau = SVector::<f64, 37>::from_column_slice(&vec_of(&state["tau"]));
+    let foot = Contact::six_d(0);
+    let once: Solution<37, R> = constraint::constrained_forward_dynamics::<Humanoid, 38, 37, 4, R>(
+        &q,
+        &v,
+        &tau,
+        &[foot],
+        None,
+        &Settings::default(),
+    )
+    .unwrap();
+    let twice = [foot, foot];
+    let exact = constraint::constrained_forward_dynamics::<Humanoid, 38, 37, 4, R>(
+        &q,
+        &v,
+        &tau,
+        &twice,
+        None,
+        &Settings::default(),
+    );
+    assert_eq!(
+        exact.unwrap_err(),
+        ConstraintError::Redundant { contact: 1, row: 0 }
+    );
+
+    let proximal = Settings {
+        mu: 1e-6,
+        max_iterations: 200,
+        ..Settings::default()
+    };
+    let s: Solution<37, R> = constraint::constrained_forward_dynamics::<Humanoid, 38, 37, 4, R>(
+        &q, &v, &tau, &twice, None, &proximal,
+    )
+    .unwrap();
+    println!(
+        "proximal: {} iterations, residual {:e}",
+        s.iterations, s.residual
+    );
+    assert!(s.residual < 1e-9, "residual {:e}", s.residual);
+    assert!(rel_err(s.acceleration.as_slice(), once.acceleration.as_slice()) < 1e-8);
+    let sum: Vec<f64> = (0..6).map(|r| s.forces[r] + s.forces[6 + r]).collect();
+    assert!(rel_err(&sum, &once.forces.as_slice()[..6]) < 1e-8);
+    // The least-norm split: half each (up to the rounding the iterations carry along the
+    // null space of `G`, which they do not damp).
+    assert!(rel_err(&s.forces.as_slice()[..6], &s.forces.as_slice()[6..12]) < 1e-6);
+
+    // The doubled foot held to two different references cannot hold both.
+    let frames = constraint::Frames::<37, 4>::of::<Humanoid, 38>(&q, &v);
+    let mut system: System<37, R> = frames.system(&twice, None).unwrap();
+    system.error[6] = 0.01;
+    let (m, nle) = Humanoid::mass_matrix_and_nonlinear_effects(&q, &v);
+    let gains = Some(Baumgarte { kp: 10.0, kd: 0.0 });
+    let err = constraint::forward_dynamics(&m, &nle, &tau, &v, &system, gains, &proximal);
+    assert!(
+        matches!(err, Err(ConstraintError::NotConverged { residual, .. }) if residual > 1e-3),
+        "{err:?}"
+    );
+}
+
+/// Bad input is an error value, never a panic or a NaN.
+#[test]
+fn bad_input_is_an_error() {
+    let q = SVector::<f64, 7>::zeros();
+    let v = SVector::<f64, 7>::zeros();
+    let mut tau = SVector::<f64, 7>::zeros();
+    let settings = Settings::default();
+    let run = |tau: &SVector<f64, 7>, contacts: &[Contact]| {
+        constraint::constrained_forward_dynamics::<Arm7, 7, 7, 1, 6>(
+            &q, &v, tau, contacts, None, &settings,
+        )
+    };
+    assert_eq!(
+        run(&tau, &[Contact::six_d(1)]).unwrap_err(),
+        ConstraintError::UnknownFrame {
+            frame: 1,
+            frames: 1
+        }
+    );
+    assert_eq!(
+        run(&tau, &[Contact::six_d(0), Contact::point(0)]).unwrap_err(),
+        ConstraintError::Capacity {
+            needed: 9,
+            capacity: 6
+        }
+    );
+    tau[3] = f64::NAN;
+    assert_eq!(
+        run(&tau, &[Contact::six_d(0)]).unwrap_err(),
+        ConstraintError::NonFinite
+    );
+    let m = SMatrix::<f64, 7, 7>::zeros();
+    let system = System::<7, 6>::new();
+    assert_eq!(
+        constraint::impulse_dynamics(&m, &v, &system, -0.5, &settings).unwrap_err(),
+        ConstraintError::NonFinite
+    );
+    assert_eq!(
+        constraint::impulse_dynamics(&m, &v, &system, 0.5, &settings).unwrap_err(),
+        ConstraintError::MassMatrix { velocity: 0 }
+    );
+}
