@@ -570,6 +570,131 @@ where
     impulse_dynamics(&m, v_minus, &system, restitution, settings)
 }
 
+/// The joint forces and contact forces that produce given accelerations ([`inverse_dynamics`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactWrenches<const NV: usize, const R: usize> {
+    /// `τ = M·q̈ + nle − Jᵀ·f`: the joints' forces; its first `unactuated` entries are what the
+    /// contacts could not supply (zero, to rounding, where they can).
+    pub tau: SVector<f64, NV>,
+    /// The constraint forces `f`, row by row as the system stacks them (the first `rows`).
+    pub forces: SVector<f64, R>,
+    /// The rows in use.
+    pub rows: usize,
+    /// `max |τ_i|` over the unactuated entries: how far the contacts are from producing the
+    /// motion (0 where they determine or over-determine the base's wrench).
+    pub residual: f64,
+}
+
+/// Inverse dynamics with contacts (Hemami's estimation of the ground reaction, Wieber's
+/// whole-body Newton and Euler equations): the joint forces `τ` and the constraint forces `f`
+/// with `M·q̈ + nle = τ + Jᵀ·f`, where the first `unactuated` velocities (a free base: 6) have
+/// no actuator, so that their rows, `J_bᵀ·f = (M·q̈ + nle)_b`, are the contacts' to supply.
+/// Unique where the contacts determine `f` (one flat foot); otherwise the least-norm `f` (two
+/// feet: how they share the load is not determined by the motion); where the contacts cannot
+/// supply the base's wrench (a single point contact), the least-squares `f`, with the residual
+/// left in `τ_b` and reported.
+///
+/// # Errors
+/// [`ConstraintError::NonFinite`] for a value that is not finite or `unactuated > 6`.
+pub fn inverse_dynamics<const NV: usize, const R: usize>(
+    m: &SMatrix<f64, NV, NV>,
+    nle: &SVector<f64, NV>,
+    qdd: &SVector<f64, NV>,
+    system: &System<NV, R>,
+    unactuated: usize,
+) -> Result<ContactWrenches<NV, R>, ConstraintError> {
+    let u = unactuated;
+    if u > 6 || u > NV || !finite(m.iter().chain(nle.iter()).chain(qdd.iter())) {
+        return Err(ConstraintError::NonFinite);
+    }
+    if !finite(system.jacobian.iter()) {
+        return Err(ConstraintError::NonFinite);
+    }
+    let h = m * qdd + nle;
+    let k = system.rows;
+    let j = &system.jacobian;
+    // f = J_b·(J_bᵀ·J_b)⁺·h_b, J_b the first u columns of J: the least-norm (least-squares
+    // where rank-deficient) solution of J_bᵀ·f = h_b. Padded to 6 × 6 with the identity.
+    let mut b = SMatrix::<f64, 6, 6>::identity();
+    let mut hb = SVector::<f64, 6>::zeros();
+    for r in 0..u {
+        hb[r] = h[r];
+        for c in 0..u {
+            b[(r, c)] = (0..k).map(|i| j[(i, r)] * j[(i, c)]).sum();
+        }
+    }
+    let eigen = b.symmetric_eigen();
+    let largest = eigen.eigenvalues.amax();
+    let mut y = SVector::<f64, 6>::zeros();
+    for (e, value) in eigen.eigenvalues.iter().enumerate() {
+        if *value > 1e-12 * largest {
+            let v = eigen.eigenvectors.column(e);
+            y += v * (v.dot(&hb) / value);
+        }
+    }
+    let mut forces = SVector::<f64, R>::zeros();
+    for i in 0..k {
+        forces[i] = (0..u).map(|c| j[(i, c)] * y[c]).sum();
+    }
+    let tau = h - j.tr_mul(&forces);
+    let residual = tau.iter().take(u).fold(0.0f64, |m, x| m.max(x.abs()));
+    if !finite(tau.iter().chain(forces.iter())) {
+        return Err(ConstraintError::NonFinite);
+    }
+    Ok(ContactWrenches {
+        tau,
+        forces,
+        rows: k,
+        residual,
+    })
+}
+
+/// The velocities without an actuator at the front of `v`: 6 under a free base (quaternion or
+/// Euler), 0 otherwise.
+pub fn unactuated(coordinates: &[crate::Coordinates]) -> usize {
+    match coordinates.first() {
+        Some(crate::Coordinates::FreeQuaternion | crate::Coordinates::Vector(6)) => 6,
+        _ => 0,
+    }
+}
+
+/// A contact wrench `[n; f]` given in a frame placed at `placement` (about the frame's origin,
+/// in its axes: a six-dimensional contact's) as a wrench about the point `about`, world axes.
+pub fn wrench_in_world(
+    placement: &FramePlacement<f64>,
+    wrench: &[f64; 6],
+    about: &SVector<f64, 3>,
+) -> [f64; 6] {
+    let n = placement.rotation * SVector::<f64, 3>::new(wrench[0], wrench[1], wrench[2]);
+    let f = placement.rotation * SVector::<f64, 3>::new(wrench[3], wrench[4], wrench[5]);
+    let n = n + (placement.translation - about).cross(&f);
+    [n[0], n[1], n[2], f[0], f[1], f[2]]
+}
+
+/// The centre of pressure of a wrench `[n; f]` (about a frame's origin, in its axes) on the
+/// frame's plane `z = height`: the point of that plane about which the wrench has no moment
+/// along the plane, `(x, y, height)` with `x = (height·f_x − n_y)/f_z`,
+/// `y = (height·f_y + n_x)/f_z`. For a sole's wrench, its centre of pressure; for the sum of
+/// the contact wrenches in world axes about the origin, on the ground `z = height`, the
+/// zero-moment point. `None` where `f_z ≤ 0` (nothing pushes on the plane).
+///
+/// ```
+/// // 100 N straight up at (0.05, −0.02) on the plane z = −0.1 of a foot frame:
+/// let (p, f) = ([0.05, -0.02, -0.1], [0.0, 0.0, 100.0]);
+/// let n = [p[1] * f[2] - p[2] * f[1], p[2] * f[0] - p[0] * f[2], p[0] * f[1] - p[1] * f[0]];
+/// let cop = articulated::constraint::center_of_pressure(
+///     &[n[0], n[1], n[2], f[0], f[1], f[2]], -0.1,
+/// ).unwrap();
+/// assert!((cop[0] - 0.05).abs() < 1e-15 && (cop[1] + 0.02).abs() < 1e-15);
+/// ```
+pub fn center_of_pressure(wrench: &[f64; 6], height: f64) -> Option<[f64; 3]> {
+    let [nx, ny, _, fx, fy, fz] = *wrench;
+    if fz.is_nan() || fz <= 0.0 {
+        return None;
+    }
+    Some([(height * fx - ny) / fz, (height * fy + nx) / fz, height])
+}
+
 /// The same at run-time sizes, for a chain known only at run time (the CLI's `eval
 /// --contacts`, an interpreted [`Reference`](crate::reference::Reference)): the rows in
 /// growable matrices, the same numerical core.

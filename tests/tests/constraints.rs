@@ -1,4 +1,4 @@
-//! The runtime's constrained dynamics (`articulated::constraint`) on generated code against
+//! The runtime's constrained dynamics (`articulated::constraint`) on generated code: against
 //! Pinocchio 4.1's `constraintDynamics` (exact: proximal `mu = 0`) and `impulseDynamics`
 //! (`tests/data/pinocchio_constraints/`, values and script committed): the humanoid on its free
 //! flyer on two flat feet, one foot, a foot and a hand, a hand alone, with Baumgarte terms on
@@ -7,7 +7,12 @@
 //! and velocities relative to their largest entry; and, independently of Pinocchio, each
 //! solution is checked against the equations it solves with the reference's `M` and `nle`.
 //!
-//! `cargo test -p articulated-tests --test pinocchio_constraints -- --nocapture` prints the
+//! Inverse dynamics with contacts against the forward dynamics that made the motion, and the
+//! whole-body Newton and Euler equations (Wieber 2005, eqs. 17–18): the contact wrenches sum to
+//! the rate of the centroidal momentum less gravity, the rate by central differences of the
+//! generated `centroidal_momentum` along the motion (an independent code path).
+//!
+//! `cargo test -p articulated-tests --test constraints -- --nocapture` prints the
 //! worst error of each case.
 
 mod common;
@@ -33,7 +38,9 @@ const TOL: f64 = 1e-9;
         frame_placements,
         frame_jacobians_local,
         frame_velocities,
-        frame_accelerations
+        frame_accelerations,
+        center_of_mass,
+        centroidal_momentum
     ],
     frames = [left_foot, right_foot, left_hand, right_hand]
 )]
@@ -355,4 +362,160 @@ fn bad_input_is_an_error() {
         constraint::impulse_dynamics(&m, &v, &system, 0.5, &settings).unwrap_err(),
         ConstraintError::MassMatrix { velocity: 0 }
     );
+}
+
+/// A humanoid state of the data file with the base's six joint forces zeroed (nothing actuates
+/// a free base).
+fn actuated_state(case: &str, k: usize) -> (SVector<f64, 38>, SVector<f64, 37>, SVector<f64, 37>) {
+    let data = data();
+    let state = &data["cases"][case]["states"][k];
+    let q = SVector::<f64, 38>::from_column_slice(&vec_of(&state["q"]));
+    let v = SVector::<f64, 37>::from_column_slice(&vec_of(&state["v"]));
+    let mut tau = SVector::<f64, 37>::from_column_slice(&vec_of(&state["tau"]));
+    tau.fixed_rows_mut::<6>(0).fill(0.0);
+    (q, v, tau)
+}
+
+/// Inverse dynamics with contacts recovers what forward dynamics was given: on one flat foot
+/// the forces are unique, and so are the joints' forces; on two feet the forces it gives are
+/// the least-norm ones that produce the same motion (they hold the base's six equations, the
+/// joints' forces follow, and they are no larger than the forces forward dynamics found).
+#[test]
+fn inverse_dynamics_with_contacts_recovers_the_forces() {
+    let weight = 82.05 * 9.81;
+    let u = constraint::unactuated(Humanoid::COORDINATES);
+    assert_eq!(u, 6);
+    for (case, contacts) in [
+        ("humanoid_left_foot", vec![Contact::six_d(0)]),
+        ("humanoid_feet", vec![Contact::six_d(0), Contact::six_d(1)]),
+    ] {
+        for k in 0..3 {
+            let (q, v, tau) = actuated_state(case, k);
+            let forward: Solution<37, R> = constraint::constrained_forward_dynamics::<
+                Humanoid,
+                38,
+                37,
+                4,
+                R,
+            >(
+                &q, &v, &tau, &contacts, None, &Settings::default()
+            )
+            .unwrap();
+            let frames = constraint::Frames::<37, 4>::of::<Humanoid, 38>(&q, &v);
+            let system: System<37, R> = frames.system(&contacts, None).unwrap();
+            let (m, nle) = Humanoid::mass_matrix_and_nonlinear_effects(&q, &v);
+            let inverse =
+                constraint::inverse_dynamics(&m, &nle, &forward.acceleration, &system, u).unwrap();
+            assert!(
+                inverse.residual < 1e-9 * weight,
+                "{case} {k}: {:e}",
+                inverse.residual
+            );
+            let (ours, theirs) = (
+                &inverse.forces.as_slice()[..system.rows],
+                &forward.forces.as_slice()[..system.rows],
+            );
+            if contacts.len() == 1 {
+                let e = common::abs_err(ours, theirs) / weight;
+                assert!(e < 1e-10, "{case} {k}: forces off by {e:.1e} of m·|g|");
+                let e = rel_err(inverse.tau.as_slice(), tau.as_slice());
+                assert!(e < 1e-10, "{case} {k}: τ off by {e:.1e}");
+            } else {
+                let norm = |x: &[f64]| x.iter().map(|x| x * x).sum::<f64>().sqrt();
+                assert!(
+                    norm(ours) <= norm(theirs) * (1.0 + 1e-12),
+                    "{case} {k}: not least-norm"
+                );
+                // The same motion: M·q̈ + nle = τ + Jᵀ·f with the forces it found.
+                let lhs = m * forward.acceleration + nle;
+                let rhs = inverse.tau + system.jacobian.tr_mul(&inverse.forces);
+                let e = rel_err(rhs.as_slice(), lhs.as_slice());
+                assert!(e < 1e-12, "{case} {k}: equations of motion off by {e:.1e}");
+            }
+        }
+    }
+}
+
+/// Wieber's whole-body Newton and Euler equations (eqs. 17–18): the contact wrenches, moved to
+/// the centre of mass in world axes, sum to `ḣ_G − [0; m·g]`, with `ḣ_G` by central
+/// differences of the generated centroidal momentum along the constrained motion, to 1e-8 of
+/// `m·‖g‖` (the data's velocities are large: the differences' truncation error is about
+/// `1e4·dt²` of `m·‖g‖`, so the step is 1e-7 s, where they agree to 3e-10 and rounding,
+/// `ε·|h|/dt`, is below that); and the
+/// zero-moment point of the support has no moment along the ground.
+#[test]
+fn contact_wrenches_are_the_rate_of_the_centroidal_momentum_less_gravity() {
+    let mass = 82.05;
+    let weight = mass * 9.81;
+    let contacts = [Contact::six_d(0), Contact::six_d(1)];
+    for k in 0..3 {
+        let (q, v, tau) = actuated_state("humanoid_feet", k);
+        let s: Solution<37, R> =
+            constraint::constrained_forward_dynamics::<Humanoid, 38, 37, 4, R>(
+                &q,
+                &v,
+                &tau,
+                &contacts,
+                None,
+                &Settings::default(),
+            )
+            .unwrap();
+        let qdd = s.acceleration;
+        // h(t ± dt) along q(t) = q ⊕ (v·t + q̈·t²/2), v(t) = v + q̈·t.
+        let dt = 1e-7;
+        let at = |t: f64| {
+            let delta = v * t + qdd * (0.5 * t * t);
+            let mut qt = [0.0; 38];
+            assert!(articulated::control::tangent::retract(
+                Humanoid::COORDINATES,
+                q.as_slice(),
+                delta.as_slice(),
+                &mut qt
+            ));
+            let qt = SVector::<f64, 38>::from_column_slice(&qt);
+            Humanoid::centroidal_momentum(&qt, &(v + qdd * t))
+        };
+        let h_dot = (at(dt) - at(-dt)) / (2.0 * dt);
+        let c = Humanoid::center_of_mass(&q);
+        let placements = Humanoid::frame_placements(&q);
+        let mut total = [0.0; 6];
+        for (i, contact) in contacts.iter().enumerate() {
+            let w =
+                constraint::wrench_in_world(&placements[contact.frame], &s.force::<6>(6 * i), &c);
+            for r in 0..6 {
+                total[r] += w[r];
+            }
+        }
+        let mut expected: Vec<f64> = h_dot.iter().copied().collect();
+        expected[5] += mass * 9.81;
+        let e = common::abs_err(&total, &expected) / weight;
+        println!("state {k}: Σ contact wrenches vs ḣ_G − m·g: {e:.1e} of m·|g|");
+        assert!(
+            e < 1e-8,
+            "state {k}: {e:.1e} of m·|g|\n ours {total:?}\n ḣ−mg {expected:?}"
+        );
+
+        // The zero-moment point of the support, from the wrenches about the world's origin.
+        let origin = SVector::<f64, 3>::zeros();
+        let mut about_origin = [0.0; 6];
+        for (i, contact) in contacts.iter().enumerate() {
+            let local = s.force::<6>(6 * i);
+            let w = constraint::wrench_in_world(&placements[contact.frame], &local, &origin);
+            for r in 0..6 {
+                about_origin[r] += w[r];
+            }
+        }
+        if let Some(zmp) = constraint::center_of_pressure(&about_origin, 0.0) {
+            // The tangential moment about the ZMP vanishes: n − p × f has no x, y part.
+            let (n, f) = (
+                SVector::<f64, 3>::new(about_origin[0], about_origin[1], about_origin[2]),
+                SVector::<f64, 3>::new(about_origin[3], about_origin[4], about_origin[5]),
+            );
+            let moment = n - SVector::<f64, 3>::from(zmp).cross(&f);
+            assert!(
+                moment[0].abs() + moment[1].abs() < 1e-9 * weight,
+                "{moment:?}"
+            );
+        }
+    }
 }
