@@ -12,6 +12,7 @@
 //! | [`CHAIN50`] | yes | yes | a 50-body serial chain, for scale |
 //! | [`FALLING_CAT`] | yes | no | the falling cat: two cylinders joined at the waist (spherical), the front one on a free base |
 //! | [`BIPED`] | yes | no | a free-floating walker from de Leva's (1996) segments: hips, knees, shoulders about y |
+//! | [`FOUR_BAR`] | yes | no | a four-bar linkage: an open chain whose frames `tip` and `ground` a loop constraint closes |
 //!
 //! The two models for scale are written by `models/make_scale_models.py` (the numbers and their
 //! sources are documented there). `humanoid.chain` puts the pelvis on a free base with a
@@ -80,6 +81,9 @@ pub const CHAIN50: ModelFiles = model!("chain50", urdf);
 pub const FALLING_CAT: ModelFiles = model!("falling_cat");
 /// A free-floating walker (Wieber 2005, §5.1): 13 positions, 12 velocities.
 pub const BIPED: ModelFiles = model!("biped");
+/// A four-bar linkage (a closed loop: `articulated::constraint::Loop` on its frames `tip` and
+/// `ground`): 3 positions, 3 velocities, one degree of freedom once closed.
+pub const FOUR_BAR: ModelFiles = model!("four_bar");
 
 /// The small models: Hemami's, the pendulums, the arm and the tree. Tests that compile the
 /// generated code of every model take these; the models for scale ([`HUMANOID`], [`CHAIN50`])
@@ -87,7 +91,7 @@ pub const BIPED: ModelFiles = model!("biped");
 pub const SMALL: [ModelFiles; 5] = [TWO_LINK, INVERTED_PENDULUM, DOUBLE_PENDULUM, ARM7, TREE];
 
 /// Every model of this crate.
-pub const ALL: [ModelFiles; 9] = [
+pub const ALL: [ModelFiles; 10] = [
     TWO_LINK,
     INVERTED_PENDULUM,
     DOUBLE_PENDULUM,
@@ -97,4 +101,5 @@ pub const ALL: [ModelFiles; 9] = [
     CHAIN50,
     FALLING_CAT,
     BIPED,
+    FOUR_BAR,
 ];

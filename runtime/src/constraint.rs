@@ -122,6 +122,18 @@ impl Contact {
     }
 }
 
+/// A loop closure: frame `a`'s origin held on frame `b`'s (3 rows, world axes): a four-bar
+/// linkage, a parallel robot, a rod between two bodies. Its force, in world axes, acts on `a`'s
+/// body and its opposite on `b`'s; its position error is `p_a − p_b`. A planar loop has fewer
+/// independent rows than three: solve it with a proximal [`Settings::mu`]` > 0`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Loop {
+    /// The first frame, by its index in `Chain::FRAMES`.
+    pub a: usize,
+    /// The second frame.
+    pub b: usize,
+}
+
 /// Baumgarte stabilization gains: `J·q̈ + γ = −kd·J·v − kp·e` (module docs), the same on every
 /// row, as Pinocchio's `BaumgarteCorrectorParameters`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -337,25 +349,28 @@ impl<const NV: usize, const NF: usize> Frames<NV, NF> {
         }
     }
 
-    /// The rows of `contacts` (in that order), with their position errors from `references`
-    /// (each frame's reference placement, indexed like the frames) where given.
+    /// The rows of `contacts` then `loops` (in that order), with the contacts' position errors
+    /// from `references` (each frame's reference placement, indexed like the frames) where
+    /// given.
     ///
     /// # Errors
     /// [`ConstraintError::UnknownFrame`], [`ConstraintError::Capacity`].
     pub fn system<const R: usize>(
         &self,
         contacts: &[Contact],
+        loops: &[Loop],
         references: Option<&[FramePlacement<f64>; NF]>,
     ) -> Result<System<NV, R>, ConstraintError> {
+        let known = |frame: usize| {
+            if frame < NF {
+                Ok(frame)
+            } else {
+                Err(ConstraintError::UnknownFrame { frame, frames: NF })
+            }
+        };
         let mut system = System::new();
         for c in contacts {
-            let i = c.frame;
-            if i >= NF {
-                return Err(ConstraintError::UnknownFrame {
-                    frame: i,
-                    frames: NF,
-                });
-            }
+            let i = known(c.frame)?;
             let (placement, j, vel, drift) = (
                 &self.placements[i],
                 &self.jacobians[i],
@@ -374,6 +389,16 @@ impl<const NV: usize, const NF: usize> Frames<NV, NF> {
                     system.push(j, &six_d_drift(placement, vel, drift), &e)?;
                 }
             }
+        }
+        for l in loops {
+            let (a, b) = (known(l.a)?, known(l.b)?);
+            let world_rows = |i: usize| -> SMatrix<f64, 3, NV> {
+                self.placements[i].rotation * self.jacobians[i].fixed_rows::<3>(3)
+            };
+            let rows = world_rows(a) - world_rows(b);
+            let (da, db) = (point_drift(&self.drifts[a]), point_drift(&self.drifts[b]));
+            let e = point_error(&self.placements[a], &self.placements[b]);
+            system.push(&rows, &core::array::from_fn(|r| da[r] - db[r]), &e)?;
         }
         Ok(system)
     }
@@ -526,7 +551,7 @@ where
         + FrameAccelerations<f64, NQ, NV, NF>,
 {
     let frames = Frames::<NV, NF>::of::<C, NQ>(q, v);
-    let system = frames.system::<R>(contacts, baumgarte.map(|(_, r)| r))?;
+    let system = frames.system::<R>(contacts, &[], baumgarte.map(|(_, r)| r))?;
     let (m, nle) = C::mass_matrix_and_nonlinear_effects(q, v);
     forward_dynamics(
         &m,
@@ -565,9 +590,157 @@ where
         + FrameAccelerations<f64, NQ, NV, NF>,
 {
     let frames = Frames::<NV, NF>::of::<C, NQ>(q, v_minus);
-    let system = frames.system::<R>(contacts, None)?;
+    let system = frames.system::<R>(contacts, &[], None)?;
     let (m, _) = C::mass_matrix_and_nonlinear_effects(q, v_minus);
     impulse_dynamics(&m, v_minus, &system, restitution, settings)
+}
+
+/// A generated chain held by constraints, under a controller, for the integrators
+/// ([`crate::integrate`]): `a(t, q, v)` is [`forward_dynamics`]'s `q̈` with the contacts and
+/// loops given, their Baumgarte terms toward the contacts' placements at the initial state (and
+/// toward closing each loop). The forces of the last evaluation are kept
+/// ([`ConstrainedChain::last`]).
+///
+/// ```
+/// # use articulated::nalgebra::SVector;
+/// # use articulated::integrate::{Integrator, Rk4, State};
+/// use articulated::constraint::{Baumgarte, ConstrainedChain, Loop, Settings};
+/// articulated::chain! {
+///     /// A pendulum whose bob is held on a rod to the world at (1, 0, 0) by a point loop:
+///     /// the loop adds nothing while it holds.
+///     chain Held {
+///         body bob { mass: 1.0, com: [0.0, 0.0, 0.0], inertia: diag(0.01, 0.01, 0.01) }
+///         joint pivot: revolute(y) { parent: world, child: bob, xyz: [0.0, 0.0, 0.0] }
+///         frame tip { parent: bob, xyz: [1.0, 0.0, 0.0] }
+///         frame anchor { parent: world, xyz: [1.0, 0.0, 0.0] }
+///         outputs: [mass_matrix_and_nonlinear_effects, frame_placements, frame_jacobians_local,
+///                   frame_velocities, frame_accelerations];
+///         frames: [tip, anchor];
+///     }
+/// }
+/// let loops = [Loop { a: 0, b: 1 }];
+/// let settings = Settings { mu: 1e-8, ..Settings::default() }; // 1 of its 3 rows is free
+/// let mut held = ConstrainedChain::<Held, _, 1, 1, 2, 3>::new(
+///     &SVector::zeros(), &[], &loops, Some(Baumgarte { kp: 100.0, kd: 20.0 }), settings,
+///     |_, _: &SVector<f64, 1>, _: &SVector<f64, 1>| SVector::zeros(),
+/// )?;
+/// let mut state = State::new(0.0, SVector::zeros(), SVector::zeros());
+/// for step in 1..=1000 {
+///     Rk4.advance(&mut held, &mut state, f64::from(step) * 1e-3, step as usize).unwrap();
+/// }
+/// assert!(state.q[0].abs() < 1e-9); // held where it started
+/// # Ok::<(), articulated::constraint::ConstraintError>(())
+/// ```
+pub struct ConstrainedChain<
+    'a,
+    C,
+    F,
+    const NQ: usize,
+    const NV: usize,
+    const NF: usize,
+    const R: usize,
+> {
+    contacts: &'a [Contact],
+    loops: &'a [Loop],
+    baumgarte: Option<Baumgarte>,
+    references: [FramePlacement<f64>; NF],
+    settings: Settings,
+    controller: F,
+    last: Option<Solution<NV, R>>,
+    chain: core::marker::PhantomData<fn() -> C>,
+    positions: core::marker::PhantomData<[f64; NQ]>,
+}
+
+impl<'a, C, F, const NQ: usize, const NV: usize, const NF: usize, const R: usize>
+    ConstrainedChain<'a, C, F, NQ, NV, NF, R>
+where
+    C: MassMatrixAndNonlinearEffects<f64, NQ, NV>
+        + FramePlacements<f64, NQ, NV, NF>
+        + FrameJacobiansLocal<f64, NQ, NV, NF>
+        + FrameVelocities<f64, NQ, NV, NF>
+        + FrameAccelerations<f64, NQ, NV, NF>,
+    F: FnMut(f64, &SVector<f64, NQ>, &SVector<f64, NV>) -> SVector<f64, NV>,
+{
+    /// The chain held by `contacts` and `loops` from the configuration `q0` (the contacts'
+    /// references are their placements there), with `baumgarte` gains, solved with `settings`,
+    /// under `controller(t, q, v) → τ`.
+    ///
+    /// # Errors
+    /// [`ConstraintError::UnknownFrame`] or [`ConstraintError::Capacity`] for constraints that
+    /// cannot be assembled.
+    pub fn new(
+        q0: &SVector<f64, NQ>,
+        contacts: &'a [Contact],
+        loops: &'a [Loop],
+        baumgarte: Option<Baumgarte>,
+        settings: Settings,
+        controller: F,
+    ) -> Result<Self, ConstraintError> {
+        let frames = Frames::<NV, NF>::of::<C, NQ>(q0, &SVector::zeros());
+        frames.system::<R>(contacts, loops, None)?;
+        Ok(ConstrainedChain {
+            contacts,
+            loops,
+            baumgarte,
+            references: frames.placements,
+            settings,
+            controller,
+            last: None,
+            chain: core::marker::PhantomData,
+            positions: core::marker::PhantomData,
+        })
+    }
+
+    /// The solution of the last evaluation of the acceleration (its forces, residual and
+    /// iterations), `None` before the first.
+    pub fn last(&self) -> Option<&Solution<NV, R>> {
+        self.last.as_ref()
+    }
+
+    /// The contacts' reference placements, indexed like `Chain::FRAMES`.
+    pub fn references(&self) -> &[FramePlacement<f64>; NF] {
+        &self.references
+    }
+}
+
+impl<C, F, const NQ: usize, const NV: usize, const NF: usize, const R: usize>
+    crate::integrate::SecondOrder<f64, nalgebra::Const<NQ>, nalgebra::Const<NV>>
+    for ConstrainedChain<'_, C, F, NQ, NV, NF, R>
+where
+    C: crate::Chain<f64>
+        + MassMatrixAndNonlinearEffects<f64, NQ, NV>
+        + FramePlacements<f64, NQ, NV, NF>
+        + FrameJacobiansLocal<f64, NQ, NV, NF>
+        + FrameVelocities<f64, NQ, NV, NF>
+        + FrameAccelerations<f64, NQ, NV, NF>,
+    F: FnMut(f64, &SVector<f64, NQ>, &SVector<f64, NV>) -> SVector<f64, NV>,
+{
+    fn coordinates(&self) -> &[crate::Coordinates] {
+        C::COORDINATES
+    }
+
+    fn finite_acceleration(&self) -> bool {
+        // `forward_dynamics` reports a non-finite result as an error.
+        true
+    }
+
+    fn acceleration(
+        &mut self,
+        t: f64,
+        q: &SVector<f64, NQ>,
+        v: &SVector<f64, NV>,
+    ) -> Result<SVector<f64, NV>, crate::integrate::Cause<f64>> {
+        let tau = (self.controller)(t, q, v);
+        let frames = Frames::<NV, NF>::of::<C, NQ>(q, v);
+        let system = frames
+            .system::<R>(self.contacts, self.loops, Some(&self.references))
+            .map_err(crate::integrate::Cause::Constraint)?;
+        let (m, nle) = C::mass_matrix_and_nonlinear_effects(q, v);
+        let s = forward_dynamics(&m, &nle, &tau, v, &system, self.baumgarte, &self.settings)
+            .map_err(crate::integrate::Cause::Constraint)?;
+        self.last = Some(s);
+        Ok(s.acceleration)
+    }
 }
 
 /// The joint forces and contact forces that produce given accelerations ([`inverse_dynamics`]).

@@ -323,6 +323,8 @@ pub enum Cause<T> {
         /// Its norm.
         norm: T,
     },
+    /// The constrained dynamics gave no solution ([`crate::constraint::ConstrainedChain`]).
+    Constraint(crate::constraint::ConstraintError),
     /// A system-specific failure, with its description.
     System(&'static str),
 }
@@ -371,6 +373,7 @@ impl<T: fmt::Display> fmt::Display for Cause<T> {
                  `[w, x, y, z]`, scalar first",
                 index + 4
             ),
+            Cause::Constraint(e) => write!(f, "{e}"),
             Cause::System(what) => write!(f, "{what}"),
         }
     }
