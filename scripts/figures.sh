@@ -12,7 +12,7 @@
 # `cargo run --release -p articulated-bench --bin op_counts`.
 set -eu
 cd "$(dirname "$0")/.."
-examples="${*:-hemami_two_link drives operational_space four_bar falling_cat walking_rotation drift extremes trade}"
+examples="${*:-hemami_two_link hemami_standing drives operational_space four_bar falling_cat walking_rotation drift extremes trade}"
 for example in $examples; do
     echo "== $example" >&2
     cargo run --release -q -p articulated-examples --example "$example" -- docs

@@ -12,6 +12,7 @@
 //! | [`CHAIN50`] | yes | yes | a 50-body serial chain, for scale |
 //! | [`FALLING_CAT`] | yes | no | the falling cat: two cylinders joined at the waist (spherical), the front one on a free base |
 //! | [`BIPED`] | yes | no | a free-floating walker from de Leva's (1996) segments: hips, knees, shoulders about y |
+//! | [`TWO_LINK_FOOT`] | yes | no | Hemami's two-link system on a free foot, which a six-dimensional contact on its `sole` holds on the ground |
 //! | [`FOUR_BAR`] | yes | no | a four-bar linkage: an open chain whose frames `tip` and `ground` a loop constraint closes |
 //!
 //! The two models for scale are written by `models/make_scale_models.py` (the numbers and their
@@ -81,6 +82,9 @@ pub const CHAIN50: ModelFiles = model!("chain50", urdf);
 pub const FALLING_CAT: ModelFiles = model!("falling_cat");
 /// A free-floating walker (Wieber 2005, §5.1): 13 positions, 12 velocities.
 pub const BIPED: ModelFiles = model!("biped");
+/// Hemami's two-link system on a free foot (`free(quaternion)`) whose frame `sole` a
+/// six-dimensional contact holds on the ground: 13 positions, 12 velocities.
+pub const TWO_LINK_FOOT: ModelFiles = model!("two_link_foot");
 /// A four-bar linkage (a closed loop: `articulated::constraint::Loop` on its frames `tip` and
 /// `ground`): 3 positions, 3 velocities, one degree of freedom once closed.
 pub const FOUR_BAR: ModelFiles = model!("four_bar");
@@ -91,7 +95,7 @@ pub const FOUR_BAR: ModelFiles = model!("four_bar");
 pub const SMALL: [ModelFiles; 5] = [TWO_LINK, INVERTED_PENDULUM, DOUBLE_PENDULUM, ARM7, TREE];
 
 /// Every model of this crate.
-pub const ALL: [ModelFiles; 10] = [
+pub const ALL: [ModelFiles; 11] = [
     TWO_LINK,
     INVERTED_PENDULUM,
     DOUBLE_PENDULUM,
@@ -101,5 +105,6 @@ pub const ALL: [ModelFiles; 10] = [
     CHAIN50,
     FALLING_CAT,
     BIPED,
+    TWO_LINK_FOOT,
     FOUR_BAR,
 ];
