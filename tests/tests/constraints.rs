@@ -633,3 +633,86 @@ fn a_four_bar_has_one_degree_of_freedom_and_stays_closed() {
     );
     assert!(swing > 0.1, "it hardly moved: {swing} J");
 }
+
+articulated::chain! {
+    /// A pendulum as a free body (a ball at its centre of mass, 2 kg, 0.003 kg·m² about every
+    /// axis) whose rod's end, 0.8 m from the ball, a point loop holds on a pivot in the world.
+    chain Bob {
+        gravity: [0.0, 0.0, -9.81];
+        outputs: [mass_matrix_and_nonlinear_effects, frame_placements, frame_jacobians_local,
+                  frame_velocities, frame_accelerations];
+        frames: [end, pivot];
+        body ball { mass: 2.0, com: [0.0, 0.0, 0.0], inertia: diag(0.003, 0.003, 0.003) }
+        joint base: free(quaternion) { parent: world, child: ball }
+        frame end { parent: ball, xyz: [0.0, 0.0, 0.8] }
+        frame pivot { parent: world, xyz: [0.1, -0.2, 1.0] }
+    }
+}
+
+/// A closed form (issue 34, item 7): a free body held at a point by a loop is a physical
+/// pendulum. In the vertical x-z plane at angle θ from the downward vertical (the ball at
+/// `pivot + L·(sin θ, 0, −cos θ)`) and rate θ̇, `θ̈ = −m·g·L·sin θ/(I + m·L²)`, the ball's
+/// acceleration is `L·θ̈·(cos θ, 0, sin θ) + L·θ̇²·(−sin θ, 0, cos θ)` and the loop's force on
+/// the body is `m·a − m·g`.
+#[test]
+fn a_pendulum_held_by_a_loop_moves_as_the_closed_form() {
+    use articulated::constraint::Loop;
+    let (mass, inertia, g, length) = (2.0, 0.003, 9.81, 0.8);
+    let pivot = Vector3::new(0.1, -0.2, 1.0);
+    for (theta, rate) in [(0.6, 1.5), (-1.1, 0.0), (2.0, -3.0)] {
+        let (s, c) = f64::sin_cos(theta);
+        let p = pivot + Vector3::new(s, 0.0, -c) * length;
+        // The body turned by −θ about y puts its rod's end (0, 0, L) on the pivot.
+        let (hs, hc) = f64::sin_cos(-theta / 2.0);
+        let rotation =
+            articulated::nalgebra::Rotation3::from_axis_angle(&Vector3::y_axis(), -theta);
+        let mut q = SVector::<f64, 7>::zeros();
+        q.fixed_rows_mut::<3>(0).copy_from(&p);
+        (q[3], q[5]) = (hc, hs); // [w, x, y, z]: about y
+        let velocity = Vector3::new(c, 0.0, s) * (length * rate);
+        let omega = Vector3::new(0.0, -rate, 0.0);
+        let mut v = SVector::<f64, 6>::zeros();
+        v.fixed_rows_mut::<3>(0)
+            .copy_from(&(rotation.transpose() * velocity));
+        v.fixed_rows_mut::<3>(3).copy_from(&omega);
+        let frames = constraint::Frames::<6, 2>::of::<Bob, 7>(&q, &v);
+        let gap = (frames.placements[0].translation - pivot).norm();
+        assert!(
+            gap < 1e-15,
+            "θ {theta}: the rod's end is {gap:e} m off the pivot"
+        );
+        let system: System<6, 3> = frames.system(&[], &[Loop { a: 0, b: 1 }], None).unwrap();
+        let (m, nle) = Bob::mass_matrix_and_nonlinear_effects(&q, &v);
+        let sol = constraint::forward_dynamics(
+            &m,
+            &nle,
+            &SVector::zeros(),
+            &v,
+            &system,
+            None,
+            &Settings::default(),
+        )
+        .unwrap();
+        let theta_dd = -mass * g * length * s / (inertia + mass * length * length);
+        let a = Vector3::new(c, 0.0, s) * (length * theta_dd)
+            + Vector3::new(-s, 0.0, c) * (length * rate * rate);
+        let force = (a - Vector3::new(0.0, 0.0, -g)) * mass;
+        let ours = Vector3::new(sol.forces[0], sol.forces[1], sol.forces[2]);
+        assert!(
+            (ours - force).norm() < 1e-12 * mass * g,
+            "θ {theta}: force {ours:?} vs {force:?}"
+        );
+        // v̇ of a free base is the rate of its body-frame velocity: Rᵀ·a − ω × v_body.
+        let lin = rotation.transpose() * a - omega.cross(&v.fixed_rows::<3>(0));
+        let qdd = sol.acceleration;
+        assert!(
+            (qdd.fixed_rows::<3>(0) - lin).norm() < 1e-12 * g,
+            "θ {theta}: {qdd:?}"
+        );
+        let spin = Vector3::new(0.0, -theta_dd, 0.0);
+        assert!(
+            (qdd.fixed_rows::<3>(3) - spin).norm() < 1e-12 * g,
+            "θ {theta}: {qdd:?}"
+        );
+    }
+}
