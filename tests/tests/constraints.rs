@@ -716,3 +716,127 @@ fn a_pendulum_held_by_a_loop_moves_as_the_closed_form() {
         );
     }
 }
+
+/// Random trees of 2 to 30 bodies with every joint kind (`random_model`), random contacts
+/// (points and six-dimensional, on random bodies) and random states: the run-time solver
+/// (`constraint::dynamic`, the same core as the fixed-size one) on the reference's kinematics
+/// against the full KKT system `[M −Jᵀ; J 0]·[q̈; f] = [τ − nle; −γ]` solved by LU, with its
+/// rows taken independently from the reference (`J` in LOCAL or the linear rows of
+/// LOCAL_WORLD_ALIGNED, `γ` the spatial or classical drift at `q̈ = 0`). Where the rows
+/// depend on each other, the solver's `Redundant` is checked against `J`'s singular values.
+#[test]
+fn the_solver_agrees_with_the_full_kkt_system_on_random_trees() {
+    use articulated::constraint::dynamic::{self, FrameKinematics};
+    use articulated::nalgebra::{DMatrix, DVector};
+    use articulated::reference::frames::ReferenceFrame;
+    use articulated::reference::Reference;
+    use articulated_dynamics::random::{random_model, random_state, Rng};
+    let (mut solved, mut redundant, mut worst) = (0, 0, 0.0f64);
+    for (seed, n) in [(1, 2), (2, 3), (4, 5), (6, 8), (9, 12), (13, 20), (17, 30)] {
+        let model = random_model(seed, n);
+        let r = Reference::new(&model).unwrap();
+        let nv = r.nv();
+        let mut rng = Rng::new(seed + 1000);
+        for state in 0..4 {
+            let (q, v, _) = random_state(&model, seed * 10 + state);
+            let tau: Vec<f64> = (0..nv).map(|_| rng.symmetric(5.0)).collect();
+            // Contacts the tree can hold: on its later bodies (deeper, more joints below
+            // them), six-dimensional where there are velocities enough, a second on larger
+            // trees.
+            let count = if nv >= 9 { 1 + rng.below(2) } else { 1 };
+            let contacts: Vec<(String, Kind)> = (0..count)
+                .map(|_| {
+                    let body = model.bodies[n - 1 - rng.below(n.div_ceil(2))].name.clone();
+                    let six = nv >= 6 * count + 2 && rng.unit() < 0.5;
+                    (body, if six { Kind::SixD } else { Kind::Point })
+                })
+                .collect();
+            let zero = vec![0.0; nv];
+            let mut system = dynamic::System::new(nv);
+            let (mut j, mut gamma) = (Vec::new(), Vec::<f64>::new());
+            for (name, kind) in &contacts {
+                let (rotation, translation) = r.frame_placement(&q, name).unwrap();
+                let local = r.frame_jacobian(&q, name, ReferenceFrame::Local).unwrap();
+                let frame = FrameKinematics {
+                    placement: FramePlacement {
+                        rotation,
+                        translation,
+                    },
+                    jacobian: local.clone(),
+                    velocity: r.frame_velocity(&q, &v, name).unwrap(),
+                    drift: r.frame_acceleration(&q, &v, &zero, name).unwrap(),
+                };
+                system.push(*kind, &frame, None).unwrap();
+                match kind {
+                    Kind::SixD => {
+                        j.push(local);
+                        let drift = r.frame_spatial_acceleration(&q, &v, &zero, name).unwrap();
+                        gamma.extend(drift.iter());
+                    }
+                    Kind::Point => {
+                        let lwa = r
+                            .frame_jacobian(&q, name, ReferenceFrame::LocalWorldAligned)
+                            .unwrap();
+                        j.push(lwa.rows(3, 3).into_owned());
+                        let drift = r.frame_acceleration(&q, &v, &zero, name).unwrap();
+                        gamma.extend(drift.iter().skip(3));
+                    }
+                }
+            }
+            let k = gamma.len();
+            let mut jac = DMatrix::<f64>::zeros(k, nv);
+            let mut row = 0;
+            for block in &j {
+                jac.rows_mut(row, block.nrows()).copy_from(block);
+                row += block.nrows();
+            }
+            let m = r.mass_matrix(&q).unwrap();
+            let nle = r.bias(&q, &v).unwrap() + r.gravity(&q).unwrap();
+            let tau = DVector::from_vec(tau);
+            let ours = dynamic::forward_dynamics(
+                &m,
+                &nle,
+                &tau,
+                &DVector::from_column_slice(&v),
+                &system,
+                None,
+                &Settings::default(),
+            );
+            let sv = jac.clone().singular_values();
+            let full_rank = k <= nv && sv.min() > 1e-7 * sv.max();
+            let s = match ours {
+                Err(ConstraintError::Redundant { .. }) => {
+                    assert!(
+                        !full_rank,
+                        "seed {seed} state {state}: Redundant, but σ = {sv:?}"
+                    );
+                    redundant += 1;
+                    continue;
+                }
+                Err(e) => panic!("seed {seed} state {state}: {e}"),
+                Ok(s) => s,
+            };
+            let mut kkt = DMatrix::<f64>::zeros(nv + k, nv + k);
+            kkt.view_mut((0, 0), (nv, nv)).copy_from(&m);
+            kkt.view_mut((0, nv), (nv, k))
+                .copy_from(&(-jac.transpose()));
+            kkt.view_mut((nv, 0), (k, nv)).copy_from(&jac);
+            let mut rhs = DVector::<f64>::zeros(nv + k);
+            rhs.rows_mut(0, nv).copy_from(&(&tau - &nle));
+            for (i, g) in gamma.iter().enumerate() {
+                rhs[nv + i] = -g;
+            }
+            let x = kkt.full_piv_lu().solve(&rhs).expect("a regular KKT system");
+            let e_qdd = rel_err(s.acceleration.as_slice(), &x.as_slice()[..nv]);
+            let e_f = rel_err(s.forces.as_slice(), &x.as_slice()[nv..]);
+            assert!(
+                e_qdd < 1e-8 && e_f < 1e-8,
+                "seed {seed} ({n} bodies) state {state} {contacts:?}: q̈ {e_qdd:.1e}, f {e_f:.1e}"
+            );
+            worst = worst.max(e_qdd).max(e_f);
+            solved += 1;
+        }
+    }
+    println!("random trees: {solved} solved (worst {worst:.1e}), {redundant} redundant");
+    assert!(solved >= 15, "{solved} solved, {redundant} redundant");
+}
