@@ -68,6 +68,9 @@ use crate::{
     MassMatrixAndNonlinearEffects,
 };
 
+#[cfg(feature = "contact-qp")]
+pub mod optimal;
+
 /// What a constraint holds (module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Kind {

@@ -840,3 +840,119 @@ fn the_solver_agrees_with_the_full_kkt_system_on_random_trees() {
     println!("random trees: {solved} solved (worst {worst:.1e}), {redundant} redundant");
     assert!(solved >= 15, "{solved} solved, {redundant} redundant");
 }
+
+articulated::chain! {
+    /// A 10 kg block on a free base standing on four corner points.
+    chain Block {
+        gravity: [0.0, 0.0, -9.81];
+        outputs: [mass_matrix_and_nonlinear_effects, frame_placements, frame_jacobians_local,
+                  frame_velocities, frame_accelerations];
+        frames: [front_left, front_right, back_left, back_right];
+        body block { mass: 10.0, com: [0.0, 0.0, 0.05], inertia: diag(0.05, 0.1, 0.12) }
+        joint base: free(quaternion) { parent: world, child: block }
+        frame front_left { parent: block, xyz: [0.2, 0.1, 0.0] }
+        frame front_right { parent: block, xyz: [0.2, -0.1, 0.0] }
+        frame back_left { parent: block, xyz: [-0.2, 0.1, 0.0] }
+        frame back_right { parent: block, xyz: [-0.2, -0.1, 0.0] }
+    }
+}
+
+#[derive(Chain)]
+#[chain(file = "../models/two_link_foot.chain")]
+struct Standing;
+
+/// The optimal contact forces (issue 34, item 4): a block standing on four corners shares its
+/// weight as the least-norm forces do, and accelerating sideways at 0.5 g it needs friction:
+/// infeasible at μ = 0.3, within the cones at μ = 0.8; Hemami's two-link on its foot, whose one
+/// flat contact determines the wrench, gets that wrench back where its centre of pressure is on
+/// the sole, and no forces where the motion would push it past the toes.
+#[test]
+fn optimal_contact_forces_respect_friction_and_soles() {
+    use articulated::constraint::optimal::{contact_forces, Limits, OptimalError, Sole};
+    // The block, at rest, its corners on the ground.
+    let mut q = SVector::<f64, 7>::zeros();
+    q[3] = 1.0;
+    let v = SVector::<f64, 6>::zeros();
+    let corners: Vec<Contact> = (0..4).map(Contact::point).collect();
+    let frames = constraint::Frames::<6, 4>::of::<Block, 7>(&q, &v);
+    let system: System<6, 12> = frames.system(&corners, &[], None).unwrap();
+    let (m, nle) = Block::mass_matrix_and_nonlinear_effects(&q, &v);
+    let limits = |mu: f64| {
+        vec![
+            Limits {
+                friction: mu,
+                sole: None
+            };
+            4
+        ]
+    };
+    let still = SVector::<f64, 6>::zeros();
+    let least = constraint::inverse_dynamics(&m, &nle, &still, &system, 6).unwrap();
+    let best = contact_forces(&m, &nle, &still, &system, &corners, &limits(0.5), 6, 1.0).unwrap();
+    let e = common::abs_err(best.forces.as_slice(), least.forces.as_slice()) / (10.0 * 9.81);
+    assert!(
+        e < 1e-6,
+        "at rest: {e:e} of the weight\n{:?}\n{:?}",
+        best.forces,
+        least.forces
+    );
+    for r in (2..12).step_by(3) {
+        assert!(
+            (best.forces[r] - 10.0 * 9.81 / 4.0).abs() < 1e-5,
+            "{:?}",
+            best.forces
+        );
+    }
+    // Sideways at 0.5 g (the base's linear acceleration is in its frame, here the world's).
+    let mut sideways = SVector::<f64, 6>::zeros();
+    sideways[1] = 0.5 * 9.81;
+    let slips = contact_forces(&m, &nle, &sideways, &system, &corners, &limits(0.3), 6, 1.0);
+    assert_eq!(slips.unwrap_err(), OptimalError::Infeasible { contacts: 4 });
+    let grips =
+        contact_forces(&m, &nle, &sideways, &system, &corners, &limits(0.8), 6, 1.0).unwrap();
+    assert!(grips.residual < 1e-6 * 10.0 * 9.81, "{}", grips.residual);
+    for c in 0..4 {
+        let f = &grips.forces.as_slice()[3 * c..3 * c + 3];
+        assert!(
+            f[0].hypot(f[1]) <= 0.8 * f[2] * (1.0 + 1e-6),
+            "corner {c}: {f:?}"
+        );
+    }
+
+    // Hemami's two-link on its foot: one flat contact, its wrench determined by the motion.
+    let mut q = SVector::<f64, 13>::zeros();
+    q[3] = 1.0;
+    q[8] = 0.05;
+    let v = SVector::<f64, 12>::zeros();
+    let sole = [Contact::six_d(0)];
+    let frames = constraint::Frames::<12, 1>::of::<Standing, 13>(&q, &v);
+    let system: System<12, 6> = frames.system(&sole, &[], None).unwrap();
+    let (m, nle) = Standing::mass_matrix_and_nonlinear_effects(&q, &v);
+    let limits = [Limits {
+        friction: 0.8,
+        sole: Some(Sole {
+            x: [-0.07, 0.19],
+            y: [-0.12, 0.12],
+        }),
+    }];
+    let cop = |w: &SVector<f64, 6>| -w[1] / w[5];
+    for (ankle, expect_feasible) in [(0.0, true), (-0.8, true), (3.0, false)] {
+        let mut qdd = SVector::<f64, 12>::zeros();
+        qdd[7] = ankle; // ankle pitch acceleration
+        let unique = constraint::inverse_dynamics(&m, &nle, &qdd, &system, 6).unwrap();
+        let x = cop(&unique.forces);
+        assert_eq!(
+            (-0.07..=0.19).contains(&x),
+            expect_feasible,
+            "ankle {ankle}: CoP {x}"
+        );
+        let best = contact_forces(&m, &nle, &qdd, &system, &sole, &limits, 6, 1e-3);
+        if expect_feasible {
+            let best = best.unwrap();
+            let e = common::abs_err(best.forces.as_slice(), unique.forces.as_slice());
+            assert!(e < 1e-6 * 75.1 * 9.81, "ankle {ankle}: {e:e}");
+        } else {
+            assert_eq!(best.unwrap_err(), OptimalError::Infeasible { contacts: 1 });
+        }
+    }
+}
