@@ -199,10 +199,11 @@ pub extern "C" fn linearized_derivatives(
 }
 
 articulated::chain! {
-    /// A tool frame on an arm with a quaternion shoulder: every frame output.
+    /// A tool frame on an arm with a quaternion shoulder: every frame output, and what the
+    /// constrained dynamics need.
     pub chain Tooled {
         gravity: [0.0, 0.0, -9.81];
-        outputs: [frames];
+        outputs: [frames, mass_matrix_and_nonlinear_effects];
         frames: [tool, fore];
         body upper { mass: 1.0, com: [0.0, 0.0, -0.3], inertia: diag(0.01, 0.01, 0.001) }
         body fore { mass: 0.5, com: [0.0, 0.0, -0.2], inertia: diag(0.005, 0.005, 0.001) }
@@ -249,4 +250,37 @@ pub extern "C" fn tooled_frames(q: &[f64; 5], v: &[f64; 4], a: &[f64; 4], out: &
     for (o, x) in out.iter_mut().zip(values.chain(sums)) {
         *o = x;
     }
+}
+
+/// One RK4 step of 1 ms of `Tooled` with its tool's point held where it starts (a point contact
+/// with Baumgarte terms): the stepping path of `articulated::constraint` without an allocator.
+/// Returns 0, or 1 where the constraint or the step fails.
+#[no_mangle]
+pub extern "C" fn tooled_held_step(q: &mut [f64; 5], v: &mut [f64; 4]) -> i32 {
+    use articulated::constraint::{Baumgarte, ConstrainedChain, Contact, Settings};
+    use articulated::integrate::{Integrator, Rk4, State};
+    let contacts = [Contact::point(0)];
+    let q0 = SVector::from(*q);
+    let gains = Some(Baumgarte {
+        kp: 100.0,
+        kd: 20.0,
+    });
+    let unforced = |_: f64, _: &SVector<f64, 5>, _: &SVector<f64, 4>| SVector::<f64, 4>::zeros();
+    let Ok(mut chain) = ConstrainedChain::<Tooled, _, 5, 4, 2, 3>::new(
+        &q0,
+        &contacts,
+        &[],
+        gains,
+        Settings::default(),
+        unforced,
+    ) else {
+        return 1;
+    };
+    let mut state = State::new(0.0, q0, SVector::from(*v));
+    if Rk4.advance(&mut chain, &mut state, 1e-3, 1).is_err() {
+        return 1;
+    }
+    q.copy_from_slice(state.q.as_slice());
+    v.copy_from_slice(state.v.as_slice());
+    0
 }

@@ -1171,7 +1171,7 @@ where
         if !d.is_finite() || d <= tolerance * a[(j, j)].abs() {
             return Err(j);
         }
-        let d = d.sqrt();
+        let d = libm::sqrt(d);
         l[(j, j)] = d;
         for i in j + 1..n {
             let mut s = l[(i, j)];
