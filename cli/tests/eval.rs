@@ -351,8 +351,8 @@ fn both_engines(args: &[String]) -> (Run, Run) {
 
 /// The generator's expression graphs (`--engine symbolic`) against the reference on every
 /// shipped model and state where the reference's M(q) is regular: every output to 1e-12
-/// relative. This checks the generator's graphs without compiling them. (States where the
-/// reference finds M(q) singular are the next test's.)
+/// relative (q̈ to `2e-16·cond(M)` where that is larger). This checks the generator's graphs
+/// without compiling them. (States where the reference finds M(q) singular are the next test's.)
 #[test]
 fn symbolic_engine_agrees_with_the_reference() {
     let mut compared = 0;
@@ -384,7 +384,13 @@ fn symbolic_engine_agrees_with_the_reference() {
             "coriolis_matrix",
         ] {
             let e = rel_err(&s[key], &r[key]);
-            assert!(e <= 1e-12, "{what}: {key} differs by {e:e} relative");
+            // q̈ solves with M: its rounding grows with M's condition number (a light foot
+            // under a heavy body: 7e4), every other output is straight-line arithmetic.
+            let tol = match (key, r["mass_matrix_condition"].as_f64()) {
+                ("qdd", Some(cond)) => 1e-12f64.max(2e-16 * cond),
+                _ => 1e-12,
+            };
+            assert!(e <= tol, "{what}: {key} differs by {e:e} relative");
         }
         compared += 1;
     }
