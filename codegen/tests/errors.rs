@@ -1575,8 +1575,8 @@ fn constraints_need_f64() {
         3,
         12,
         "`contacts` need the scalar `f64`, and `C` is generated in `f32`: the runtime's \
-         constraint solver (`articulated::constraint`) computes in f64; write `scalar: f64` (the \
-         default) or declare no constraints",
+         constraint solver (`articulated::constraint`) computes in f64; generate it in `f64` (the \
+         default scalar) or declare no constraints",
     );
     let mut items = vec!["scalar: generic;", "loops: [rod: point(tip, anchor)];"];
     items.extend(FREE);
@@ -1585,8 +1585,8 @@ fn constraints_need_f64() {
         3,
         9,
         "`loops` need the scalar `f64`, and `C` is generated in `generic`: the runtime's \
-         constraint solver (`articulated::constraint`) computes in f64; write `scalar: f64` (the \
-         default) or declare no constraints",
+         constraint solver (`articulated::constraint`) computes in f64; generate it in `f64` (the \
+         default scalar) or declare no constraints",
     );
 }
 

@@ -101,18 +101,6 @@ fn constraints(model: &Model, options: &Options) -> Vec<Problem> {
     } else {
         (About::Contact(0), "contacts")
     };
-    if options.scalar != ScalarKind::F64 {
-        problems.push(Problem::new(
-            first,
-            format!(
-                "`{setting}` need the scalar `f64`, and `{}` is generated in `{}`: the runtime's \
-                 constraint solver (`articulated::constraint`) computes in f64; write \
-                 `scalar: f64` (the default) or declare no constraints",
-                model.name,
-                options.scalar.name()
-            ),
-        ));
-    }
     for (k, c) in options.contacts.iter().enumerate() {
         let about = About::Contact(k);
         if options.contacts[..k].iter().any(|d| d.frame == c.frame) {
@@ -184,7 +172,8 @@ fn constraints(model: &Model, options: &Options) -> Vec<Problem> {
     }
     let rows = options.constraint_rows();
     let nv = model.nv();
-    if rows > nv {
+    // Counted once each constraint is sound (the count may change as they are fixed).
+    if rows > nv && problems.is_empty() {
         // At the constraint whose rows pass the velocities.
         let sizes = options
             .contacts
@@ -211,6 +200,18 @@ fn constraints(model: &Model, options: &Options) -> Vec<Problem> {
                  solve of `constrained_forward_dynamics` refuses; declare fewer constraints, or \
                  `point` contacts (3 rows) for `six_d` ones (6)",
                 model.name
+            ),
+        ));
+    }
+    if options.scalar != ScalarKind::F64 {
+        problems.push(Problem::new(
+            first,
+            format!(
+                "`{setting}` need the scalar `f64`, and `{}` is generated in `{}`: the runtime's \
+                 constraint solver (`articulated::constraint`) computes in f64; generate it in \
+                 `f64` (the default scalar) or declare no constraints",
+                model.name,
+                options.scalar.name()
             ),
         ));
     }
