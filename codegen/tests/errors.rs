@@ -1684,3 +1684,42 @@ fn contact_on_a_frame_already_reported_is_not_reported_again() {
         "unknown body `c` as parent of frame `heel`: expected `world` or a body (`a`, `b`)",
     );
 }
+
+/// `Builder::contacts` and `Builder::loops` state the constraints as the description does: what
+/// they generate, and the check stage's problems with them, each one.
+#[test]
+fn a_builder_states_constraints() {
+    use articulated_codegen::options::ContactKind;
+    use articulated_codegen::Builder;
+    let d = || parse_chain_str(&chain(&FREE), Path::new("free.chain")).unwrap();
+    let source = Builder::new()
+        .description(d())
+        .contacts(&[("tip", ContactKind::SixD)])
+        .loops(&[("rod", "toe", "anchor")])
+        .to_source()
+        .unwrap_or_else(|e| panic!("{e}"));
+    for expected in [
+        "pub const CONSTRAINT_ROWS: usize = 9;",
+        "pub fn constrained_forward_dynamics(",
+        "const FRAMES: &'static [&'static str] = &[\"tip\", \"toe\", \"anchor\"];",
+    ] {
+        assert!(source.contains(expected), "no `{expected}` in:\n{source}");
+    }
+    let e = Builder::new()
+        .description(d())
+        .contacts(&[("tpi", ContactKind::Point)])
+        .loops(&[("rod", "tip", "tip")])
+        .to_source()
+        .unwrap_err()
+        .to_string();
+    let lines: Vec<&str> = e.lines().collect();
+    assert_eq!(lines.len(), 2, "{e}");
+    assert!(
+        lines[0].starts_with("the model `C`: unknown frame `tpi`: did you mean `tip`?"),
+        "{e}"
+    );
+    assert!(
+        lines[1].starts_with("the model `C`: loop `rod` holds frame `tip` on itself"),
+        "{e}"
+    );
+}
