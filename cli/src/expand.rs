@@ -4,7 +4,10 @@
 
 use articulated_codegen::generate::generate_file;
 use articulated_codegen::load::FloatingBase;
-use articulated_codegen::options::{Accuracy, Output, ScalarKind};
+use articulated_codegen::options::{
+    unknown_contact_kind, unknown_loop_kind, Accuracy, Contact, ContactKind, Loop, Output,
+    ScalarKind,
+};
 
 use crate::ExpandArgs;
 
@@ -68,6 +71,15 @@ pub fn run(args: &ExpandArgs) -> Result<String, String> {
         chain.options.frames = frames.split(',').map(|f| f.trim().to_string()).collect();
         source.push_str(&format!(" --frames {frames}"));
     }
+    if let Some(contacts) = &args.contacts {
+        chain.options.contacts = parse_contacts(contacts)?;
+        source.push_str(&format!(" --contacts {contacts}"));
+    }
+    if let Some(loops) = &args.loops {
+        chain.options.loops = parse_loops(loops)?;
+        // Quoted: the shell would read the parentheses.
+        source.push_str(&format!(" --loops '{loops}'"));
+    }
     if args.quasi_static {
         chain.options.quasi_static = true;
         source.push_str(" --quasi-static");
@@ -79,4 +91,77 @@ pub fn run(args: &ExpandArgs) -> Result<String, String> {
             .collect::<Vec<_>>()
             .join("\n")
     })
+}
+
+/// `--contacts a:six_d,b:point`: each frame and its kind, in order (as `contacts: […]`).
+fn parse_contacts(list: &str) -> Result<Vec<Contact>, String> {
+    list.split(',')
+        .map(str::trim)
+        .map(|item| {
+            let (frame, kind) = item
+                .split_once(':')
+                .map(|(f, k)| (f.trim(), k.trim()))
+                .filter(|(f, _)| !f.is_empty())
+                .ok_or_else(|| {
+                    format!(
+                        "error: --contacts: `{item}`: expected FRAME:KIND with KIND `six_d` or \
+                         `point`, e.g. `left_sole:six_d`"
+                    )
+                })?;
+            let kind = ContactKind::from_name(kind)
+                .ok_or_else(|| format!("error: --contacts: {}", unknown_contact_kind(kind)))?;
+            Ok(Contact {
+                frame: frame.to_string(),
+                kind,
+            })
+        })
+        .collect()
+}
+
+/// `--loops rod:point(a,b),…`: each loop's name and two frames, in order (as `loops: […]`);
+/// the commas inside the parentheses are the frames'.
+fn parse_loops(list: &str) -> Result<Vec<Loop>, String> {
+    let mut items = Vec::new();
+    let (mut depth, mut start) = (0i32, 0);
+    for (i, c) in list.char_indices() {
+        match c {
+            '(' => depth += 1,
+            ')' => depth -= 1,
+            ',' if depth == 0 => {
+                items.push(&list[start..i]);
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    items.push(&list[start..]);
+    items
+        .into_iter()
+        .map(str::trim)
+        .map(|item| {
+            let bad = || {
+                format!(
+                    "error: --loops: `{item}`: expected NAME:point(A,B), frame A's origin held \
+                     on frame B's, e.g. `rod:point(tip,ground)`"
+                )
+            };
+            let (name, value) = item.split_once(':').ok_or_else(bad)?;
+            let (kind, frames) = match value.trim().split_once('(') {
+                Some((kind, rest)) => (kind.trim(), rest.strip_suffix(')').ok_or_else(bad)?),
+                None => (value.trim(), ""),
+            };
+            if kind != "point" {
+                return Err(format!("error: --loops: {}", unknown_loop_kind(kind)));
+            }
+            let frames: Vec<&str> = frames.split(',').map(str::trim).collect();
+            match (name.trim(), &frames[..]) {
+                (name, [a, b]) if !name.is_empty() && !a.is_empty() && !b.is_empty() => Ok(Loop {
+                    name: name.to_string(),
+                    a: a.to_string(),
+                    b: b.to_string(),
+                }),
+                _ => Err(bad()),
+            }
+        })
+        .collect()
 }

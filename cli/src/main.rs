@@ -153,6 +153,16 @@ pub struct ExpandArgs {
     /// (bodies, `frame` items, URDF links), e.g. `--frames tool,left_sole`.
     #[arg(long)]
     pub frames: Option<String>,
+    /// The contacts, in place of the description's, comma-separated `FRAME:KIND` with KIND
+    /// `six_d` or `point` (as `eval --contacts`), e.g. `--contacts left_sole:six_d,toe:point`:
+    /// with `--loops`, the type gains `CONTACTS`, `LOOPS`, `CONSTRAINT_ROWS` and
+    /// `constrained_forward_dynamics(q, v, tau)`, and the frames and outputs it reads.
+    #[arg(long)]
+    pub contacts: Option<String>,
+    /// The loop closures, in place of the description's, comma-separated `NAME:point(A,B)`
+    /// (frame A's origin held on frame B's), e.g. `--loops 'rod:point(tip,ground)'`.
+    #[arg(long)]
+    pub loops: Option<String>,
 }
 
 /// Arguments of `articulated simulate`.

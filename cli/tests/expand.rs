@@ -126,3 +126,89 @@ fn bad_file_is_an_error() {
         "{stderr}"
     );
 }
+
+/// `--contacts` and `--loops` (issue 34, item 1): the type gains the declared constraints'
+/// constants and `constrained_forward_dynamics`, their frames and the outputs the solver reads;
+/// the command that regenerates it carries them.
+#[test]
+fn contacts_and_loops_give_constrained_forward_dynamics() {
+    let (ok, stdout, stderr) = expand(&[
+        "models/arm7.chain",
+        "--outputs",
+        "mass_matrix",
+        "--frames",
+        "link2",
+        "--contacts",
+        "link7:point",
+        "--loops",
+        "tie:point(link5, link2)",
+    ]);
+    assert!(ok, "{stderr}");
+    syn::parse_file(&stdout).expect("the output is a Rust file");
+    let header = "`articulated expand models/arm7.chain --outputs mass_matrix --frames link2 \
+                  --contacts link7:point --loops 'tie:point(link5, link2)'`";
+    assert!(stdout.contains(header), "{stdout}");
+    // The frames named, then the constraints' (link5 is new; link7 once); each constraint's
+    // frames by their index there.
+    let flat = stdout.split_whitespace().collect::<Vec<_>>().join(" ");
+    for expected in [
+        "pub const CONSTRAINT_ROWS: usize = 6;",
+        "pub fn constrained_forward_dynamics(",
+        "const FRAMES: &'static [&'static str] = &[\"link2\", \"link7\", \"link5\"];",
+        "Contact { frame: 1, kind: ::articulated::constraint::Kind::Point, }",
+        "::articulated::constraint::Loop { a: 2, b: 0, }",
+    ] {
+        assert!(flat.contains(expected), "no `{expected}` in:\n{stdout}");
+    }
+    for output in [
+        "MassMatrix",
+        "MassMatrixAndNonlinearEffects",
+        "FramePlacements",
+        "FrameJacobiansLocal",
+        "FrameVelocities",
+        "FrameAccelerations",
+    ] {
+        assert!(
+            stdout.contains(&format!("impl ::articulated::{output}<")),
+            "no impl of {output}"
+        );
+    }
+}
+
+/// A bad `--contacts` or `--loops` is an error naming the flag, the kinds, or the frame with the
+/// nearest name.
+#[test]
+fn bad_contacts_and_loops_are_errors() {
+    for (args, expected) in [
+        (
+            ["--contacts", "tip"],
+            "error: --contacts: `tip`: expected FRAME:KIND",
+        ),
+        (
+            ["--contacts", "tip:sixd"],
+            "error: --contacts: unknown contact kind `sixd`: did you mean `six_d`?",
+        ),
+        (
+            ["--loops", "rod:line(tip,ground)"],
+            "error: --loops: unknown loop kind `line`",
+        ),
+        (
+            ["--loops", "rod:point(tip)"],
+            "error: --loops: `rod:point(tip)`: expected NAME:point(A,B)",
+        ),
+        (
+            ["--loops", "rod:point(tip,grund)"],
+            "error: unknown frame `grund`: did you mean `ground`?",
+        ),
+        (
+            ["--contacts", "ground:point"],
+            "error: contact `ground` holds a frame that cannot move",
+        ),
+    ] {
+        let mut all = vec!["models/four_bar.chain"];
+        all.extend(args);
+        let (ok, stdout, stderr) = expand(&all);
+        assert!(!ok, "{args:?}: {stdout}");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+    }
+}

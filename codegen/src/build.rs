@@ -28,7 +28,7 @@ use articulated_dynamics::model::Model;
 use crate::emit;
 use crate::generate::generate;
 use crate::load::{load_with, FloatingBase, LoadError, LoadOptions};
-use crate::options::{Accuracy, Description, Output, ScalarKind};
+use crate::options::{Accuracy, Contact, ContactKind, Description, Loop, Output, ScalarKind};
 
 /// Collects descriptions and writes their generated code to one file.
 #[derive(Debug, Default)]
@@ -47,6 +47,8 @@ struct Entry {
     locks: Vec<(String, Vec<f64>)>,
     keep: Option<Vec<String>>,
     frames: Option<Vec<String>>,
+    contacts: Option<Vec<Contact>>,
+    loops: Option<Vec<Loop>>,
     quasi_static: bool,
     strict: bool,
     balance_inertia: bool,
@@ -120,6 +122,8 @@ impl Builder {
             locks: Vec::new(),
             keep: None,
             frames: None,
+            contacts: None,
+            loops: None,
             quasi_static: false,
             strict: false,
             balance_inertia: false,
@@ -214,6 +218,35 @@ impl Builder {
         self
     }
 
+    /// The contacts of the source added last, in that order (as `contacts = […]`): each frame
+    /// and what it holds, e.g. `&[("left_sole", ContactKind::SixD)]`. With [`Builder::loops`],
+    /// they give the type `CONTACTS`, `LOOPS`, `CONSTRAINT_ROWS` and
+    /// `constrained_forward_dynamics`, and add the frames and outputs the solver reads.
+    pub fn contacts(mut self, contacts: &[(&str, ContactKind)]) -> Self {
+        if let Some(last) = self.sources.last_mut() {
+            let contacts = contacts.iter().map(|&(frame, kind)| Contact {
+                frame: frame.to_string(),
+                kind,
+            });
+            last.contacts = Some(contacts.collect());
+        }
+        self
+    }
+
+    /// The loop closures of the source added last, in that order (as `loops = […]`): each
+    /// loop's name and its two frames `(name, a, b)`, frame `a`'s origin held on frame `b`'s.
+    pub fn loops(mut self, loops: &[(&str, &str, &str)]) -> Self {
+        if let Some(last) = self.sources.last_mut() {
+            let loops = loops.iter().map(|&(name, a, b)| Loop {
+                name: name.to_string(),
+                a: a.to_string(),
+                b: b.to_string(),
+            });
+            last.loops = Some(loops.collect());
+        }
+        self
+    }
+
     /// Refuse the file added last if it loads with warnings (as `strict` in `#[chain(…)]`).
     pub fn strict(mut self) -> Self {
         if let Some(last) = self.sources.last_mut() {
@@ -302,6 +335,12 @@ impl Builder {
             }
             if let Some(f) = &entry.frames {
                 chain.options.frames = f.clone();
+            }
+            if let Some(c) = &entry.contacts {
+                chain.options.contacts = c.clone();
+            }
+            if let Some(l) = &entry.loops {
+                chain.options.loops = l.clone();
             }
             chain.options.quasi_static |= entry.quasi_static;
             let failed = |error| BuildError::Generate {

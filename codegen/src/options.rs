@@ -88,6 +88,78 @@ impl Accuracy {
     }
 }
 
+/// What a contact declared in the description holds (`contacts: [left_sole: six_d, toe:
+/// point];`): the runtime's `articulated::constraint::Kind`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ContactKind {
+    /// The frame's origin: 3 rows (its classical linear acceleration, world axes), a force in
+    /// world axes.
+    Point,
+    /// The whole frame: 6 rows (its spatial acceleration, LOCAL), a wrench `[n; f]` in the
+    /// frame's axes.
+    SixD,
+}
+
+impl ContactKind {
+    /// Every kind with its name in the grammar, the attribute and the CLI.
+    pub const ALL: [(ContactKind, &'static str); 2] =
+        [(ContactKind::SixD, "six_d"), (ContactKind::Point, "point")];
+
+    /// The kind of that name (`six_d`, `point`).
+    pub fn from_name(name: &str) -> Option<ContactKind> {
+        Self::ALL.iter().find(|(_, n)| *n == name).map(|(k, _)| *k)
+    }
+
+    /// Its name in the grammar.
+    pub fn name(self) -> &'static str {
+        name_in(&Self::ALL, self)
+    }
+
+    /// Its rows: 3 for a point, 6 for a six-dimensional contact.
+    pub fn rows(self) -> usize {
+        match self {
+            ContactKind::Point => 3,
+            ContactKind::SixD => 6,
+        }
+    }
+}
+
+/// A contact declared in the description: `left_sole: six_d` holds the frame `left_sole`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Contact {
+    /// The frame it holds (a body, a `frame` item, a URDF link), which names the contact.
+    pub frame: String,
+    /// What it holds of the frame.
+    pub kind: ContactKind,
+}
+
+/// A loop closure declared in the description: `rod: point(a, b)` holds frame `a`'s origin on
+/// frame `b`'s (3 rows, world axes: the runtime's `articulated::constraint::Loop`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Loop {
+    /// Its name.
+    pub name: String,
+    /// The frame whose origin is held.
+    pub a: String,
+    /// The frame it is held on.
+    pub b: String,
+}
+
+impl Loop {
+    /// Its rows: 3.
+    pub const ROWS: usize = 3;
+}
+
+/// The outputs the runtime's constraint solver reads, generated with any declared constraint
+/// (`articulated::constraint::forward_dynamics_of`).
+pub const CONSTRAINT_OUTPUTS: [Output; 5] = [
+    Output::MassMatrixAndNonlinearEffects,
+    Output::FramePlacements,
+    Output::FrameJacobiansLocal,
+    Output::FrameVelocities,
+    Output::FrameAccelerations,
+];
+
 /// The visibility of the generated type (and of its parameter struct).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub enum Visibility {
@@ -151,6 +223,12 @@ pub struct Options {
     /// The frames the frame outputs compute (`frames: [tool, left_sole]`), in that order:
     /// bodies' names or the model's [`Frame`](crate::model::Frame)s'.
     pub frames: Vec<String>,
+    /// The contacts (`contacts: [left_sole: six_d, toe: point]`), in declaration order: with
+    /// [`Options::loops`], they make the generated `constrained_forward_dynamics`
+    /// ([`Options::resolved`]).
+    pub contacts: Vec<Contact>,
+    /// The loop closures (`loops: [rod: point(a, b)]`), in declaration order.
+    pub loops: Vec<Loop>,
 }
 
 impl Default for Options {
@@ -166,6 +244,8 @@ impl Default for Options {
             keep: None,
             quasi_static: false,
             frames: Vec::new(),
+            contacts: Vec::new(),
+            loops: Vec::new(),
         }
     }
 }
@@ -195,6 +275,55 @@ impl Options {
             m = prune::keep(&m, &names, &[])?;
         }
         Ok(prune::merge_fixed(&m))
+    }
+
+    /// Whether the description declares constraints (`contacts` or `loops`).
+    pub fn constrained(&self) -> bool {
+        !self.contacts.is_empty() || !self.loops.is_empty()
+    }
+
+    /// The rows of the declared constraints: 3 per point contact and loop, 6 per
+    /// six-dimensional contact.
+    pub fn constraint_rows(&self) -> usize {
+        let contacts: usize = self.contacts.iter().map(|c| c.kind.rows()).sum();
+        contacts + Loop::ROWS * self.loops.len()
+    }
+
+    /// The frames the constraints name, in declaration order (the contacts', then each loop's
+    /// two), each once.
+    pub fn constraint_frames(&self) -> Vec<&str> {
+        let named = self.contacts.iter().map(|c| c.frame.as_str());
+        let looped = self.loops.iter().flat_map(|l| [l.a.as_str(), l.b.as_str()]);
+        let mut frames: Vec<&str> = Vec::new();
+        for f in named.chain(looped) {
+            if !frames.contains(&f) {
+                frames.push(f);
+            }
+        }
+        frames
+    }
+
+    /// The options the generator works from: with constraints declared, the frames they name
+    /// appended to [`Options::frames`] (in order, where absent) and the outputs the runtime's
+    /// solver reads ([`CONSTRAINT_OUTPUTS`]) added; without, these options unchanged.
+    pub fn resolved(&self) -> Options {
+        let mut options = self.clone();
+        if !self.constrained() {
+            return options;
+        }
+        for f in self.constraint_frames() {
+            if !options.frames.iter().any(|g| g == f) {
+                options.frames.push(f.to_string());
+            }
+        }
+        let outputs: Vec<Output> = self
+            .outputs
+            .iter()
+            .copied()
+            .chain(CONSTRAINT_OUTPUTS)
+            .collect();
+        options.set_outputs(outputs);
+        options
     }
 
     /// Sets the outputs, sorted and without duplicates.
@@ -276,18 +405,40 @@ pub(crate) fn one_of(names: &[&str]) -> String {
 pub fn unknown_output(found: &str) -> String {
     let names: Vec<&str> = Output::ALL.iter().map(|(_, n)| *n).collect();
     let groups: Vec<&str> = crate::outputs::Group::ALL.iter().map(|(_, n)| *n).collect();
-    // The nearest name, where one is near (a typo): said first, as rustc does.
-    let nearest = names
-        .iter()
-        .chain(&groups)
-        .map(|n| (strsim::damerau_levenshtein(found, n), *n))
-        .min()
-        .filter(|&(d, n)| d <= 2.max(n.len() / 5));
-    let hint = nearest.map_or_else(String::new, |(_, n)| format!(" did you mean `{n}`?"));
+    let hint = did_you_mean(found, names.iter().chain(&groups).copied());
     format!(
         "unknown output `{found}`:{hint} expected one of {}, or a group: {}",
         one_of(&names),
         one_of(&groups)
+    )
+}
+
+/// ` did you mean `name`?` for the name among `known` nearest to `found`, where one is near (a
+/// typo: at most 2 edits, more for long names), else nothing: said first, as rustc does.
+pub(crate) fn did_you_mean<'a>(found: &str, known: impl IntoIterator<Item = &'a str>) -> String {
+    known
+        .into_iter()
+        .map(|n| (strsim::damerau_levenshtein(found, n), n))
+        .min()
+        .filter(|&(d, n)| d <= 2.max(n.len() / 5))
+        .map_or_else(String::new, |(_, n)| format!(" did you mean `{n}`?"))
+}
+
+/// The message for an unknown contact kind.
+pub fn unknown_contact_kind(found: &str) -> String {
+    let hint = did_you_mean(found, ContactKind::ALL.iter().map(|(_, n)| *n));
+    format!(
+        "unknown contact kind `{found}`:{hint} expected `six_d` (the whole frame held: 6 rows, a \
+         wrench in its axes) or `point` (its origin held: 3 rows, a force in world axes)"
+    )
+}
+
+/// The message for an unknown loop kind.
+pub fn unknown_loop_kind(found: &str) -> String {
+    let hint = did_you_mean(found, ["point"]);
+    format!(
+        "unknown loop kind `{found}`:{hint} expected `point(a, b)` (frame `a`'s origin held on \
+         frame `b`'s: 3 rows, a force in world axes)"
     )
 }
 

@@ -60,8 +60,8 @@ fn unknown_setting() {
         2,
         1,
         "unknown setting `gravty`: expected `gravity`, `scalar`, `outputs`, `accuracy`, \
-         `lock`, `keep`, `quasi_static` or `frames` (or `param`, `body`, `joint`, `frame` \
-         items)",
+         `lock`, `keep`, `quasi_static`, `frames`, `contacts` or `loops` (or `param`, `body`, \
+         `joint`, `frame` items)",
     );
 }
 
@@ -1423,5 +1423,303 @@ fn frame_outputs_need_frames_and_frames_need_a_frame_output() {
         10,
         "`frames` names frames, but no frame output is generated: add one to `outputs` \
          (`frame_placements`, `frame_jacobians_local_world_aligned`, …, or the group `frames`)",
+    );
+}
+
+// ---- constraints: `contacts` and `loops` ----
+
+/// A free body `a` (6 velocities), a body `b` on a ball joint under it (3 more), frames `tip`
+/// and `toe` on `b`, `anchor` on the world.
+const FREE: [&str; 7] = [
+    "body a { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }",
+    "joint j: free { parent: world, child: a }",
+    "body b { mass: 1.0, inertia: diag(1.0, 1.0, 1.0) }",
+    "joint k: spherical(xyz) { parent: a, child: b }",
+    "frame tip { parent: b, xyz: [0.0, 0.0, 1.0] }",
+    "frame toe { parent: b, xyz: [0.5, 0.0, 1.0] }",
+    "frame anchor { parent: world }",
+];
+
+/// Asserts that the setting `setting` (line 2) after [`FREE`] gives one error at `column`.
+#[track_caller]
+fn check_constraint(setting: &str, column: usize, message: &str) {
+    let mut items = vec![setting];
+    items.extend(FREE);
+    check(&items, 2, column, message);
+}
+
+const KINDS: &str = "expected `six_d` (the whole frame held: 6 rows, a wrench in its axes) or \
+                     `point` (its origin held: 3 rows, a force in world axes)";
+
+#[test]
+fn contacts_and_loops_that_hold() {
+    // No error: a contact and a loop, their frames and outputs added where absent.
+    let src = chain(
+        &[
+            &[
+                "outputs: [mass_matrix];",
+                "frames: [toe];",
+                "contacts: [tip: six_d];",
+                "loops: [rod: point(toe, anchor)];",
+            ][..],
+            &FREE[..],
+        ]
+        .concat(),
+    );
+    let d = parse_chain_str(&src, Path::new("t.chain")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(d.options.constraint_rows(), 9);
+    let resolved = d.options.resolved();
+    assert_eq!(resolved.frames, ["toe", "tip", "anchor"]);
+    assert_eq!(resolved.outputs.len(), 6);
+    // Without constraints, nothing changes.
+    let plain = parse_chain_str(&chain(&FREE), Path::new("t.chain")).unwrap();
+    assert_eq!(plain.options.resolved(), plain.options);
+}
+
+#[test]
+fn unknown_contact_kind() {
+    check_constraint(
+        "contacts: [tip: plane];",
+        17,
+        &format!("unknown contact kind `plane`: {KINDS}"),
+    );
+    check_constraint(
+        "contacts: [tip: sixd];",
+        17,
+        &format!("unknown contact kind `sixd`: did you mean `six_d`? {KINDS}"),
+    );
+}
+
+#[test]
+fn contact_on_an_unknown_frame() {
+    check_constraint(
+        "contacts: [tpi: point];",
+        12,
+        "unknown frame `tpi`: did you mean `tip`? expected a body or a frame of `C` (`a`, \
+         `anchor`, `b`, `tip`, `toe`)",
+    );
+    check_constraint(
+        "contacts: [hand: point];",
+        12,
+        "unknown frame `hand`: expected a body or a frame of `C` (`a`, `anchor`, `b`, `tip`, \
+         `toe`)",
+    );
+}
+
+#[test]
+fn contact_declared_twice() {
+    check_constraint(
+        "contacts: [tip: point, tip: six_d];",
+        24,
+        "contact `tip` is declared twice in `contacts`: a frame holds one contact (a `six_d` \
+         contact holds its origin too)",
+    );
+}
+
+#[test]
+fn malformed_contacts() {
+    check_constraint(
+        "contacts: tip;",
+        11,
+        "expected a list of contacts such as `[left_sole: six_d, toe: point]`, found `tip`",
+    );
+    check_constraint(
+        "contacts: [tip];",
+        12,
+        "expected a contact `frame: kind` such as `left_sole: six_d`, found `tip`",
+    );
+    check_constraint(
+        "contacts: [tip: point(toe)];",
+        17,
+        "expected the contact's kind, `six_d` or `point`, found `point(toe)` (a loop between \
+         two frames goes in `loops: [name: point(a, b)]`)",
+    );
+    // A label where a list holds numbers is no number.
+    check(
+        &[B, J, "gravity: [x: 0.0, 0.0, -9.81];"],
+        4,
+        11,
+        "expected a number, found `x: 0.0`",
+    );
+}
+
+#[test]
+fn contact_on_a_frame_that_cannot_move() {
+    check_constraint(
+        "contacts: [anchor: point];",
+        12,
+        "contact `anchor` holds a frame that cannot move (every joint between it and the world \
+         is fixed or locked): its rows are zero, and `constrained_forward_dynamics` would refuse \
+         them at every state; constrain a frame that moves",
+    );
+}
+
+#[test]
+fn more_constraint_rows_than_velocities() {
+    check_constraint(
+        "contacts: [tip: six_d, a: six_d];",
+        24,
+        "the constraints have 12 rows and `C` has 9 velocity coordinates: more rows than \
+         velocities depend on each other at every state, which the exact solve of \
+         `constrained_forward_dynamics` refuses; declare fewer constraints, or `point` contacts \
+         (3 rows) for `six_d` ones (6)",
+    );
+}
+
+#[test]
+fn constraints_need_f64() {
+    let mut items = vec!["scalar: f32;", "contacts: [tip: point];"];
+    items.extend(FREE);
+    check(
+        &items,
+        3,
+        12,
+        "`contacts` need the scalar `f64`, and `C` is generated in `f32`: the runtime's \
+         constraint solver (`articulated::constraint`) computes in f64; generate it in `f64` (the \
+         default scalar) or declare no constraints",
+    );
+    let mut items = vec!["scalar: generic;", "loops: [rod: point(tip, anchor)];"];
+    items.extend(FREE);
+    check(
+        &items,
+        3,
+        9,
+        "`loops` need the scalar `f64`, and `C` is generated in `generic`: the runtime's \
+         constraint solver (`articulated::constraint`) computes in f64; generate it in `f64` (the \
+         default scalar) or declare no constraints",
+    );
+}
+
+#[test]
+fn unknown_loop_kind() {
+    check_constraint(
+        "loops: [rod: line(tip, anchor)];",
+        14,
+        "unknown loop kind `line`: expected `point(a, b)` (frame `a`'s origin held on frame \
+         `b`'s: 3 rows, a force in world axes)",
+    );
+    check_constraint(
+        "loops: [rod: pont(tip, anchor)];",
+        14,
+        "unknown loop kind `pont`: did you mean `point`? expected `point(a, b)` (frame `a`'s \
+         origin held on frame `b`'s: 3 rows, a force in world axes)",
+    );
+}
+
+#[test]
+fn loop_on_an_unknown_frame() {
+    check_constraint(
+        "loops: [rod: point(tip, anchr)];",
+        25,
+        "unknown frame `anchr`: did you mean `anchor`? expected a body or a frame of `C` (`a`, \
+         `anchor`, `b`, `tip`, `toe`)",
+    );
+}
+
+#[test]
+fn loop_of_a_frame_on_itself() {
+    check_constraint(
+        "loops: [rod: point(tip, tip)];",
+        25,
+        "loop `rod` holds frame `tip` on itself: expected two different frames, `point(a, b)` \
+         holding `a`'s origin on `b`'s",
+    );
+}
+
+#[test]
+fn loop_between_frames_of_one_body() {
+    check_constraint(
+        "loops: [rod: point(tip, toe)];",
+        9,
+        "loop `rod` holds frames `tip` and `toe`, fixed to the same body `b`: the distance \
+         between them never changes, so the loop holds nothing and its rows depend on each \
+         other at every state; close it between frames on bodies that move apart",
+    );
+}
+
+#[test]
+fn loop_declared_twice() {
+    check_constraint(
+        "loops: [rod: point(tip, anchor), rod: point(toe, anchor)];",
+        34,
+        "loop `rod` is declared twice in `loops`",
+    );
+}
+
+#[test]
+fn malformed_loops() {
+    check_constraint(
+        "loops: [point(tip, anchor)];",
+        9,
+        "expected a loop `name: point(a, b)` such as `rod: point(tip, ground)`, found \
+         `point(tip, anchor)`",
+    );
+    check_constraint(
+        "loops: [rod: point(tip)];",
+        14,
+        "expected the loop's two frames, `point(a, b)` (frame `a`'s origin held on frame \
+         `b`'s), found 1 in `point(tip)`",
+    );
+    check_constraint(
+        "loops: [rod: point(tip, 1.0)];",
+        25,
+        "expected a frame name, found `1.0`",
+    );
+    check_constraint(
+        "loops: rod;",
+        8,
+        "expected a list of loops such as `[rod: point(tip, ground)]`, found `rod`",
+    );
+}
+
+#[test]
+fn contact_on_a_frame_already_reported_is_not_reported_again() {
+    let mut items = vec!["contacts: [heel: point];"];
+    items.extend(FREE);
+    items.push("frame heel { parent: c }");
+    check(
+        &items,
+        10,
+        22,
+        "unknown body `c` as parent of frame `heel`: expected `world` or a body (`a`, `b`)",
+    );
+}
+
+/// `Builder::contacts` and `Builder::loops` state the constraints as the description does: what
+/// they generate, and the check stage's problems with them, each one.
+#[test]
+fn a_builder_states_constraints() {
+    use articulated_codegen::options::ContactKind;
+    use articulated_codegen::Builder;
+    let d = || parse_chain_str(&chain(&FREE), Path::new("free.chain")).unwrap();
+    let source = Builder::new()
+        .description(d())
+        .contacts(&[("tip", ContactKind::SixD)])
+        .loops(&[("rod", "toe", "anchor")])
+        .to_source()
+        .unwrap_or_else(|e| panic!("{e}"));
+    for expected in [
+        "pub const CONSTRAINT_ROWS: usize = 9;",
+        "pub fn constrained_forward_dynamics(",
+        "const FRAMES: &'static [&'static str] = &[\"tip\", \"toe\", \"anchor\"];",
+    ] {
+        assert!(source.contains(expected), "no `{expected}` in:\n{source}");
+    }
+    let e = Builder::new()
+        .description(d())
+        .contacts(&[("tpi", ContactKind::Point)])
+        .loops(&[("rod", "tip", "tip")])
+        .to_source()
+        .unwrap_err()
+        .to_string();
+    let lines: Vec<&str> = e.lines().collect();
+    assert_eq!(lines.len(), 2, "{e}");
+    assert!(
+        lines[0].starts_with("the model `C`: unknown frame `tpi`: did you mean `tip`?"),
+        "{e}"
+    );
+    assert!(
+        lines[1].starts_with("the model `C`: loop `rod` holds frame `tip` on itself"),
+        "{e}"
     );
 }

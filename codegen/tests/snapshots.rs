@@ -1,9 +1,10 @@
-//! The emitted code of four small descriptions, as `articulated expand` prints it, locked by
+//! The emitted code of five small descriptions, as `articulated expand` prints it, locked by
 //! snapshots (`insta`), beside the two-link's (`tests/tests/generated_scalar.rs`): every change to
 //! generated code shows in review as a diff of these files. Each covers what the others do not:
 //! a branching tree (the tree's `M` and its sparse `LᵀDL`), a free quaternion base (the falling
 //! cat: the quaternion's normalization and the base's body-frame velocities), `f32` (literals,
-//! `mul_add` and the pivot tolerances in that scalar) and a derivative output.
+//! `mul_add` and the pivot tolerances in that scalar), a derivative output and a declared
+//! constraint (the items `constrained_forward_dynamics` needs).
 //!
 //! After an intended change: `cargo insta review` (or `INSTA_UPDATE=always cargo test -p
 //! articulated-codegen --test snapshots`), then read the diff.
@@ -52,4 +53,21 @@ fn f32_forward_dynamics() {
 fn inverse_dynamics_derivatives() {
     let outputs = [Output::InverseDynamicsDerivatives];
     insta::assert_snapshot!(expand("models/double_pendulum.chain", None, Some(&outputs)));
+}
+
+/// A declared constraint (the four-bar's loop): `CONTACTS`, `LOOPS`, `CONSTRAINT_ROWS` and
+/// `constrained_forward_dynamics` with its docs (`articulated expand` with `--loops`).
+#[test]
+fn declared_loop() {
+    let path = format!("{}/../models/four_bar.chain", env!("CARGO_MANIFEST_DIR"));
+    let mut chain = load(Path::new(&path), false).unwrap_or_else(|e| panic!("{e}"));
+    chain.options.loops = vec![articulated_codegen::options::Loop {
+        name: "closure".into(),
+        a: "tip".into(),
+        b: "ground".into(),
+    }];
+    let source = "models/four_bar.chain --loops 'closure:point(tip,ground)'";
+    insta::assert_snapshot!(
+        generate_file(&chain.model, &chain.options, source).unwrap_or_else(|e| panic!("{e}"))
+    );
 }

@@ -55,6 +55,7 @@ fn ui() {
         "euler",
         "many",
         "derive",
+        "constraints",
     ] {
         t.compile_fail(format!("tests/ui/{kind}/*.rs"));
     }

@@ -529,6 +529,7 @@ pub fn impulse_dynamics<const NV: usize, const R: usize>(
 /// its frames; with Baumgarte gains, each constrained frame's reference placement (indexed like
 /// `Chain::FRAMES`). Needs the outputs `mass_matrix_and_nonlinear_effects`,
 /// `frame_placements`, `frame_jacobians_local`, `frame_velocities` and `frame_accelerations`.
+/// [`forward_dynamics_of`] takes loops too.
 ///
 /// # Errors
 /// As [`forward_dynamics`] and [`Frames::system`].
@@ -553,8 +554,38 @@ where
         + FrameVelocities<f64, NQ, NV, NF>
         + FrameAccelerations<f64, NQ, NV, NF>,
 {
+    forward_dynamics_of::<C, NQ, NV, NF, R>(q, v, tau, contacts, &[], baumgarte, settings)
+}
+
+/// [`forward_dynamics`] of a generated chain at `(q, v, τ)` with the contacts `contacts` and
+/// the loop closures `loops` on its frames, their rows stacked in that order (contacts, then
+/// loops: [`Frames::system`]); with Baumgarte gains, each constrained frame's reference
+/// placement (indexed like `Chain::FRAMES`; a loop's error is always `p_a − p_b`). Needs the
+/// outputs of [`constrained_forward_dynamics`]. A chain whose description declares its
+/// constraints (`contacts: […]`, `loops: […]`) has its own `constrained_forward_dynamics(q, v,
+/// τ)`, which calls this with its `CONTACTS` and `LOOPS`, no Baumgarte terms and the default
+/// [`Settings`].
+///
+/// # Errors
+/// As [`forward_dynamics`] and [`Frames::system`].
+pub fn forward_dynamics_of<C, const NQ: usize, const NV: usize, const NF: usize, const R: usize>(
+    q: &SVector<f64, NQ>,
+    v: &SVector<f64, NV>,
+    tau: &SVector<f64, NV>,
+    contacts: &[Contact],
+    loops: &[Loop],
+    baumgarte: Option<(Baumgarte, &[FramePlacement<f64>; NF])>,
+    settings: &Settings,
+) -> Result<Solution<NV, R>, ConstraintError>
+where
+    C: MassMatrixAndNonlinearEffects<f64, NQ, NV>
+        + FramePlacements<f64, NQ, NV, NF>
+        + FrameJacobiansLocal<f64, NQ, NV, NF>
+        + FrameVelocities<f64, NQ, NV, NF>
+        + FrameAccelerations<f64, NQ, NV, NF>,
+{
     let frames = Frames::<NV, NF>::of::<C, NQ>(q, v);
-    let system = frames.system::<R>(contacts, &[], baumgarte.map(|(_, r)| r))?;
+    let system = frames.system::<R>(contacts, loops, baumgarte.map(|(_, r)| r))?;
     let (m, nle) = C::mass_matrix_and_nonlinear_effects(q, v);
     forward_dynamics(
         &m,

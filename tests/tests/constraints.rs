@@ -956,3 +956,127 @@ fn optimal_contact_forces_respect_friction_and_soles() {
         }
     }
 }
+
+articulated::chain! {
+    /// A leg on a free base whose description declares its contact (issue 34, item 1): the
+    /// sole held flat, six rows.
+    chain Walker {
+        contacts: [sole: six_d];
+        outputs: [mass_matrix];
+        body pelvis { mass: 10.0, com: [0.0, 0.0, 0.05], inertia: diag(0.15, 0.1, 0.12) }
+        body thigh { mass: 4.0, com: [0.0, 0.0, -0.2], inertia: diag(0.06, 0.06, 0.01) }
+        body shank { mass: 2.5, com: [0.0, 0.0, -0.2], inertia: diag(0.04, 0.04, 0.006) }
+        body foot { mass: 1.0, com: [0.05, 0.0, -0.03], inertia: diag(0.002, 0.005, 0.005) }
+        joint base: free(quaternion) { parent: world, child: pelvis }
+        joint hip: spherical(zxy) { parent: pelvis, child: thigh, xyz: [0.0, 0.1, -0.05] }
+        joint knee: revolute(y) { parent: thigh, child: shank, xyz: [0.0, 0.0, -0.4] }
+        joint ankle: spherical(zyx) { parent: shank, child: foot, xyz: [0.0, 0.0, -0.4] }
+        frame sole { parent: foot, xyz: [0.05, 0.0, -0.06], rpy: [0.0, 0.1, 0.0] }
+    }
+}
+
+/// A state of [`Walker`] away from its neutral configuration: a turned base, bent joints,
+/// every velocity nonzero, torques on the joints.
+fn walker_state(k: usize) -> (SVector<f64, 14>, SVector<f64, 13>, SVector<f64, 13>) {
+    let s = k as f64;
+    let quat = [0.9 + 0.01 * s, 0.1, -0.2 + 0.05 * s, 0.3];
+    let norm = quat.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let mut q = SVector::<f64, 14>::zeros();
+    q.fixed_rows_mut::<3>(0)
+        .copy_from_slice(&[0.1, -0.2 + s * 0.1, 0.9]);
+    for (i, x) in quat.iter().enumerate() {
+        q[3 + i] = x / norm;
+    }
+    for i in 7..14 {
+        q[i] = 0.3 * ((i as f64) * 1.7 + s).sin();
+    }
+    let v = SVector::<f64, 13>::from_fn(|i, _| 0.5 * ((i as f64) * 0.9 + 2.0 * s).cos());
+    let tau = SVector::<f64, 13>::from_fn(|i, _| {
+        if i < 6 {
+            0.0
+        } else {
+            3.0 - (i as f64) * 0.7 + s
+        }
+    });
+    (q, v, tau)
+}
+
+/// A description's declared contact gives the generated `constrained_forward_dynamics` (issue
+/// 34, item 1): its frame joins `FRAMES`, its outputs are generated, and at any state it gives
+/// the runtime's `constraint::constrained_forward_dynamics` on the same contact, `q̈` and the
+/// wrench, to 1e-12; the solution holds the equations of motion and the constraint.
+#[test]
+fn a_declared_contact_gives_the_runtime_constrained_dynamics() {
+    assert_eq!(<Walker as Chain<f64>>::FRAMES, ["sole"]);
+    assert_eq!(Walker::CONTACTS, [Contact::six_d(0)]);
+    assert!(Walker::LOOPS.is_empty());
+    assert_eq!(Walker::CONSTRAINT_ROWS, 6);
+    for k in 0..4 {
+        let (q, v, tau) = walker_state(k);
+        let (qdd, forces) = Walker::constrained_forward_dynamics(&q, &v, &tau).unwrap();
+        let runtime: Solution<13, 6> =
+            constraint::constrained_forward_dynamics::<Walker, 14, 13, 1, 6>(
+                &q,
+                &v,
+                &tau,
+                &[Contact::six_d(0)],
+                None,
+                &Settings::default(),
+            )
+            .unwrap();
+        let e_qdd = rel_err(qdd.as_slice(), runtime.acceleration.as_slice());
+        let e_f = rel_err(forces.as_slice(), runtime.forces.as_slice());
+        assert!(
+            e_qdd < 1e-12 && e_f < 1e-12,
+            "state {k}: q̈ {e_qdd:e}, forces {e_f:e}"
+        );
+        // M·q̈ + nle = τ + Jᵀ·f and J·q̈ + γ = 0.
+        let frames = constraint::Frames::<13, 1>::of::<Walker, 14>(&q, &v);
+        let system: System<13, 6> = frames.system(Walker::CONTACTS, &[], None).unwrap();
+        let (m, nle) = Walker::mass_matrix_and_nonlinear_effects(&q, &v);
+        let e_motion = rel_err(
+            (m * qdd + nle).as_slice(),
+            (tau + system.jacobian.tr_mul(&forces)).as_slice(),
+        );
+        let held = system.jacobian * qdd + system.drift;
+        assert!(
+            e_motion < 1e-12,
+            "state {k}: equations of motion off by {e_motion:e}"
+        );
+        assert!(
+            held.amax() < 1e-9,
+            "state {k}: constraint off by {:e}",
+            held.amax()
+        );
+        assert!(forces.amax() > 1.0, "state {k}: no force carried");
+    }
+}
+
+#[derive(Chain)]
+#[chain(file = "../models/four_bar.chain", loops = [closure: point(tip, ground)])]
+struct ClosedFourBar;
+
+/// A loop declared in `#[chain(…)]` on the four-bar (issue 34, item 1): its frames are the
+/// file's `frames`, three rows; the loop is planar, its three rows hold only two independent
+/// ones, and the exact solve of the generated `constrained_forward_dynamics` says so, naming
+/// the loop (constraint 0).
+#[test]
+fn a_declared_planar_loop_is_redundant() {
+    use articulated::constraint::Loop;
+    assert_eq!(<ClosedFourBar as Chain<f64>>::FRAMES, ["tip", "ground"]);
+    assert!(ClosedFourBar::CONTACTS.is_empty());
+    assert_eq!(ClosedFourBar::LOOPS, [Loop { a: 0, b: 1 }]);
+    assert_eq!(ClosedFourBar::CONSTRAINT_ROWS, 3);
+    for theta in [0.3, 1.2, -2.0] {
+        let q = four_bar_closed(theta);
+        let result = ClosedFourBar::constrained_forward_dynamics(
+            &q,
+            &SVector::from([0.4, -0.2, 0.1]),
+            &SVector::zeros(),
+        );
+        assert!(
+            matches!(result, Err(ConstraintError::Redundant { contact: 0, .. })),
+            "θ = {theta}: {result:?}"
+        );
+    }
+}

@@ -10,8 +10,8 @@
 //!   inequality on the principal moments), with the tolerances that tell rounding from an error;
 //! - `joints`: what a mimic joint may follow, and drives ([`Drive::problem`]);
 //! - `options`: which outputs and options go together with the model (`joint_wrenches_bottom_up`
-//!   on a serial chain only, `accuracy: robust` without mimic joints, a scene that fits), and
-//!   sizes ([`MAX_NV`]).
+//!   on a serial chain only, `accuracy: robust` without mimic joints, a scene that fits, frames
+//!   and constraints on frames the model has), and sizes ([`MAX_NV`]).
 //!
 //! A rule returns what is wrong, worded once, and says what it is about ([`About`]: a body or a
 //! joint by the front end's own numbering, an output, an option) but never where that is
@@ -66,8 +66,16 @@ pub enum About {
     Output(Output),
     /// The accuracy asked for (`accuracy: robust`).
     Accuracy,
-    /// A joint locked or a body kept by the scene (`lock`, `keep`), by name.
+    /// A joint locked or a body kept by the scene (`lock`, `keep`), or a frame named in
+    /// `frames`, by name.
     Scene(String),
+    /// A contact of `contacts`, by its order there.
+    Contact(usize),
+    /// A loop of `loops`, by its order there (its name).
+    Loop(usize),
+    /// One of the two frames of a loop of `loops`: the loop's order there, then 0 for the
+    /// first frame, 1 for the second.
+    LoopFrame(usize, usize),
     /// The description as a whole (its size, a model a program built).
     Whole,
 }

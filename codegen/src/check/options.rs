@@ -1,15 +1,16 @@
 //! Which outputs and options go together with the model, and sizes: the scene (`lock`, `keep`)
 //! fits the model; on the model the scene leaves, `joint_wrenches_bottom_up` needs a serial
-//! chain, `accuracy: robust` with forward dynamics needs no mimic joint, and the velocity
-//! coordinates are at most [`MAX_NV`].
+//! chain, `accuracy: robust` with forward dynamics needs no mimic joint, the velocity
+//! coordinates are at most [`MAX_NV`], the frames named exist, and the constraints (`contacts`,
+//! `loops`) hold frames that exist and move, in `f64`, with no more rows than velocities.
 
 use std::collections::HashMap;
 
 use articulated_dynamics::prune::PruneError;
 
 use super::{About, Problem};
-use crate::model::Model;
-use crate::options::{Accuracy, Options, Output};
+use crate::model::{JointKind, Model};
+use crate::options::{did_you_mean, Accuracy, Options, Output, ScalarKind};
 
 /// The most velocity coordinates the generator emits straight-line code for.
 pub const MAX_NV: usize = 160;
@@ -46,12 +47,181 @@ pub fn options(model: &Model, options: &Options) -> Vec<Problem> {
         .collect();
     let mut problems = rules(&model.name, &shape, options);
     problems.extend(frames(&scene, options));
+    problems.extend(constraints(&scene, options));
+    problems
+}
+
+/// The message for a frame `name` that `model` does not have (`None` if it has it): the
+/// nearest name where one is near, and the frames it has.
+fn unknown_frame(model: &Model, name: &str) -> Option<String> {
+    if model.frame(name).is_some() {
+        return None;
+    }
+    let mut known: Vec<&str> = model.frame_names().collect();
+    known.sort_unstable();
+    let hint = did_you_mean(name, known.iter().copied());
+    let shown: Vec<String> = known.iter().take(12).map(|n| format!("`{n}`")).collect();
+    let more = if known.len() > 12 {
+        format!(" and {} more", known.len() - 12)
+    } else {
+        String::new()
+    };
+    Some(format!(
+        "unknown frame `{name}`:{hint} expected a body or a frame of `{}` ({}{more})",
+        model.name,
+        shown.join(", ")
+    ))
+}
+
+/// The body that frame `name` moves with, past the fixed joints: `Some(None)` for a frame
+/// that does not move (every joint between it and the world fixed), `None` for no such frame.
+fn rigid_body(model: &Model, name: &str) -> Option<Option<usize>> {
+    let (mut body, _) = model.frame(name)?;
+    while let Some(b) = body {
+        match model.joints.get(b) {
+            Some(j) if j.kind == JointKind::Fixed => body = j.parent,
+            _ => break,
+        }
+    }
+    Some(body)
+}
+
+/// The constraints (`contacts`, `loops`) on the model the scene leaves: each frame one it has,
+/// one contact per frame, one loop per name, frames that move (a contact's; a loop's two apart
+/// from each other), the scalar `f64` (the runtime's solver's), and no more rows than
+/// velocities (rows that always depend on each other, which the exact solve of the generated
+/// `constrained_forward_dynamics` refuses at every state).
+fn constraints(model: &Model, options: &Options) -> Vec<Problem> {
+    let mut problems = Vec::new();
+    if !options.constrained() {
+        return problems;
+    }
+    let (first, setting) = if options.contacts.is_empty() {
+        (About::Loop(0), "loops")
+    } else {
+        (About::Contact(0), "contacts")
+    };
+    for (k, c) in options.contacts.iter().enumerate() {
+        let about = About::Contact(k);
+        if options.contacts[..k].iter().any(|d| d.frame == c.frame) {
+            problems.push(Problem::new(
+                about,
+                format!(
+                    "contact `{}` is declared twice in `contacts`: a frame holds one contact (a \
+                     `six_d` contact holds its origin too)",
+                    c.frame
+                ),
+            ));
+        } else if let Some(message) = unknown_frame(model, &c.frame) {
+            problems.push(Problem::new(about, message));
+        } else if rigid_body(model, &c.frame) == Some(None) {
+            problems.push(Problem::new(
+                about,
+                format!(
+                    "contact `{}` holds a frame that cannot move (every joint between it and the \
+                     world is fixed or locked): its rows are zero, and `constrained_forward_dynamics` \
+                     would refuse them at every state; constrain a frame that moves",
+                    c.frame
+                ),
+            ));
+        }
+    }
+    for (k, l) in options.loops.iter().enumerate() {
+        if options.loops[..k].iter().any(|m| m.name == l.name) {
+            problems.push(Problem::new(
+                About::Loop(k),
+                format!("loop `{}` is declared twice in `loops`", l.name),
+            ));
+        }
+        let unknown: Vec<Problem> = [&l.a, &l.b]
+            .iter()
+            .enumerate()
+            .filter_map(|(side, f)| {
+                unknown_frame(model, f).map(|m| Problem::new(About::LoopFrame(k, side), m))
+            })
+            .collect();
+        if !unknown.is_empty() {
+            problems.extend(unknown);
+        } else if l.a == l.b {
+            problems.push(Problem::new(
+                About::LoopFrame(k, 1),
+                format!(
+                    "loop `{}` holds frame `{}` on itself: expected two different frames, \
+                     `point(a, b)` holding `a`'s origin on `b`'s",
+                    l.name, l.a
+                ),
+            ));
+        } else if let (Some(a), Some(b)) = (rigid_body(model, &l.a), rigid_body(model, &l.b)) {
+            if a == b {
+                let fixed_to = match a.and_then(|b| model.bodies.get(b)) {
+                    Some(body) => format!("fixed to the same body `{}`", body.name),
+                    None => "both fixed to the world".to_string(),
+                };
+                problems.push(Problem::new(
+                    About::Loop(k),
+                    format!(
+                        "loop `{}` holds frames `{}` and `{}`, {fixed_to}: the distance between \
+                         them never changes, so the loop holds nothing and its rows depend on \
+                         each other at every state; close it between frames on bodies that \
+                         move apart",
+                        l.name, l.a, l.b
+                    ),
+                ));
+            }
+        }
+    }
+    let rows = options.constraint_rows();
+    let nv = model.nv();
+    // Counted once each constraint is sound (the count may change as they are fixed).
+    if rows > nv && problems.is_empty() {
+        // At the constraint whose rows pass the velocities.
+        let sizes = options
+            .contacts
+            .iter()
+            .map(|c| c.kind.rows())
+            .chain(options.loops.iter().map(|_| crate::options::Loop::ROWS));
+        let mut total = 0;
+        let past = sizes
+            .enumerate()
+            .find(|&(_, r)| {
+                total += r;
+                total > nv
+            })
+            .map_or(0, |(k, _)| k);
+        let about = match past.checked_sub(options.contacts.len()) {
+            Some(l) => About::Loop(l),
+            None => About::Contact(past),
+        };
+        problems.push(Problem::new(
+            about,
+            format!(
+                "the constraints have {rows} rows and `{}` has {nv} velocity coordinates: more \
+                 rows than velocities depend on each other at every state, which the exact \
+                 solve of `constrained_forward_dynamics` refuses; declare fewer constraints, or \
+                 `point` contacts (3 rows) for `six_d` ones (6)",
+                model.name
+            ),
+        ));
+    }
+    if options.scalar != ScalarKind::F64 {
+        problems.push(Problem::new(
+            first,
+            format!(
+                "`{setting}` need the scalar `f64`, and `{}` is generated in `{}`: the runtime's \
+                 constraint solver (`articulated::constraint`) computes in f64; generate it in \
+                 `f64` (the default scalar) or declare no constraints",
+                model.name,
+                options.scalar.name()
+            ),
+        ));
+    }
     problems
 }
 
 /// The frames of `frames: [...]`: each a frame of the model the scene leaves (a body, a
 /// declared frame, a URDF link), named once; frames named only where a frame output is
-/// generated, and a frame output only with frames named.
+/// generated, and a frame output only with frames named (the constraints' frames and outputs
+/// counted: [`Options::resolved`]).
 fn frames(model: &Model, options: &Options) -> Vec<Problem> {
     let mut problems = Vec::new();
     for (k, name) in options.frames.iter().enumerate() {
@@ -60,32 +230,18 @@ fn frames(model: &Model, options: &Options) -> Vec<Problem> {
                 About::Scene(name.clone()),
                 format!("frame `{name}` is named twice in `frames`"),
             ));
-        } else if model.frame(name).is_none() {
-            let mut known: Vec<&str> = model.frame_names().collect();
-            known.sort_unstable();
-            let shown: Vec<String> = known.iter().take(12).map(|n| format!("`{n}`")).collect();
-            let more = if known.len() > 12 {
-                format!(" and {} more", known.len() - 12)
-            } else {
-                String::new()
-            };
-            problems.push(Problem::new(
-                About::Scene(name.clone()),
-                format!(
-                    "unknown frame `{name}`: expected a body or a frame of `{}` ({}{more})",
-                    model.name,
-                    shown.join(", ")
-                ),
-            ));
+        } else if let Some(message) = unknown_frame(model, name) {
+            problems.push(Problem::new(About::Scene(name.clone()), message));
         }
     }
-    let frame_outputs: Vec<Output> = options
+    let resolved = options.resolved();
+    let frame_outputs: Vec<Output> = resolved
         .outputs
         .iter()
         .copied()
         .filter(|o| o.spec().uses_nf())
         .collect();
-    match (options.frames.first(), frame_outputs.first()) {
+    match (resolved.frames.first(), frame_outputs.first()) {
         (None, Some(&o)) => problems.push(Problem::new(
             About::Output(o),
             format!(

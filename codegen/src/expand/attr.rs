@@ -1,7 +1,7 @@
 //! The keys of `#[chain(…)]` on `#[derive(Chain)]`: where the description is (`file = "….chain"`
 //! or `urdf = "….urdf"`, with `floating` for a free base under the URDF root) and the options
-//! every front end can state (`scalar = f32`, `outputs = [mass_matrix, bias]`), each error
-//! spanned at its key or value.
+//! every front end can state (`scalar = f32`, `outputs = [mass_matrix, bias]`, `contacts =
+//! [left_sole: six_d]`), each error spanned at its key or value.
 
 use std::path::Path;
 
@@ -12,9 +12,11 @@ use syn::{DeriveInput, Ident, LitStr, Token};
 
 use super::path::Key;
 use crate::load::FloatingBase;
+use crate::lower::constraints::{contacts_of, loops_of};
 use crate::options::{
-    unknown_accuracy, unknown_output, unknown_scalar, Accuracy, Output, ScalarKind,
+    unknown_accuracy, unknown_output, unknown_scalar, Accuracy, ContactKind, Output, ScalarKind,
 };
+use crate::parse::Expr;
 
 /// Where `#[chain(…)]` says the description is.
 pub(crate) enum Source {
@@ -49,6 +51,10 @@ pub(crate) struct Attr {
     pub keep: Option<Vec<Ident>>,
     /// `frames = [frame, …]`, if given.
     pub frames: Option<Vec<Ident>>,
+    /// `contacts = [frame: kind, …]`, if given: each frame's token and the kind.
+    pub contacts: Option<Vec<(Ident, ContactKind)>>,
+    /// `loops = [name: point(a, b), …]`, if given: each loop's name and frames.
+    pub loops: Option<Vec<(Ident, [Ident; 2])>>,
     /// `quasi_static`.
     pub quasi_static: bool,
     /// `strict`: a warning of the loader refuses the file.
@@ -61,8 +67,9 @@ const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, \
                     `floating [= euler | quaternion]`, \
                     `scalar = f64 | f32 | generic`, `outputs = [mass_matrix, …]`, \
                     `accuracy = fastest | robust`, `lock = [joint(q, …), …]`, \
-                    `keep = [body, …]`, `frames = [frame, …]`, `quasi_static`, `strict` or \
-                    `balance_inertia`";
+                    `keep = [body, …]`, `frames = [frame, …]`, \
+                    `contacts = [frame: six_d | point, …]`, `loops = [name: point(a, b), …]`, \
+                    `quasi_static`, `strict` or `balance_inertia`";
 
 /// Reads every `#[chain(…)]` on `input`.
 pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
@@ -75,6 +82,8 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
     let mut locks = Vec::new();
     let mut keep = None;
     let mut frames = None;
+    let mut contacts = None;
+    let mut loops = None;
     let mut quasi_static = false;
     let mut strict = false;
     let mut balance_inertia = false;
@@ -126,6 +135,16 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
                     let names = Punctuated::<Ident, Token![,]>::parse_terminated(&content)?;
                     frames = Some(names.into_iter().collect());
                 }
+                Some("contacts") => {
+                    let (list, errors) = contacts_of(&meta.value()?.parse::<Expr>()?);
+                    contacts = Some(list);
+                    combined(errors)?;
+                }
+                Some("loops") => {
+                    let (list, errors) = loops_of(&meta.value()?.parse::<Expr>()?);
+                    loops = Some(list);
+                    combined(errors)?;
+                }
                 Some("quasi_static") => quasi_static = true,
                 Some("strict") => strict = true,
                 Some("balance_inertia") => balance_inertia = true,
@@ -173,10 +192,23 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
         locks,
         keep,
         frames,
+        contacts,
+        loops,
         quasi_static,
         strict,
         balance_inertia,
     })
+}
+
+/// `errors` as one, or `Ok` for none.
+fn combined(errors: Vec<syn::Error>) -> syn::Result<()> {
+    match errors.into_iter().reduce(|mut all, e| {
+        all.combine(e);
+        all
+    }) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
 }
 
 /// An unknown key, with the likely slip where its value is the path of a description under

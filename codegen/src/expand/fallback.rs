@@ -7,7 +7,8 @@ use quote::{format_ident, quote};
 
 use crate::outputs::{Types, SPECS};
 
-/// `NQ` and `NV` (zero), every output's operation count (`MASS_MATRIX_OPS`, zero) and trait ([`SPECS`]), generic in the scalar and in one
+/// `NQ` and `NV` (zero), the declared constraints' items (none, and a
+/// `constrained_forward_dynamics` generic in the sizes), every output's operation count (`MASS_MATRIX_OPS`, zero) and trait ([`SPECS`]), generic in the scalar and in one
 /// size `N` for `q`, `v` and the joints, so that uses of them type-check and the sizes are
 /// inferred from `q` (a size left free would be a "type annotations needed" error of its own).
 /// The bodies are never run: the crate does not compile.
@@ -56,6 +57,27 @@ pub(crate) fn fallback(name: &Ident) -> TokenStream {
             pub const NB: usize = 0;
             /// Stand-in after an error in the description.
             pub const NF: usize = 0;
+            /// Stand-in after an error in the description.
+            pub const CONTACTS: &'static [::articulated::constraint::Contact] = &[];
+            /// Stand-in after an error in the description.
+            pub const LOOPS: &'static [::articulated::constraint::Loop] = &[];
+            /// Stand-in after an error in the description.
+            pub const CONSTRAINT_ROWS: usize = 0;
+            /// Stand-in after an error in the description: the forces sized as `v`, so that
+            /// uses need no annotation.
+            pub fn constrained_forward_dynamics<const NQ: usize, const NV: usize>(
+                _: &::articulated::nalgebra::SVector<f64, NQ>,
+                _: &::articulated::nalgebra::SVector<f64, NV>,
+                _: &::articulated::nalgebra::SVector<f64, NV>,
+            ) -> ::core::result::Result<
+                (
+                    ::articulated::nalgebra::SVector<f64, NV>,
+                    ::articulated::nalgebra::SVector<f64, NV>,
+                ),
+                ::articulated::constraint::ConstraintError,
+            > {
+                ::core::unreachable!()
+            }
         }
         impl<T> ::articulated::Chain<T> for #name {
             const NAME: &'static str = #name_str;

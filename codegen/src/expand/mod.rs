@@ -24,6 +24,7 @@ use crate::check::{self, About};
 use crate::generate::{generate, generate_impls};
 use crate::load::{load_with, FloatingBase, LoadError, LoadOptions};
 use crate::lower::lower;
+use crate::options::{Contact, Loop};
 use crate::parse::ChainDef;
 
 /// `chain!{ … }`: the grammar of [`crate::parse`], expanded to the type and its impls.
@@ -115,7 +116,8 @@ fn load_error(
 }
 
 /// `#[derive(Chain)]` on a unit struct with `#[chain(file = "models/x.chain")]` or
-/// `#[chain(urdf = "models/x.urdf")]` (optionally `floating`, `scalar = …`, `outputs = […]`):
+/// `#[chain(urdf = "models/x.urdf")]` (optionally `floating`, `scalar = …`, `outputs = […]`,
+/// `contacts = […]`, …):
 /// the impls for the described chain, named after the struct. The crate rebuilds when the file
 /// changes.
 pub fn derive(input: TokenStream) -> TokenStream {
@@ -193,6 +195,25 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
     if let Some(frames) = &attr.frames {
         chain.options.frames = frames.iter().map(Ident::to_string).collect();
     }
+    if let Some(contacts) = &attr.contacts {
+        chain.options.contacts = contacts
+            .iter()
+            .map(|(frame, kind)| Contact {
+                frame: frame.to_string(),
+                kind: *kind,
+            })
+            .collect();
+    }
+    if let Some(loops) = &attr.loops {
+        chain.options.loops = loops
+            .iter()
+            .map(|(name, [a, b])| Loop {
+                name: name.to_string(),
+                a: a.to_string(),
+                b: b.to_string(),
+            })
+            .collect();
+    }
     // The check stage on the options the attribute gives the file's model, every problem at the
     // key that asked for it (at the file's path where the file asked).
     let problems = check::options(&chain.model, &chain.options);
@@ -214,7 +235,7 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
 }
 
 /// Where in `#[chain(…)]` the problem about `about` was asked for: the name of an output, the
-/// accuracy, a joint locked or a body kept; `None` for what the file says.
+/// accuracy, a joint locked, a body kept, a frame, a constraint; `None` for what the file says.
 fn attr_span(attr: &attr::Attr, about: &About) -> Option<proc_macro2::Span> {
     let named = |name: &str| -> Option<&Ident> {
         let locked = attr.locks.iter().map(|(n, _)| n);
@@ -232,6 +253,17 @@ fn attr_span(attr: &attr::Attr, about: &About) -> Option<proc_macro2::Span> {
             .map(|(_, n)| n),
         About::Accuracy => attr.accuracy.as_ref().map(|(_, n)| n),
         About::Scene(name) => named(name),
+        About::Contact(k) => attr
+            .contacts
+            .as_ref()
+            .and_then(|c| c.get(*k))
+            .map(|(f, _)| f),
+        About::Loop(k) => attr.loops.as_ref().and_then(|l| l.get(*k)).map(|(n, _)| n),
+        About::LoopFrame(k, side) => attr
+            .loops
+            .as_ref()
+            .and_then(|l| l.get(*k))
+            .and_then(|(_, frames)| frames.get(*side)),
         _ => None,
     }
     .map(Ident::span)

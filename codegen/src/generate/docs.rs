@@ -124,6 +124,26 @@ pub(super) fn type_doc(cx: &Context) -> Vec<String> {
             scene.join("; ")
         )));
     }
+    if cx.options.constrained() {
+        let mut held: Vec<String> = cx
+            .options
+            .contacts
+            .iter()
+            .map(|c| format!("contact `{}` (`{}`)", c.frame, c.kind.name()))
+            .collect();
+        held.extend(
+            cx.options
+                .loops
+                .iter()
+                .map(|l| format!("loop `{}` (`{}` on `{}`)", l.name, l.a, l.b)),
+        );
+        lines.push(String::new());
+        lines.extend(wrap(&format!(
+            "Constraints, in `constrained_forward_dynamics` ({} rows): {}.",
+            cx.options.constraint_rows(),
+            held.join(", ")
+        )));
+    }
     lines
 }
 
@@ -360,6 +380,20 @@ fn rnea_name(specialized: bool) -> &'static str {
     } else {
         "the recursive Newton–Euler algorithm (RBDA §5.3)"
     }
+}
+
+/// Paragraphs as doc lines, wrapped ([`wrap`]), a blank line between two unless both are items
+/// of one list (`- …`).
+pub(super) fn lines(paragraphs: &[String]) -> Vec<String> {
+    let mut lines = Vec::new();
+    for (k, p) in paragraphs.iter().enumerate() {
+        let item = |p: &String| p.starts_with("- ");
+        if k > 0 && !(item(p) && item(&paragraphs[k - 1])) {
+            lines.push(String::new());
+        }
+        lines.extend(wrap(p));
+    }
+    lines
 }
 
 /// `text` in lines of at most [`WIDTH`] characters, each with the leading space `///` gives.

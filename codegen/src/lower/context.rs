@@ -17,6 +17,10 @@ impl Ctxt {
     pub(super) fn error(&mut self, at: impl ToTokens, msg: impl fmt::Display) {
         self.errors.push(syn::Error::new_spanned(at, msg));
     }
+    /// Records errors already made.
+    pub(super) fn errors(&mut self, errors: impl IntoIterator<Item = syn::Error>) {
+        self.errors.extend(errors);
+    }
     /// Whether any error was recorded.
     pub(super) fn has_errors(&self) -> bool {
         !self.errors.is_empty()

@@ -13,12 +13,14 @@ use quote::ToTokens;
 use syn::punctuated::Punctuated;
 use syn::{Lit, Token};
 
+use super::constraints::{contacts_of, loops_of};
 use super::numbers::NumCtx;
 use super::{visibility, BodyDecl, FrameDecl, InertiaDecl, JointDecl, Lower, MimicDecl};
 use crate::check::{self, End};
 use crate::model::{Drive, JointKind, Placement, Value, DEFAULT_GRAVITY};
 use crate::options::{
-    one_of, unknown_accuracy, unknown_output, unknown_scalar, Accuracy, Options, Output, ScalarKind,
+    one_of, unknown_accuracy, unknown_output, unknown_scalar, Accuracy, Contact, Loop, Options,
+    Output, ScalarKind,
 };
 use crate::parse::{BodyDef, ChainDef, Expr, Field, Item, JointDef, Setting};
 
@@ -254,6 +256,8 @@ impl Lower {
             }
             "lock" => self.locks(v, options),
             "frames" => self.frame_list(v, options),
+            "contacts" => self.contact_list(v, options),
+            "loops" => self.loop_list(v, options),
             "keep" => self.keep(v, options),
             "quasi_static" => match v {
                 Expr::Name(n) if n == "true" || n == "false" => options.quasi_static = n == "true",
@@ -296,8 +300,8 @@ impl Lower {
                 &s.key,
                 format!(
                     "unknown setting `{other}`: expected `gravity`, `scalar`, `outputs`, \
-                     `accuracy`, `lock`, `keep`, `quasi_static` or `frames` (or `param`, `body`, \
-                     `joint`, `frame` items)"
+                     `accuracy`, `lock`, `keep`, `quasi_static`, `frames`, `contacts` or `loops` \
+                     (or `param`, `body`, `joint`, `frame` items)"
                 ),
             ),
         }
@@ -357,6 +361,33 @@ impl Lower {
                     .cx
                     .error(e, format!("expected a frame name, found `{e}`")),
             }
+        }
+    }
+
+    /// `contacts: [frame: kind, …]` ([`contacts_of`]).
+    fn contact_list(&mut self, v: &Expr, options: &mut Options) {
+        let (contacts, errors) = contacts_of(v);
+        self.cx.errors(errors);
+        for (frame, kind) in contacts {
+            options.contacts.push(Contact {
+                frame: frame.to_string(),
+                kind,
+            });
+            self.contact_tokens.push(frame);
+        }
+    }
+
+    /// `loops: [name: point(a, b), …]` ([`loops_of`]).
+    fn loop_list(&mut self, v: &Expr, options: &mut Options) {
+        let (loops, errors) = loops_of(v);
+        self.cx.errors(errors);
+        for (name, [a, b]) in loops {
+            options.loops.push(Loop {
+                name: name.to_string(),
+                a: a.to_string(),
+                b: b.to_string(),
+            });
+            self.loop_tokens.push((name, [a, b]));
         }
     }
 

@@ -54,6 +54,13 @@ impl Lower {
                 About::Output(o) => self.output_tokens.get(o).map(|t| t as &dyn ToTokens),
                 About::Accuracy => self.accuracy_token.as_ref().map(|t| t as &dyn ToTokens),
                 About::Scene(name) => self.scene_names.get(name).map(|i| i as &dyn ToTokens),
+                About::Contact(k) => self.contact_tokens.get(*k).map(|i| i as &dyn ToTokens),
+                About::Loop(k) => self.loop_tokens.get(*k).map(|(i, _)| i as &dyn ToTokens),
+                About::LoopFrame(k, side) => self
+                    .loop_tokens
+                    .get(*k)
+                    .and_then(|(_, frames)| frames.get(*side))
+                    .map(|i| i as &dyn ToTokens),
                 About::Whole => None,
             };
             let at = at.map_or_else(|| def.name.to_token_stream(), ToTokens::to_token_stream);

@@ -17,9 +17,10 @@
 //!
 //! Here: [`lower`] and the assembly of the [`Description`]. By concern: `context` (the error
 //! context), `numbers` (constant folding, parameters, vectors), `items` (settings, fields,
-//! bodies, joints), `kinds` (joint kinds, axes, Euler sequences), `locate` (the check stage's
+//! bodies, joints), `constraints` (`contacts` and `loops` as written), `kinds` (joint kinds, axes, Euler sequences), `locate` (the check stage's
 //! problems at their tokens: the tree, masses, inertias).
 
+pub(crate) mod constraints;
 mod context;
 mod items;
 mod kinds;
@@ -65,6 +66,10 @@ struct Lower {
     accuracy_token: Option<TokenStream>,
     /// The frames declared with an error already reported (an unknown parent).
     broken_frames: std::collections::HashSet<String>,
+    /// Each contact's frame in `contacts`, in order, for errors at its token.
+    contact_tokens: Vec<Ident>,
+    /// Each loop's name and frames in `loops`, in order, for errors at their tokens.
+    loop_tokens: Vec<(Ident, [Ident; 2])>,
 }
 
 /// A body as declared, with its values read (`None` where an error was reported).
@@ -173,10 +178,21 @@ impl Lower {
                 check::declared(&def.name.to_string(), &shape(&joints, &names), &options)
             }
         };
-        let broken = &self.broken_frames;
+        // A frame whose parent is unknown is reported there, not again where it is named.
+        let broken = |name: &str| self.broken_frames.contains(name);
         let option_problems: Vec<check::Problem> = option_problems
             .into_iter()
-            .filter(|p| !matches!(&p.about, check::About::Scene(n) if broken.contains(n)))
+            .filter(|p| match &p.about {
+                check::About::Scene(n) => !broken(n),
+                check::About::Contact(k) => {
+                    !options.contacts.get(*k).is_some_and(|c| broken(&c.frame))
+                }
+                check::About::LoopFrame(k, side) => !options
+                    .loops
+                    .get(*k)
+                    .is_some_and(|l| broken(if *side == 0 { &l.a } else { &l.b })),
+                _ => true,
+            })
             .collect();
         let problems = tree.problems.into_iter().chain(option_problems);
         self.report(problems, def, &bodies, &joints);

@@ -143,7 +143,7 @@ impl Lower {
                 })
             }
             Expr::Paren(_, inner) => self.fold(inner, ctx),
-            Expr::List(..) | Expr::Call(..) => {
+            Expr::List(..) | Expr::Call(..) | Expr::Labeled(..) => {
                 self.cx.error(e, format!("expected a number, found `{e}`"));
                 None
             }

@@ -1,6 +1,7 @@
 //! Numbers in the grammar: constant expressions (`-9.81`, `pi / 2.0`, `(0.3 + 0.1) * 2.0`),
 //! names (a parameter, `pi`, `world`, `none`), lists and calls (`[x, y, z]`, `diag(a, b, c)`),
-//! parsed with the usual precedence and printed back as written.
+//! labelled list elements (`[left_sole: six_d]`), parsed with the usual precedence and printed
+//! back as written.
 
 use std::fmt;
 
@@ -29,6 +30,8 @@ pub enum Expr {
     List(token::Bracket, Punctuated<Expr, Token![,]>),
     /// `name(a, b, …)`.
     Call(Ident, token::Paren, Punctuated<Expr, Token![,]>),
+    /// `label: value`, an element of a list only: `[left_sole: six_d]`, `[rod: point(a, b)]`.
+    Labeled(Ident, Token![:], Box<Expr>),
 }
 
 /// A binary operator in a number expression.
@@ -134,10 +137,21 @@ fn parse_primary(input: ParseStream) -> syn::Result<Expr> {
     } else if lookahead.peek(token::Bracket) {
         let content;
         let bracket = bracketed!(content in input);
-        let elems = content.parse_terminated(Expr::parse, Token![,])?;
+        let elems = content.parse_terminated(parse_element, Token![,])?;
         Ok(Expr::List(bracket, elems))
     } else {
         Err(lookahead.error())
+    }
+}
+
+/// An element of a list: a value, or `label: value`.
+fn parse_element(input: ParseStream) -> syn::Result<Expr> {
+    if input.peek(Ident::peek_any) && input.peek2(Token![:]) && !input.peek2(Token![::]) {
+        let label = input.call(Ident::parse_any)?;
+        let colon = input.parse()?;
+        Ok(Expr::Labeled(label, colon, Box::new(input.parse()?)))
+    } else {
+        input.parse()
     }
 }
 
@@ -160,6 +174,11 @@ impl ToTokens for Expr {
             Expr::Call(name, paren, args) => {
                 name.to_tokens(tokens);
                 paren.surround(tokens, |t| args.to_tokens(t));
+            }
+            Expr::Labeled(label, colon, e) => {
+                label.to_tokens(tokens);
+                colon.to_tokens(tokens);
+                e.to_tokens(tokens);
             }
         }
     }
@@ -205,6 +224,7 @@ impl fmt::Display for Expr {
                 list(f, args)?;
                 f.write_str(")")
             }
+            Expr::Labeled(label, _, e) => write!(f, "{label}: {e}"),
         }
     }
 }

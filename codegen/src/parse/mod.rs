@@ -51,9 +51,19 @@
 //! | `gravity` | `[gx, gy, gz]` (m/s², world frame) or `none` | `[0.0, 0.0, -9.81]` |
 //! | `scalar` | `f64`, `f32` or `generic` | `f64` |
 //! | `frames` | a list of frame names (bodies' or `frame` items'), for the frame outputs | none |
+//! | `contacts` | a list of `frame: kind`, `kind` being `six_d` (the whole frame held: 6 rows, a wrench `[n; f]` in its axes) or `point` (its origin held: 3 rows, a force in world axes): `[left_sole: six_d, toe: point]` | none |
+//! | `loops` | a list of `name: point(a, b)`, frame `a`'s origin held on frame `b`'s (3 rows, a force in world axes): `[rod: point(tip, ground)]` | none |
 //! | `outputs` | a list of names from [`Output::ALL`](crate::options::Output::ALL) (`mass_matrix`, `bias`, `gravity`, `inverse_dynamics`, `forward_dynamics`, …) or of groups ([`Group`](crate::outputs::Group): `dynamics`, `kept`, `wrenches`, `whole_body`, `derivatives`) | [`Output::DEFAULT`](crate::options::Output::DEFAULT) |
 //!
 //! Outputs are sorted and duplicates dropped.
+//!
+//! `contacts` and `loops` declare the constraints the generated
+//! `constrained_forward_dynamics(q, v, tau)` holds (in `f64` only, the runtime's
+//! `articulated::constraint` solver's): a contact per frame, a loop per name, on frames that
+//! move, and no more rows (3 per point and loop, 6 per `six_d`) than velocities. Their frames
+//! join `frames` (appended in order where absent) and the outputs the solver reads are
+//! generated too ([`Options::resolved`](crate::options::Options::resolved)). The type gains
+//! `CONTACTS`, `LOOPS` (frames by their index in `FRAMES`) and `CONSTRAINT_ROWS`.
 //!
 //! ## Parameters: `param name = default;`
 //! A runtime parameter: a number the generated code takes as an argument instead of baking it
