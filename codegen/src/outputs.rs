@@ -6,7 +6,7 @@
 //! ([`crate::expand`]), and the runtime's traits themselves ([`runtime_traits`], expanded in the
 //! `articulated` crate by `articulated_macros::__output_traits!`).
 //!
-//! Adding an output is one entry in [`outputs!`] below plus its trace ([`crate::trace`]).
+//! Adding an output is one entry in `outputs!` below plus its trace ([`crate::trace`]).
 
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};

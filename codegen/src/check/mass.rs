@@ -73,7 +73,7 @@ pub enum Inertia {
 pub enum Strictness {
     /// As written in a description for this project (`.chain`): positive definite on a body
     /// that moves, semi-definite on one that does not, to the rounding of the matrix's own
-    /// elements ([`WRITTEN_ROUNDING`] of the largest; none for `diag(…)`).
+    /// elements (`WRITTEN_ROUNDING` of the largest; none for `diag(…)`).
     Written {
         /// Whether the body moves.
         moving: bool,

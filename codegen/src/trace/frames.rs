@@ -15,7 +15,7 @@
 //! - Jacobians: each ancestor node `i`'s motion subspace column in world axes, `a = E_iᵀ·S_ω`,
 //!   `l = E_iᵀ·S_v`; WORLD (the motion of the point at the world's origin) `[a; l + r_i × a]`;
 //!   LOCAL_WORLD_ALIGNED `[a; l + a × d_i]` with `d_i = o − r_i` summed from the frame down
-//!   (no world positions subtracted: [`Kinematics::offsets`]); LOCAL rotates that into the
+//!   (no world positions subtracted: `Kinematics::offsets`); LOCAL rotates that into the
 //!   frame's axes;
 //! - time variations: `S_i` is constant in node `i`'s frame, so WORLD's `ṡ = v_i⁰ × s` (the
 //!   node's spatial velocity in world coordinates, Featherstone's motion cross product);
