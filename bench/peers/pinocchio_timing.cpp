@@ -1,8 +1,8 @@
 // Pinocchio's side of the comparison (bench/peers/run.sh builds it, run.py runs it).
 //
-//   pinocchio_timing --urdf FILE [--floating] [--frames F,G] --states FILE --values MODEL
-//   pinocchio_timing --urdf FILE [--floating] [--frames F,G] --states FILE --time [--batches N] [--batch-ms T] MODEL
-//   pinocchio_timing --urdf FILE [--floating] [--frames F,G] --states FILE --calls K MODEL OUTPUT
+//   pinocchio_timing --urdf FILE [--floating] [--frames F,G] [--contacts C,D] --states FILE --values MODEL
+//   pinocchio_timing --urdf FILE [--floating] [--frames F,G] [--contacts C,D] --states FILE --time [--batches N] [--batch-ms T] MODEL
+//   pinocchio_timing --urdf FILE [--floating] [--frames F,G] [--contacts C,D] --states FILE --calls K MODEL OUTPUT
 //
 // The model comes from pinocchio::urdf::buildModel (with a JointModelFreeFlyer root for
 // --floating), gravity (0, 0, -9.81). The states file holds "nq nv count", then per state the
@@ -63,17 +63,40 @@
 //
 // Each frame has its own J and dJ (6 x nv, zeroed once), as a user keeps them.
 //
-// In --values mode these are given in articulated's conventions: h_G and the rows of A_G
-// angular first (Pinocchio's are linear first), and so the rows of the frames' J and dJ.
+// and, with --contacts (URDF links, Pinocchio's BODY frames, comma-separated), each a
+// six-dimensional contact (CONTACT_6D in LOCAL: the link welded where it is), all of them held
+// in each call:
 //
-// A timed call cycles through the states; the inputs are Eigen::Ref views made once, and an
-// empty asm statement with a memory clobber after each call makes the compiler assume the
+//   constrained_forward_dynamics       constraintDynamics(model, data, q, v, tau, contact_models,
+//                                      contact_datas, settings)  (data.ddq, and each contact's
+//                                      wrench in contact_datas[k].contact_force), with
+//                                      ProximalSettings(1e-12, mu = 0, max_iter = 1): no
+//                                      regularization, one solve of the KKT system, the exact
+//                                      solution (the defaults but for the accuracy, which one
+//                                      iteration never reaches: it reads the iterate's change)
+//
+// The contact models are built once, as make_pinocchio_constraints.py builds them:
+// RigidConstraintModel(CONTACT_6D, model, frame.parentJoint, frame.placement, 0, identity,
+// LOCAL) (joint 2 the universe; its placement, the reference, plays no part without Baumgarte
+// gains), then initConstraintDynamics once, outside the timing.
+//
+// In --values mode these are given in articulated's conventions: h_G and the rows of A_G
+// angular first (Pinocchio's are linear first), and so the rows of the frames' J and dJ and each
+// contact's wrench ([n; f], in the contact frame; Pinocchio's contact_force is [f; n]).
+//
+// A timed call cycles through the states; the inputs are Eigen::Ref views made once
+// (constraintDynamics: the VectorXd they view, the argument type the wheel's library
+// instantiates it for), and an empty asm statement with a memory clobber after each call makes the compiler assume the
 // result (in data) is read and the inputs may have changed. Each output: --batches batches of
 // about --batch-ms (default 200 of 1 ms), the fastest and the median batch, ns per call, as JSON.
 //
 // Built twice by run.sh: with the algorithms' templates compiled here (-O3 -march=x86-64-v3),
 // and with PINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION, which makes these calls go to the wheel's
 // prebuilt libpinocchio_default (what a CMake user of the pinocchio::pinocchio target gets).
+
+// constraintDynamics and its contact models are marked "unsupported" (the API will change): a
+// deprecation warning at every use, which this silences.
+#define PINOCCHIO_DISABLE_UNSUPPORTED_WARNINGS
 
 #include <algorithm>
 #include <chrono>
@@ -89,6 +112,7 @@
 #include <pinocchio/algorithm/aba-derivatives.hpp>
 #include <pinocchio/algorithm/center-of-mass.hpp>
 #include <pinocchio/algorithm/centroidal.hpp>
+#include <pinocchio/algorithm/constrained-dynamics.hpp>
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/energy.hpp>
 #include <pinocchio/algorithm/frames.hpp>
@@ -104,11 +128,12 @@ using Vec = Eigen::VectorXd;
 using Ref = Eigen::Ref<const Vec>;
 
 const char *const USAGE =
-    "usage: pinocchio_timing --urdf FILE [--floating] [--frames F,G] --states FILE --values MODEL\n"
-    "       pinocchio_timing --urdf FILE [--floating] [--frames F,G] --states FILE --time "
-    "[--batches N] [--batch-ms T] MODEL\n"
-    "       pinocchio_timing --urdf FILE [--floating] [--frames F,G] --states FILE --calls K "
-    "MODEL OUTPUT";
+    "usage: pinocchio_timing --urdf FILE [--floating] [--frames F,G] [--contacts C,D] --states "
+    "FILE --values MODEL\n"
+    "       pinocchio_timing --urdf FILE [--floating] [--frames F,G] [--contacts C,D] --states "
+    "FILE --time [--batches N] [--batch-ms T] MODEL\n"
+    "       pinocchio_timing --urdf FILE [--floating] [--frames F,G] [--contacts C,D] --states "
+    "FILE --calls K MODEL OUTPUT";
 
 // Tells the compiler that memory (the result in data, the inputs) is read and written here.
 inline void clobber() { asm volatile("" ::: "memory"); }
@@ -117,25 +142,52 @@ struct State {
   Vec q, v, a, tau;
 };
 
+// The ids of the BODY frames of the links `names` (comma-separated; empty: none).
+std::vector<pinocchio::FrameIndex> body_frames(const pinocchio::Model &model,
+                                               const std::string &names) {
+  std::vector<pinocchio::FrameIndex> ids;
+  size_t start = 0;
+  while (start < names.size()) {
+    size_t end = names.find(',', start);
+    if (end == std::string::npos) end = names.size();
+    const std::string name = names.substr(start, end - start);
+    if (!model.existFrame(name, pinocchio::BODY))
+      throw std::runtime_error("no link (BODY frame) named " + name);
+    ids.push_back(model.getFrameId(name, pinocchio::BODY));
+    start = end + 1;
+  }
+  return ids;
+}
+
 // The frames of --frames: their ids, and a Jacobian and its rate per frame (zeroed once).
 struct Frames {
   std::vector<pinocchio::FrameIndex> ids;
   std::vector<pinocchio::Data::Matrix6x> J, dJ;
 
-  // The BODY frames of the links `names` (comma-separated; empty: none).
-  Frames(const pinocchio::Model &model, const std::string &names) {
-    size_t start = 0;
-    while (start < names.size()) {
-      size_t end = names.find(',', start);
-      if (end == std::string::npos) end = names.size();
-      const std::string name = names.substr(start, end - start);
-      if (!model.existFrame(name, pinocchio::BODY))
-        throw std::runtime_error("no link (BODY frame) named " + name);
-      ids.push_back(model.getFrameId(name, pinocchio::BODY));
-      start = end + 1;
-    }
+  Frames(const pinocchio::Model &model, const std::string &names)
+      : ids(body_frames(model, names)) {
     J.assign(ids.size(), pinocchio::Data::Matrix6x::Zero(6, model.nv));
     dJ = J;
+  }
+};
+
+// The contacts of --contacts: one six-dimensional contact (CONTACT_6D, LOCAL) per link, their
+// models and datas, initConstraintDynamics done (the file header).
+struct Contacts {
+  std::vector<pinocchio::RigidConstraintModel> models;
+  std::vector<pinocchio::RigidConstraintData> datas;
+  // mu = 0: the exact solve; one iteration (the file header).
+  pinocchio::ProximalSettings settings{1e-12, 0.0, 1};
+
+  Contacts(const pinocchio::Model &model, pinocchio::Data &data, const std::string &names) {
+    for (auto id : body_frames(model, names)) {
+      const auto &frame = model.frames[id];
+      models.emplace_back(pinocchio::CONTACT_6D, model, frame.parentJoint, frame.placement, 0,
+                          pinocchio::SE3::Identity(), pinocchio::LOCAL);
+      models.back().name = frame.name;
+    }
+    for (const auto &m : models) datas.emplace_back(m);
+    if (!models.empty()) pinocchio::initConstraintDynamics(model, data, models, datas);
   }
 };
 
@@ -218,7 +270,7 @@ struct Runner {
 // Hands run the closure of every output.
 template <class R>
 void each_output(const pinocchio::Model &model, pinocchio::Data &data, Frames &frames,
-                 const std::vector<Ref> &q, const std::vector<Ref> &v, const std::vector<Ref> &a,
+                 Contacts &contacts, const std::vector<State> &states, const std::vector<Ref> &q, const std::vector<Ref> &v, const std::vector<Ref> &a,
                  const std::vector<Ref> &tau, R &run) {
   using pinocchio::Convention;
   const long mask = long(q.size()) - 1;
@@ -265,6 +317,15 @@ void each_output(const pinocchio::Model &model, pinocchio::Data &data, Frames &f
     pinocchio::computeABADerivatives(model, data, q[i & mask], v[i & mask], tau[i & mask]);
   });
   run("mass_matrix_inverse", [&](long i) { pinocchio::computeMinverse(model, data, q[i & mask]); });
+  if (!contacts.models.empty()) {
+    // The inputs as the VectorXd the views look at: the wheel's library instantiates
+    // constraintDynamics for VectorXd arguments (not for Ref views, as it does the others).
+    run("constrained_forward_dynamics", [&](long i) {
+      const State &s = states[i & mask];
+      pinocchio::constraintDynamics(model, data, s.q, s.v, s.tau, contacts.models, contacts.datas,
+                                    contacts.settings);
+    });
+  }
   if (frames.ids.empty()) return;
   using pinocchio::LOCAL_WORLD_ALIGNED;
   const auto &ids = frames.ids;
@@ -360,10 +421,27 @@ std::string frame_values(const pinocchio::Model &model, pinocchio::Data &data, F
   return out;
 }
 
+// constrained_forward_dynamics at state s, as a JSON member (none without contacts): q̈, the
+// wrench of each contact in the order of --contacts ([n; f], angular first, in the contact
+// frame), and the iterations made.
+std::string constrained_values(const pinocchio::Model &model, pinocchio::Data &data,
+                               Contacts &contacts, const State &s) {
+  if (contacts.models.empty()) return "";
+  const Vec qdd = pinocchio::constraintDynamics(model, data, s.q, s.v, s.tau, contacts.models,
+                                                contacts.datas, contacts.settings);
+  std::string forces = "[";
+  for (size_t k = 0; k < contacts.datas.size(); ++k)
+    forces += (k ? ", " : "") +
+              json_vector(angular_first(contacts.datas[k].contact_force.toVector()));
+  return ", \"constrained_forward_dynamics\": {\"acceleration\": " + json_vector(qdd) +
+         ", \"forces\": " + forces + "], \"iterations\": " +
+         std::to_string(contacts.settings.iter) + "}";
+}
+
 // The outputs at state s, as JSON; the mass matrices and their inverses as Pinocchio leaves them
 // (upper triangle), the centroidal momentum and its matrix angular first.
 std::string values(const pinocchio::Model &model, pinocchio::Data &data, Frames &frames,
-                   const State &s) {
+                   Contacts &contacts, const State &s) {
   using pinocchio::Convention;
   std::string out = "{";
   data.M.setZero();
@@ -413,11 +491,12 @@ std::string values(const pinocchio::Model &model, pinocchio::Data &data, Frames 
   data.Minv.setZero();
   out += ", \"mass_matrix_inverse\": " + json_matrix(pinocchio::computeMinverse(model, data, s.q));
   out += frame_values(model, data, frames, s);
+  out += constrained_values(model, data, contacts, s);
   return out + "}";
 }
 
 int run(int argc, char **argv) {
-  std::string urdf, states_path, frame_names;
+  std::string urdf, states_path, frame_names, contact_names;
   bool floating = false, do_values = false, do_time = false, do_calls = false;
   Runner runner;
   std::vector<std::string> rest;
@@ -430,6 +509,7 @@ int run(int argc, char **argv) {
     if (a == "--urdf") urdf = next();
     else if (a == "--floating") floating = true;
     else if (a == "--frames") frame_names = next();
+    else if (a == "--contacts") contact_names = next();
     else if (a == "--states") states_path = next();
     else if (a == "--values") do_values = true;
     else if (a == "--time") do_time = true;
@@ -453,10 +533,11 @@ int run(int argc, char **argv) {
   model.gravity.linear(Eigen::Vector3d(0, 0, -9.81));
   pinocchio::Data data(model);
   Frames frames(model, frame_names);
+  Contacts contacts(model, data, contact_names);
   const auto states = read_states(states_path, model.nq, model.nv);
 
   if (do_values) {
-    std::printf("%s\n", values(model, data, frames, states[0]).c_str());
+    std::printf("%s\n", values(model, data, frames, contacts, states[0]).c_str());
     return 0;
   }
   std::vector<Ref> q, v, a, tau;
@@ -469,11 +550,11 @@ int run(int argc, char **argv) {
   if (do_calls) {
     runner.mode = Runner::Calls;
     runner.only = rest[1];
-    each_output(model, data, frames, q, v, a, tau, runner);
+    each_output(model, data, frames, contacts, states, q, v, a, tau, runner);
     if (!runner.found) throw std::runtime_error("unknown output " + rest[1]);
     return 0;
   }
-  each_output(model, data, frames, q, v, a, tau, runner);
+  each_output(model, data, frames, contacts, states, q, v, a, tau, runner);
   std::string out = "{";
   for (size_t i = 0; i < runner.json.size(); ++i) out += (i ? ", " : "") + runner.json[i];
   std::printf("%s}\n", out.c_str());

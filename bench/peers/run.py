@@ -9,8 +9,9 @@ For every model of MODELS it
   3. checks the values: every program's outputs at the first state, mapped back to Pinocchio's
      convention, against Pinocchio's; ours to a relative 1e-9 (else it stops; the quantities
      of the whole system to 1e-10; the derivatives, where ours has them, to 1e-9; the frame
-     outputs, where ours has them, to 1e-10), MuJoCo to a looser bound (its worst difference
-     is reported either way);
+     outputs, where ours has them, to 1e-10; the constrained forward dynamics, where ours has
+     contacts, to 1e-9), MuJoCo to a looser bound (its worst difference is reported either
+     way);
   4. times: ROUNDS rounds, each running every program once per model in a rotating order;
      each run reports per output the fastest and the median of its ~1 ms batches; the driver
      keeps the fastest over rounds (and the median of the medians);
@@ -118,6 +119,16 @@ FRAME_ROWS = [
     ),
 ]
 FRAME_TOL = 1e-10
+
+# Constrained forward dynamics (its own section), for the models given contacts (`peers
+# --layout` lists them, each a six-dimensional contact; Pinocchio's program is given the same
+# with --contacts): the output both programs time, and ours alone, the five generated functions
+# it calls without the solve. Every call holds all the model's contacts. MuJoCo's program times
+# neither.
+CONSTRAINED = "constrained_forward_dynamics"
+CONSTRAINED_GENERATED = "constrained_forward_dynamics_generated"
+# q̈ relative to its largest entry, the wrenches relative to their largest entry.
+CONSTRAINED_TOL = 1e-9
 # Central differences (step 1e-6) against the analytical values: a sanity check of the kernel.
 DIFFERENCES_TOL = 1e-4
 
@@ -137,13 +148,16 @@ def ours_binary(build):
     return os.path.join(OUT, f"rust-{build}", "release", "peers")
 
 
-def programs(model, frames):
+def programs(model, frames, contacts):
     """The timing programs of one model: key -> command (without the mode arguments). `frames`:
-    the links whose frame outputs ours has (Pinocchio's program times the same)."""
+    the links whose frame outputs ours has; `contacts`: the links of ours' constrained forward
+    dynamics (Pinocchio's program times the same)."""
     name, _chain, urdf, floating = model
     pin_args = ["--urdf", os.path.join(ROOT, urdf)] + (["--floating"] if floating else [])
     if frames:
         pin_args += ["--frames", ",".join(frames)]
+    if contacts:
+        pin_args += ["--contacts", ",".join(contacts)]
 
     def states(conv):
         return ["--states", os.path.join(OUT, "states", f"{name}.{conv}.txt")]
@@ -476,10 +490,40 @@ def check_frames(name, key, frames, x, ref):
     return worst
 
 
-def check_values(model_entry, progs, maps, state0, derivatives, frames):
+def constrained_arrays(name, key, vals, P=None):
+    """constrained_forward_dynamics of a program's JSON: (q̈, the wrenches of all contacts
+    concatenated, [n; f] each); with P (v_ours = P v_pin), our q̈ mapped to Pinocchio's joint
+    order (P' q̈). Stops where ours failed on a state."""
+    c = vals["constrained_forward_dynamics"]
+    if c.get("errors"):
+        sys.exit(f"[run.py] {name} {key}: constrained forward dynamics failed: {'; '.join(c['errors'])}")
+    if c.get("iterations", 1) != 1:
+        sys.exit(f"[run.py] {name} {key}: constraintDynamics made {c['iterations']} iterations, not 1")
+    a = np.asarray(c["acceleration"], float)
+    return (P.T @ a if P is not None else a), np.concatenate([np.asarray(f, float) for f in c["forces"]])
+
+
+def check_constrained(name, key, x, ref):
+    """Constrained forward dynamics x against ref ((q̈, forces), constrained_arrays), each to
+    CONSTRAINED_TOL relative to the largest entry of ref's; stops above it, returns the worst."""
+    worst = 0.0
+    for what, a, r in (("q̈", x[0], ref[0]), ("contact wrenches", x[1], ref[1])):
+        e = rel(a, r)
+        worst = max(worst, e)
+        if e > CONSTRAINED_TOL:
+            sys.exit(
+                f"[run.py] VALUES DISAGREE: {name} {key}: constrained forward dynamics, {what} differs "
+                f"from Pinocchio's by {e:.3g} (relative) > {CONSTRAINED_TOL}\n  ours:      {a[:8]}\n"
+                f"  Pinocchio: {r[:8]}"
+            )
+    return worst
+
+
+def check_values(model_entry, progs, maps, state0, derivatives, frames, contacts):
     """Every program's outputs against Pinocchio's (pin_v3); returns the worst MuJoCo difference.
     `derivatives`: whether our program has the derivative outputs of this model; `frames`: the
-    frames of its frame outputs (none: empty)."""
+    frames of its frame outputs (none: empty); `contacts`: the contacts of its constrained
+    forward dynamics (none: empty)."""
     name = model_entry[0]
     ref = run_json(progs["pin_v3"] + ["--values", name])
     up = lambda m: np.triu(np.asarray(m, float))
@@ -529,6 +573,8 @@ def check_values(model_entry, progs, maps, state0, derivatives, frames):
             # Both ways to the Jacobians agree.
             both = {("J lwa", k): m for (w, k), m in frame_arrays(vals).items() if w == "J lwa (computeJointJacobians)"}
             check_frames(name, f"{key} computeJointJacobians", frames, both, ref_f)
+        if contacts:
+            check_constrained(name, key, constrained_arrays(name, key, vals), constrained_arrays(name, "pin_v3", ref))
     # Ours, every build.
     for key in ("ours_v3", "ours_default", "ours_native"):
         vals = run_json(progs[key] + ["--values", name])
@@ -602,6 +648,13 @@ def check_values(model_entry, progs, maps, state0, derivatives, frames):
             worst_f = check_frames(name, key, frames, frame_arrays(vals, P), frame_arrays(ref))
             report.append((f"{key} (frames)", worst_f))
             log(f"{name}: {key} agrees with Pinocchio on the frame outputs ({', '.join(frames)}) to {worst_f:.1e} (relative)")
+        if contacts:
+            # Ours: q̈ in our joint order; the wrenches [n; f] in each contact's frame on both sides.
+            worst_c = check_constrained(
+                name, key, constrained_arrays(name, key, vals, P), constrained_arrays(name, "pin_v3", ref)
+            )
+            report.append((f"{key} (constrained)", worst_c))
+            log(f"{name}: {key} agrees with Pinocchio on the constrained forward dynamics ({', '.join(contacts)}) to {worst_c:.1e} (relative)")
     # MuJoCo: reported, with a looser bound.
     vals = run_json(progs["mujoco"] + ["--values", name])
     m = maps["mujoco"].back(
@@ -866,6 +919,7 @@ def report(env, models, ops, results, instr, checks, args, load_end):
             + ", ".join(
                 f"{k} {e:.1e}" for k, e in key_worst
                 if "derivatives" not in k and "differences" not in k and "frames" not in k
+                and "constrained" not in k
             )
             + f"; MuJoCo {mj_worst:.1e} (worst: {max(mj_diffs, key=mj_diffs.get)})"
             + (f" — **above {MUJOCO_TOL:g}: MuJoCo's model differs**" if mj_worst > MUJOCO_TOL else "")
@@ -875,6 +929,7 @@ def report(env, models, ops, results, instr, checks, args, load_end):
     whole_report(w, models, ops, results, instr)
     derivatives_report(w, models, ops, results, instr, checks)
     frames_report(w, models, ops, results, instr, checks)
+    constrained_report(w, models, ops, results, instr, checks)
     native_report(w, models, ops, results, env)
     bytes_report(w, models, results, code_bytes(os.path.join(OUT, "rust-v3", "release", "peers")))
     w("")
@@ -1119,6 +1174,117 @@ def frames_report(w, models, ops, results, instr, checks):
         )
 
 
+CONSTRAINED_MUJOCO = """MuJoCo: n/a. Its program (`bench/peers/mujoco_timing.c`) times the dynamics terms only.
+MuJoCo's equality constraints (a `weld`) are soft and solved with its contacts by its own
+solver inside `mj_forward` (`mj_fwdConstraint`); they are not timed here."""
+
+
+def constrained_report(w, models, ops, results, instr, checks):
+    """The section of the constrained forward dynamics."""
+    with_c = [m for m in models if ops[m[0]]["contacts"]]
+    if not with_c:
+        return
+    w("")
+    w("## Constrained dynamics")
+    w("")
+    w("Forward dynamics under contacts, `q̈` and the contact wrenches: the humanoid on its free flyer")
+    w("standing on both soles, `left_foot` and `right_foot` each a six-dimensional contact (12 rows),")
+    w("and the arm with its flange `link7` welded (6 rows), timed in the same runs as the tables")
+    w("above, on the same states (each contact held where the state puts it, with the state's")
+    w("velocities and τ), after a values check: ours against Pinocchio's, `q̈` to 1e-9 relative to")
+    w("its largest entry and in Pinocchio's joint order, the wrenches `[n; f]` (in each contact's")
+    w("frame, angular first on both sides: Pinocchio's `contact_force` is linear first) to 1e-9")
+    w("relative to their largest entry; ours must solve every one of the 16 states.")
+    w("")
+    w("**Pinocchio**: `constraintDynamics(model, data, q, v, tau, contact_models, contact_datas,")
+    w("settings)`, each contact a `RigidConstraintModel(CONTACT_6D, model, frame.parentJoint,")
+    w("frame.placement, 0, SE3::Identity(), LOCAL)` (the link's BODY frame held to the universe, as")
+    w("`tests/data/pinocchio_constraints/make_pinocchio_constraints.py` builds them),")
+    w("`initConstraintDynamics` once outside the timing, `ProximalSettings(1e-12, mu = 0, max_iter =")
+    w("1)`: no regularization, one solve, the exact solution (more iterations allowed, it makes a")
+    w("second that only confirms the first). Each call computes its own kinematics (every joint's")
+    w("placement, velocity and acceleration at q̈ = 0), `M` by CRBA and the nonlinear effects on the")
+    w("way, the contacts' placements, Jacobians and drifts (and each contact's placement error, a")
+    w("`log6`, which only Baumgarte gains use), then a Cholesky factorization of the KKT system (its")
+    w("`ContactCholeskyDecomposition`, `M` and the contact rows together) and the solve. The wheel")
+    w("column calls the wheel's prebuilt instantiation (it takes `VectorXd` inputs, which this")
+    w("call passes).")
+    w("")
+    w("**ours**: `constraint::constrained_forward_dynamics::<C, NQ, NV, NF, R>(&q, &v, &τ, &contacts,")
+    w("None, &Settings::default())` (`runtime/src/constraint.rs`; `mu = 0`, exact): the five generated")
+    w("functions `mass_matrix_and_nonlinear_effects`, `frame_placements`, `frame_jacobians_local`,")
+    w("`frame_velocities` and `frame_accelerations` (at q̈ = 0: the drifts), then the runtime's")
+    w("solve: the Cholesky factor of `M` (`M = L·Lᵀ`), `W = L⁻¹·Jᵀ`, the Schur complement")
+    w("`G = Wᵀ·W = J·M⁻¹·Jᵀ` and its Cholesky factorization, the forces, `q̈`, and the residual")
+    w("`max |J·q̈ + γ|` it returns besides. `C` is a type `bench/src/bin/peers.rs` generates for this")
+    w("from the model's `.chain` file, with those five outputs for exactly the contact frames")
+    w("(`HumanoidFeet`: `left_foot`, `right_foot`, NF = 2, R = 12; `Arm7Welded`: `link7`, NF = 1,")
+    w("R = 6), so that each call computes the contacts' kinematics and nothing more, like")
+    w("Pinocchio's contact models; the model's own type keeps the hands for the frame outputs above.")
+    w("*ops* counts the five generated functions; the runtime's solve is not in it. Below each table,")
+    w("the five generated functions alone (`Frames::of` and `mass_matrix_and_nonlinear_effects`):")
+    w("the rest of ours' call is the solve.")
+    w("")
+    w(CONSTRAINED_MUJOCO)
+    w("")
+    w("In short (fastest batches; a ratio above 1 means ours is faster):")
+    w("")
+    for (name, *_rest) in with_c:
+        res = results[name]
+        p3 = res["pin_v3"][CONSTRAINED][0]
+        w(
+            f"- **{name}** ({', '.join(ops[name]['contacts'])}), Pinocchio v3 / ours: "
+            f"{fmt_ratio(p3 / res['ours_v3'][CONSTRAINED][0])} (v3), "
+            f"{fmt_ratio(p3 / res['ours_default'][CONSTRAINED][0])} (default)"
+        )
+    for (name, chain, urdf, floating) in with_c:
+        res, ins = results[name], instr.get(name, {})
+        contacts = ops[name]["contacts"]
+        w("")
+        w(
+            f"### {name}: constrained ({len(contacts)} six-dimensional contact{'s' if len(contacts) > 1 else ''}: "
+            f"{', '.join(f'`{c}`' for c in contacts)}, {6 * len(contacts)} rows; "
+            f"{'floating base, ' if floating else ''}nq {ops[name]['nq']}, nv {ops[name]['nv']})"
+        )
+        w("")
+        w("| output | ops | ours v3 (ns) | ours default (ns) | Pinocchio v3 (ns) | Pinocchio wheel (ns) | MuJoCo (ns) | Pinocchio / ours (v3) | Pinocchio / ours (default) | instructions ours v3 / Pinocchio v3 |")
+        w("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        o3, od = res["ours_v3"][CONSTRAINED][0], res["ours_default"][CONSTRAINED][0]
+        p3, pw = res["pin_v3"][CONSTRAINED][0], res["pin_wheel"][CONSTRAINED][0]
+        i_ours = ins.get("ours_v3", {}).get(CONSTRAINED)
+        i_pin = ins.get("pin_v3", {}).get(CONSTRAINED)
+        instr_cell = f"{i_ours:.0f} / {i_pin:.0f} ({i_pin / i_ours:.1f}×)" if i_ours and i_pin else "–"
+        w(
+            f"| {CONSTRAINED} | {ops[name]['ops'][CONSTRAINED]} | {fmt_ns(o3)} | {fmt_ns(od)} | {fmt_ns(p3)} | "
+            f"{fmt_ns(pw)} | n/a | {fmt_ratio(p3 / o3)} | {fmt_ratio(p3 / od)} | {instr_cell} |"
+        )
+        w("")
+        g3, gd = res["ours_v3"][CONSTRAINED_GENERATED][0], res["ours_default"][CONSTRAINED_GENERATED][0]
+        i_g = ins.get("ours_v3", {}).get(CONSTRAINED_GENERATED)
+        w(
+            f"- ours, the five generated functions alone (`{CONSTRAINED_GENERATED}`): v3 {fmt_ns(g3)} ns "
+            f"({g3 / o3:.0%} of the call), default {fmt_ns(gd)} ns ({gd / od:.0%})"
+            + (f"; {i_g:.0f} instructions per call (v3), {i_g / i_ours:.0%} of the call's" if i_g and i_ours else "")
+        )
+        med = lambda k, o: fmt_ns(res[k][o][1])
+        w(
+            "- medians (ns; ours v3 / ours default / Pinocchio v3 / Pinocchio wheel): "
+            f"{CONSTRAINED} {med('ours_v3', CONSTRAINED)} / {med('ours_default', CONSTRAINED)} / "
+            f"{med('pin_v3', CONSTRAINED)} / {med('pin_wheel', CONSTRAINED)}; generated functions alone "
+            f"{med('ours_v3', CONSTRAINED_GENERATED)} / {med('ours_default', CONSTRAINED_GENERATED)}"
+        )
+        if "ours_default" in ins:
+            w(
+                "- instructions per call, ours default: "
+                + ", ".join(f"{o} {ins['ours_default'][o]:.0f}" for o in (CONSTRAINED, CONSTRAINED_GENERATED))
+            )
+        key_worst = checks[name][0]
+        w(
+            "- values at the first state against Pinocchio's (the worse of q̈ and the wrenches, each "
+            "relative to its largest entry): " + ", ".join(f"{k} {e:.1e}" for k, e in key_worst if "constrained" in k)
+        )
+
+
 def native_report(w, models, ops, results, env):
     """The section of the builds for this machine's CPU, both sides."""
     w("")
@@ -1149,6 +1315,8 @@ def native_report(w, models, ops, results, env):
             rows += [(o, [p]) for o, p, _d, _v in DERIV_ROWS]
         if ops[name]["frames"]:
             rows += FRAME_ROWS
+        if ops[name]["contacts"]:
+            rows += [(CONSTRAINED, [CONSTRAINED])]
         w("")
         w(f"### {name}: native")
         w("")
@@ -1336,6 +1504,9 @@ the run stops; MuJoCo's difference is shown above. A timed call's inputs and res
 - **frames, ours**: one call computes every frame of the model (`Arm7::frame_placements(&q)` →
   `[FramePlacement<f64>; 1]`; the humanoid's four in one call), as described in the section
   [Frames](#frames); **Pinocchio**: the calls listed there, one per frame after the kinematics.
+- **constrained, ours**: one call of the runtime's `constraint::constrained_forward_dynamics`
+  (the five generated functions it needs, then its solve), as described in the section
+  [Constrained dynamics](#constrained-dynamics); **Pinocchio**: one call of `constraintDynamics`.
 - **instructions**: `valgrind --tool=callgrind` on `PROGRAM --calls K MODEL OUTPUT`,
   (Ir(K = 1024) − Ir(K = 0)) / K: one call plus the loop around it, independent of the load.
 
@@ -1380,7 +1551,7 @@ def main():
         mm = mujoco_model(name, urdf, floating)
         layout = run_json([ours_binary("v3"), "--layout", name])
         ops[name] = layout
-        progs[name] = programs(entry, layout["frames"])
+        progs[name] = programs(entry, layout["frames"], layout["contacts"])
         maps = {
             "ours": Map(common, layout["joints"], layout["nq"], layout["nv"], False),
             "mujoco": Map(common, mujoco_joints(mm), mm.nq, mm.nv, True),
@@ -1395,7 +1566,8 @@ def main():
             )
         log(f"model {name}: checking values")
         checks[name] = check_values(
-            entry, progs[name], maps, states[0], layout["derivatives"], layout["frames"]
+            entry, progs[name], maps, states[0], layout["derivatives"], layout["frames"],
+            layout["contacts"],
         )
     results = time_all(MODELS, progs, args.rounds, args.batches)
     instr = {}
@@ -1409,6 +1581,9 @@ def main():
             if ops[name]["frames"]:
                 ours += [r[0] for r in FRAME_ROWS]
                 pin += [p for r in FRAME_ROWS for p in r[1]]
+            if ops[name]["contacts"]:
+                ours += [CONSTRAINED, CONSTRAINED_GENERATED]
+                pin += [CONSTRAINED]
             return {"ours_v3": ours, "ours_default": ours, "pin_v3": pin, "mujoco": [r[2] for r in ROWS]}
 
         instr = instructions(MODELS, progs, which)

@@ -53,12 +53,24 @@
 //! The frame outputs are small enough to stay out of that feature: the humanoid's four frames
 //! are a few thousand operations, and `cargo test -p articulated-bench --no-run` took no
 //! measurably longer with them than without (measured while adding them).
+//!
+//! The models given `contacts Type [..]` in `models!` (`arm7`: its flange `link7` welded; the
+//! humanoid: both soles flat on the ground) also have the constrained forward dynamics
+//! ([`CONSTRAINED`]): each of those frames a six-dimensional contact, solved by the runtime's
+//! [`constraint::constrained_forward_dynamics`] with [`Settings::default`] (exact, `mu = 0`).
+//! It runs on a type of its own, `Type`, generated from the same `.chain` file with the five
+//! outputs it needs (`mass_matrix_and_nonlinear_effects`, `frame_placements`,
+//! `frame_jacobians_local`, `frame_velocities`, `frame_accelerations`) for exactly the contact
+//! frames, so that each call computes the contacts' kinematics and nothing more (the model's
+//! own type has the hands too, for the frame outputs). Its `mass_matrix_and_nonlinear_effects`
+//! is a second copy of the model's: 7,448 operations for the humanoid, 892 for the arm.
 
 use std::hint::black_box;
 use std::path::Path;
 use std::process::ExitCode;
 use std::time::Duration;
 
+use articulated::constraint::{self, Contact, Settings};
 use articulated::control::tangent::retract;
 use articulated::model::JointKind;
 use articulated::nalgebra::{SMatrix, SVector};
@@ -100,6 +112,15 @@ const FRAME_OUTPUTS: [Output; 3] = [
     Output::FrameJacobiansLocalWorldAligned,
     Output::FrameJacobianTimeVariationsLocalWorldAligned,
 ];
+
+/// The timing of [`constraint::constrained_forward_dynamics`] with the model's contacts (`contacts
+/// Type [..]` in `models!`), timed after the [`FRAME_OUTPUTS`].
+const CONSTRAINED: &str = "constrained_forward_dynamics";
+
+/// The timing of the five generated functions [`CONSTRAINED`] calls, alone
+/// ([`constraint::Frames::of`] and `mass_matrix_and_nonlinear_effects`): the rest of its time is
+/// the runtime's solve.
+const CONSTRAINED_GENERATED: &str = "constrained_forward_dynamics_generated";
 
 /// The timing of `C::mass_matrix_update(&q, &mut kept)`: `M` into a [`KeptMassMatrix`], only the
 /// entries that can be non-zero written (reported beside `mass_matrix`).
@@ -145,6 +166,21 @@ trait Peer<const NQ: usize, const NV: usize>:
     fn frame_values(_x: &State<NQ, NV>) -> Option<FrameValues> {
         None
     }
+    /// The contact frames of [`CONSTRAINED`] (`C::FRAMES` of its type); empty for a model
+    /// without it.
+    const CONTACTS: &'static [&'static str] = &[];
+    /// The generator's operation count of the five generated functions [`CONSTRAINED`] calls
+    /// (zero for a model without it).
+    fn constrained_ops() -> usize {
+        0
+    }
+    /// Hands `visitor` the closures of [`CONSTRAINED`] and [`CONSTRAINED_GENERATED`], for a
+    /// model given contacts ([`each_constrained`]); nothing otherwise.
+    fn each_constrained<V: Visit>(_states: &[State<NQ, NV>], _visitor: &mut V) {}
+    /// [`CONSTRAINED`] on `states` ([`constrained_values`]); `None` for a model without it.
+    fn constrained_values(_states: &[State<NQ, NV>]) -> Option<ConstrainedValues> {
+        None
+    }
 }
 
 /// What a model marked `derivatives` in `models!` implements besides [`Peer`].
@@ -174,6 +210,88 @@ impl<C, const NQ: usize, const NV: usize, const NF: usize> FramePeer<NQ, NV, NF>
         + FrameJacobiansLocalWorldAligned<f64, NQ, NV, NF>
         + FrameJacobianTimeVariationsLocalWorldAligned<f64, NQ, NV, NF>
 {
+}
+
+/// What the type of a model's contacts (`contacts Type [..]` in `models!`) implements: the
+/// outputs [`constraint::constrained_forward_dynamics`] needs, with `NF` its contact frames.
+trait ConstrainedPeer<const NQ: usize, const NV: usize, const NF: usize>:
+    Chain<f64>
+    + articulated::MassMatrixAndNonlinearEffects<f64, NQ, NV>
+    + FramePlacements<f64, NQ, NV, NF>
+    + FrameJacobiansLocal<f64, NQ, NV, NF>
+    + FrameVelocities<f64, NQ, NV, NF>
+    + FrameAccelerations<f64, NQ, NV, NF>
+{
+}
+
+impl<C, const NQ: usize, const NV: usize, const NF: usize> ConstrainedPeer<NQ, NV, NF> for C where
+    C: Chain<f64>
+        + articulated::MassMatrixAndNonlinearEffects<f64, NQ, NV>
+        + FramePlacements<f64, NQ, NV, NF>
+        + FrameJacobiansLocal<f64, NQ, NV, NF>
+        + FrameVelocities<f64, NQ, NV, NF>
+        + FrameAccelerations<f64, NQ, NV, NF>
+{
+}
+
+/// The type of a model's contacts (for `models!`): the same `.chain` file, the outputs of
+/// [`ConstrainedPeer`] for exactly the contact frames.
+macro_rules! contact_type {
+    ([] [] $(#[$attr:meta])* $file:literal) => {};
+    ([$cty:ident] [$($contact:ident),+] $(#[$attr:meta])* $file:literal) => {
+        $(#[$attr])*
+        #[doc = concat!("The generated `", $file, "` with its contact frames, for [`CONSTRAINED`].")]
+        #[derive(articulated::Chain)]
+        #[chain(
+            file = $file,
+            outputs = [
+                mass_matrix_and_nonlinear_effects,
+                frame_placements,
+                frame_jacobians_local,
+                frame_velocities,
+                frame_accelerations
+            ],
+            frames = [$($contact),+]
+        )]
+        struct $cty;
+    };
+}
+
+/// The members of a `Peer` impl that a model given contacts overrides (for `models!`): `R`, the
+/// rows, is six per contact.
+macro_rules! contact_members {
+    ([] $ty:ident) => {};
+    ([$cty:ident] $ty:ident) => {
+        const CONTACTS: &'static [&'static str] = <$cty as Chain<f64>>::FRAMES;
+        fn constrained_ops() -> usize {
+            [
+                $cty::MASS_MATRIX_AND_NONLINEAR_EFFECTS_OPS,
+                $cty::FRAME_PLACEMENTS_OPS,
+                $cty::FRAME_JACOBIANS_LOCAL_OPS,
+                $cty::FRAME_VELOCITIES_OPS,
+                $cty::FRAME_ACCELERATIONS_OPS,
+            ]
+            .iter()
+            .map(OpCounts::total)
+            .sum()
+        }
+        fn each_constrained<V: Visit>(states: &[State<{ $ty::NQ }, { $ty::NV }>], visitor: &mut V) {
+            each_constrained::<$cty, V, { $ty::NQ }, { $ty::NV }, { $cty::NF }, { 6 * $cty::NF }>(
+                states, visitor,
+            );
+        }
+        fn constrained_values(
+            states: &[State<{ $ty::NQ }, { $ty::NV }>],
+        ) -> Option<ConstrainedValues> {
+            Some(constrained_values::<
+                $cty,
+                { $ty::NQ },
+                { $ty::NV },
+                { $cty::NF },
+                { 6 * $cty::NF },
+            >(states))
+        }
+    };
 }
 
 /// The generated type of one model (for `models!`): the outputs of the comparison, the
@@ -288,14 +406,18 @@ macro_rules! derivative_ops {
 /// Declares each model: a generated type, its `Peer` impl, and its entry in [`with_model`].
 /// `derivatives` generates the [`DERIVATIVE_OUTPUTS`] too, `plain` does not; `frames [a, b]`
 /// generates the [`FRAME_OUTPUTS`] for the frames `a` and `b` (a body's name, or a frame the
-/// file declares), `frames []` none; attributes (a `cfg`) apply to all three.
+/// file declares), `frames []` none; `contacts Type [a, b]` generates `Type` for [`CONSTRAINED`]
+/// with `a` and `b` six-dimensional contacts, `contacts []` none; attributes (a `cfg`) apply to
+/// all of them.
 macro_rules! models {
     ($(
         $(#[$attr:meta])*
-        $name:literal => $ty:ident, $file:literal, $kind:ident, frames [$($frame:ident),*];
+        $name:literal => $ty:ident, $file:literal, $kind:ident, frames [$($frame:ident),*],
+            contacts $($cty:ident)? [$($contact:ident),*];
     )*) => {
         $(
             peer_type!($kind [$($frame),*] $(#[$attr])* $ty, $file);
+            contact_type!([$($cty)?] [$($contact),*] $(#[$attr])* $file);
 
             $(#[$attr])*
             impl Peer<{ $ty::NQ }, { $ty::NV }> for $ty {
@@ -326,6 +448,7 @@ macro_rules! models {
                 }
                 derivative_members!($kind $ty);
                 frame_members!([$($frame),*] $ty);
+                contact_members!([$($cty)?] $ty);
             }
         )*
 
@@ -344,15 +467,18 @@ macro_rules! models {
 }
 
 models! {
-    "arm7" => Arm7, "../models/arm7.chain", derivatives, frames [link7];
-    "arm7_floating" => Arm7Floating, "peers/arm7_floating.chain", plain, frames [];
+    "arm7" => Arm7, "../models/arm7.chain", derivatives, frames [link7],
+        contacts Arm7Welded [link7];
+    "arm7_floating" => Arm7Floating, "peers/arm7_floating.chain", plain, frames [], contacts [];
     #[cfg(feature = "humanoid-derivatives")]
     "humanoid" => Humanoid, "../models/humanoid.chain", derivatives,
-        frames [left_foot, right_foot, left_hand, right_hand];
+        frames [left_foot, right_foot, left_hand, right_hand],
+        contacts HumanoidFeet [left_foot, right_foot];
     #[cfg(not(feature = "humanoid-derivatives"))]
     "humanoid" => Humanoid, "../models/humanoid.chain", plain,
-        frames [left_foot, right_foot, left_hand, right_hand];
-    "chain50" => Chain50, "../models/chain50.chain", plain, frames [];
+        frames [left_foot, right_foot, left_hand, right_hand],
+        contacts HumanoidFeet [left_foot, right_foot];
+    "chain50" => Chain50, "../models/chain50.chain", plain, frames [], contacts [];
 }
 
 /// Our side of the comparison against Pinocchio and MuJoCo (`bench/peers/run.py` runs it):
@@ -392,7 +518,8 @@ struct Cli {
     model: String,
     /// With --calls: the output or kernel to call (an output's name, frame outputs included,
     /// mass_matrix_update, mass_matrix_lower, inverse_dynamics_differences,
-    /// forward_dynamics_differences).
+    /// forward_dynamics_differences, constrained_forward_dynamics,
+    /// constrained_forward_dynamics_generated).
     #[arg(requires = "calls")]
     output: Option<String>,
 }
@@ -419,7 +546,7 @@ enum Command {
         /// How many calls.
         calls: usize,
         /// Which output or kernel ([`OUTPUTS`], [`DERIVATIVE_OUTPUTS`], [`DIFFERENCES`],
-        /// [`FRAME_OUTPUTS`]).
+        /// [`FRAME_OUTPUTS`], [`CONSTRAINED`], [`CONSTRAINED_GENERATED`]).
         output: String,
     },
 }
@@ -473,8 +600,8 @@ fn read_states<const NQ: usize, const NV: usize>(path: &str) -> Result<Vec<State
 /// Receives one closure per output; each makes one call on state `i` (masked to the states).
 trait Visit {
     /// Called once per output, by name, in the order of [`OUTPUTS`], then
-    /// [`DERIVATIVE_OUTPUTS`] and [`DIFFERENCES`], then [`FRAME_OUTPUTS`], where the model has
-    /// them.
+    /// [`DERIVATIVE_OUTPUTS`] and [`DIFFERENCES`], then [`FRAME_OUTPUTS`], then [`CONSTRAINED`]
+    /// and [`CONSTRAINED_GENERATED`], where the model has them.
     fn visit<F: FnMut(usize)>(&mut self, name: &'static str, f: F);
 }
 
@@ -560,6 +687,7 @@ where
     });
     M::each_derivative(states, visitor);
     M::each_frame(states, visitor);
+    M::each_constrained(states, visitor);
 }
 
 /// `∂f/∂q` at `q` by central differences along the configuration's tangent
@@ -681,6 +809,50 @@ fn each_frame<M, V, const NQ: usize, const NV: usize, const NF: usize>(
     );
 }
 
+/// The contacts of [`CONSTRAINED`]: every frame of `K` a six-dimensional contact.
+fn six_d_contacts<const NF: usize>() -> [Contact; NF] {
+    core::array::from_fn(Contact::six_d)
+}
+
+/// Hands `visitor` the closures of [`CONSTRAINED`] and [`CONSTRAINED_GENERATED`] on `states`,
+/// with `K` the type of the model's contacts (`NF` frames, `R = 6·NF` rows).
+fn each_constrained<K, V, const NQ: usize, const NV: usize, const NF: usize, const R: usize>(
+    states: &[State<NQ, NV>],
+    visitor: &mut V,
+) where
+    K: ConstrainedPeer<NQ, NV, NF>,
+    V: Visit,
+{
+    let mask = states.len() - 1;
+    let s = |i: usize| &states[i & mask];
+    let contacts = six_d_contacts::<NF>();
+    let settings = Settings::default();
+    visitor.visit(CONSTRAINED, |i| {
+        let x = s(i);
+        let _ = black_box(
+            constraint::constrained_forward_dynamics::<K, NQ, NV, NF, R>(
+                black_box(&x.q),
+                black_box(&x.v),
+                black_box(&x.tau),
+                black_box(&contacts),
+                None,
+                &settings,
+            ),
+        );
+    });
+    visitor.visit(CONSTRAINED_GENERATED, |i| {
+        let x = s(i);
+        black_box(constraint::Frames::<NV, NF>::of::<K, NQ>(
+            black_box(&x.q),
+            black_box(&x.v),
+        ));
+        black_box(K::mass_matrix_and_nonlinear_effects(
+            black_box(&x.q),
+            black_box(&x.v),
+        ));
+    });
+}
+
 /// Times each output: `batches` batches of about `batch`, the fastest and the median.
 struct Timer {
     /// Batches per output.
@@ -799,6 +971,9 @@ struct Layout {
     /// The frames of the [`FRAME_OUTPUTS`], in their order (`C::FRAMES`); empty for a model
     /// without them.
     frames: &'static [&'static str],
+    /// The six-dimensional contacts of [`CONSTRAINED`], in their order (the frames of its
+    /// type); empty for a model without it.
+    contacts: &'static [&'static str],
 }
 
 /// The joints with coordinates of model `M` (name, kind, where its coordinates start), and
@@ -842,12 +1017,17 @@ fn layout<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>() -> Result<Layout,
     } else {
         &FRAME_OUTPUTS
     };
-    let ops = OUTPUTS
+    let mut ops: Vec<_> = OUTPUTS
         .iter()
         .chain(derivatives)
         .chain(frames)
         .map(|&o| (o.name(), M::ops(o).total()))
         .collect();
+    if !M::CONTACTS.is_empty() {
+        // The generated part only: the runtime's solve is not counted.
+        ops.push((CONSTRAINED, M::constrained_ops()));
+        ops.push((CONSTRAINED_GENERATED, M::constrained_ops()));
+    }
     Ok(Layout {
         nq: NQ,
         nv: NV,
@@ -855,6 +1035,7 @@ fn layout<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>() -> Result<Layout,
         ops: Members(ops),
         derivatives: M::DERIVATIVES,
         frames: <M as Chain<f64>>::FRAMES,
+        contacts: M::CONTACTS,
     })
 }
 
@@ -962,6 +1143,55 @@ fn frame_values<M: FramePeer<NQ, NV, NF>, const NQ: usize, const NV: usize, cons
     }
 }
 
+/// [`CONSTRAINED`] at the first state (`--values`), and the states where it fails.
+#[derive(Serialize)]
+struct ConstrainedValues {
+    /// `q̈` (`null` where the first state fails).
+    acceleration: Option<Vec<f64>>,
+    /// Each contact's wrench `[n; f]` in its frame, in the order of the contacts.
+    forces: Option<Vec<Vec<f64>>>,
+    /// `max |J·q̈ + γ|` over the rows.
+    residual: Option<f64>,
+    /// `state k: the error`, for every state of the file whose solve fails (a timed call on it
+    /// would return early): the driver stops on any.
+    errors: Vec<String>,
+}
+
+/// [`CONSTRAINED`] of the contacts' type `K` on `states`: the solution at the first, the errors
+/// of all.
+fn constrained_values<K, const NQ: usize, const NV: usize, const NF: usize, const R: usize>(
+    states: &[State<NQ, NV>],
+) -> ConstrainedValues
+where
+    K: ConstrainedPeer<NQ, NV, NF>,
+{
+    let contacts = six_d_contacts::<NF>();
+    let solve = |x: &State<NQ, NV>| {
+        constraint::constrained_forward_dynamics::<K, NQ, NV, NF, R>(
+            &x.q,
+            &x.v,
+            &x.tau,
+            &contacts,
+            None,
+            &Settings::default(),
+        )
+    };
+    let errors = states
+        .iter()
+        .enumerate()
+        .filter_map(|(k, x)| solve(x).err().map(|e| format!("state {k}: {e}")))
+        .collect();
+    let first = solve(&states[0]).ok();
+    ConstrainedValues {
+        acceleration: first.as_ref().map(|s| vector(&s.acceleration)),
+        forces: first
+            .as_ref()
+            .map(|s| (0..NF).map(|k| s.force::<6>(6 * k).to_vec()).collect()),
+        residual: first.as_ref().map(|s| s.residual),
+        errors,
+    }
+}
+
 /// `mass_matrix_and_nonlinear_effects` (`--values`).
 #[derive(Serialize)]
 struct MassMatrixAndNonlinearEffects {
@@ -997,10 +1227,14 @@ struct Values {
     /// For the models generated with frames.
     #[serde(flatten)]
     frames: Option<FrameValues>,
+    /// For the models given contacts.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    constrained_forward_dynamics: Option<ConstrainedValues>,
 }
 
-/// The outputs of model `M` at `x`.
-fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(x: &State<NQ, NV>) -> Values {
+/// The outputs of model `M` at the first of `states` (and [`CONSTRAINED`]'s errors on all).
+fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(states: &[State<NQ, NV>]) -> Values {
+    let x = &states[0];
     let (m2, nle2) = M::mass_matrix_and_nonlinear_effects(&x.q, &x.v);
     let mut lower = KeptMassMatrixLower::<M, f64, NV>::new();
     M::mass_matrix_lower(&x.q, &mut lower);
@@ -1027,6 +1261,7 @@ fn values<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(x: &State<NQ, NV>) 
         mass_matrix_lower: rows(&lower.symmetric()),
         derivatives: M::derivative_values(x),
         frames: M::frame_values(x),
+        constrained_forward_dynamics: M::constrained_values(states),
     }
 }
 
@@ -1041,7 +1276,7 @@ fn print_json(value: &impl Serialize) -> Result<(), String> {
 fn run<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>(cmd: &Command) -> Result<(), String> {
     match cmd {
         Command::Layout => print_json(&layout::<M, NQ, NV>()?)?,
-        Command::Values(path) => print_json(&values::<M, NQ, NV>(&read_states(path)?[0]))?,
+        Command::Values(path) => print_json(&values::<M, NQ, NV>(&read_states(path)?))?,
         Command::Time {
             states,
             batches,
