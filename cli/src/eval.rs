@@ -549,9 +549,10 @@ const FRAME_OUTPUTS: [Output; 9] = [
     Output::FrameJacobianTimeVariationsLocalWorldAligned,
 ];
 
-/// The frames by the generator's expression graphs (`trace::frames`).
-fn frames_by_graph(model: &Model, names: &[String], s: &State) -> Result<Value, String> {
-    let at: Vec<FrameAt> = names
+/// The frames `names` of `model` as the frame traces take them (names `check_frames` has
+/// accepted; any other is left out).
+fn frames_at(model: &Model, names: &[String]) -> Vec<FrameAt> {
+    names
         .iter()
         .filter_map(|name| {
             let (parent, placement) = model.frame(name)?;
@@ -561,7 +562,12 @@ fn frames_by_graph(model: &Model, names: &[String], s: &State) -> Result<Value, 
                 placement,
             })
         })
-        .collect();
+        .collect()
+}
+
+/// The frames by the generator's expression graphs (`trace::frames`).
+fn frames_by_graph(model: &Model, names: &[String], s: &State) -> Result<Value, String> {
+    let at = frames_at(model, names);
     let nv = model.nv();
     let per_frame: Vec<Vec<f64>> = FRAME_OUTPUTS
         .iter()
@@ -707,17 +713,7 @@ fn contact_kinematics_by_graph(
     s: &State,
 ) -> Result<Kinematics, String> {
     let nv = model.nv();
-    let at: Vec<FrameAt> = names
-        .iter()
-        .filter_map(|name| {
-            let (parent, placement) = model.frame(name)?;
-            Some(FrameAt {
-                name: name.clone(),
-                parent,
-                placement,
-            })
-        })
-        .collect();
+    let at = frames_at(model, names);
     // The drifts are the classical accelerations at q̈ = 0.
     let still = State {
         a: vec![0.0; nv],

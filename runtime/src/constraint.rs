@@ -71,6 +71,37 @@ use crate::{
 #[cfg(feature = "contact-qp")]
 pub mod optimal;
 
+/// The generated outputs the constraints' rows are made of (`frame_placements`,
+/// `frame_jacobians_local`, `frame_velocities`, `frame_accelerations`), for all `NF` frames;
+/// implemented by every chain that has them.
+pub trait FrameOutputs<const NQ: usize, const NV: usize, const NF: usize>:
+    FramePlacements<f64, NQ, NV, NF>
+    + FrameJacobiansLocal<f64, NQ, NV, NF>
+    + FrameVelocities<f64, NQ, NV, NF>
+    + FrameAccelerations<f64, NQ, NV, NF>
+{
+}
+
+impl<C, const NQ: usize, const NV: usize, const NF: usize> FrameOutputs<NQ, NV, NF> for C where
+    C: FramePlacements<f64, NQ, NV, NF>
+        + FrameJacobiansLocal<f64, NQ, NV, NF>
+        + FrameVelocities<f64, NQ, NV, NF>
+        + FrameAccelerations<f64, NQ, NV, NF>
+{
+}
+
+/// What the constrained dynamics of a generated chain need: [`FrameOutputs`] and
+/// `mass_matrix_and_nonlinear_effects`; implemented by every chain that has them.
+pub trait ConstraintOutputs<const NQ: usize, const NV: usize, const NF: usize>:
+    FrameOutputs<NQ, NV, NF> + MassMatrixAndNonlinearEffects<f64, NQ, NV>
+{
+}
+
+impl<C, const NQ: usize, const NV: usize, const NF: usize> ConstraintOutputs<NQ, NV, NF> for C where
+    C: FrameOutputs<NQ, NV, NF> + MassMatrixAndNonlinearEffects<f64, NQ, NV>
+{
+}
+
 /// What a constraint holds (module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Kind {
@@ -280,6 +311,17 @@ impl<const NV: usize, const R: usize> Default for System<NV, R> {
 }
 
 impl<const NV: usize, const R: usize> System<NV, R> {
+    /// The rows for the numerical core.
+    fn as_rows(&self) -> Rows<'_, nalgebra::Const<NV>, nalgebra::Const<R>> {
+        Rows {
+            count: self.rows,
+            jacobian: &self.jacobian,
+            drift: &self.drift,
+            error: &self.error,
+            owner: &self.owner,
+        }
+    }
+
     /// No constraint.
     pub fn new() -> Self {
         System {
@@ -339,10 +381,7 @@ impl<const NV: usize, const NF: usize> Frames<NV, NF> {
     /// From a generated chain's frame outputs at `(q, v)`.
     pub fn of<C, const NQ: usize>(q: &SVector<f64, NQ>, v: &SVector<f64, NV>) -> Self
     where
-        C: FramePlacements<f64, NQ, NV, NF>
-            + FrameJacobiansLocal<f64, NQ, NV, NF>
-            + FrameVelocities<f64, NQ, NV, NF>
-            + FrameAccelerations<f64, NQ, NV, NF>,
+        C: FrameOutputs<NQ, NV, NF>,
     {
         Frames {
             placements: C::frame_placements(q),
@@ -477,13 +516,7 @@ pub fn forward_dynamics<const NV: usize, const R: usize>(
     baumgarte: Option<Baumgarte>,
     settings: &Settings,
 ) -> Result<Solution<NV, R>, ConstraintError> {
-    let rows = Rows {
-        count: system.rows,
-        jacobian: &system.jacobian,
-        drift: &system.drift,
-        error: &system.error,
-        owner: &system.owner,
-    };
+    let rows = system.as_rows();
     let (x, forces, residual, iterations) =
         forward_core(m, nle, tau, v, &rows, baumgarte, settings)?;
     Ok(Solution {
@@ -508,13 +541,7 @@ pub fn impulse_dynamics<const NV: usize, const R: usize>(
     restitution: f64,
     settings: &Settings,
 ) -> Result<Solution<NV, R>, ConstraintError> {
-    let rows = Rows {
-        count: system.rows,
-        jacobian: &system.jacobian,
-        drift: &system.drift,
-        error: &system.error,
-        owner: &system.owner,
-    };
+    let rows = system.as_rows();
     let (x, forces, residual, iterations) = impulse_core(m, v_minus, &rows, restitution, settings)?;
     Ok(Solution {
         acceleration: x,
@@ -548,11 +575,7 @@ pub fn constrained_forward_dynamics<
     settings: &Settings,
 ) -> Result<Solution<NV, R>, ConstraintError>
 where
-    C: MassMatrixAndNonlinearEffects<f64, NQ, NV>
-        + FramePlacements<f64, NQ, NV, NF>
-        + FrameJacobiansLocal<f64, NQ, NV, NF>
-        + FrameVelocities<f64, NQ, NV, NF>
-        + FrameAccelerations<f64, NQ, NV, NF>,
+    C: ConstraintOutputs<NQ, NV, NF>,
 {
     forward_dynamics_of::<C, NQ, NV, NF, R>(q, v, tau, contacts, &[], baumgarte, settings)
 }
@@ -578,11 +601,7 @@ pub fn forward_dynamics_of<C, const NQ: usize, const NV: usize, const NF: usize,
     settings: &Settings,
 ) -> Result<Solution<NV, R>, ConstraintError>
 where
-    C: MassMatrixAndNonlinearEffects<f64, NQ, NV>
-        + FramePlacements<f64, NQ, NV, NF>
-        + FrameJacobiansLocal<f64, NQ, NV, NF>
-        + FrameVelocities<f64, NQ, NV, NF>
-        + FrameAccelerations<f64, NQ, NV, NF>,
+    C: ConstraintOutputs<NQ, NV, NF>,
 {
     let frames = Frames::<NV, NF>::of::<C, NQ>(q, v);
     let system = frames.system::<R>(contacts, loops, baumgarte.map(|(_, r)| r))?;
@@ -617,11 +636,7 @@ pub fn constrained_impulse_dynamics<
     settings: &Settings,
 ) -> Result<Solution<NV, R>, ConstraintError>
 where
-    C: MassMatrixAndNonlinearEffects<f64, NQ, NV>
-        + FramePlacements<f64, NQ, NV, NF>
-        + FrameJacobiansLocal<f64, NQ, NV, NF>
-        + FrameVelocities<f64, NQ, NV, NF>
-        + FrameAccelerations<f64, NQ, NV, NF>,
+    C: ConstraintOutputs<NQ, NV, NF>,
 {
     let frames = Frames::<NV, NF>::of::<C, NQ>(q, v_minus);
     let system = frames.system::<R>(contacts, &[], None)?;
@@ -688,11 +703,7 @@ pub struct ConstrainedChain<
 impl<'a, C, F, const NQ: usize, const NV: usize, const NF: usize, const R: usize>
     ConstrainedChain<'a, C, F, NQ, NV, NF, R>
 where
-    C: MassMatrixAndNonlinearEffects<f64, NQ, NV>
-        + FramePlacements<f64, NQ, NV, NF>
-        + FrameJacobiansLocal<f64, NQ, NV, NF>
-        + FrameVelocities<f64, NQ, NV, NF>
-        + FrameAccelerations<f64, NQ, NV, NF>,
+    C: ConstraintOutputs<NQ, NV, NF>,
     F: FnMut(f64, &SVector<f64, NQ>, &SVector<f64, NV>) -> SVector<f64, NV>,
 {
     /// The chain held by `contacts` and `loops` from the configuration `q0` (the contacts'
@@ -741,12 +752,7 @@ impl<C, F, const NQ: usize, const NV: usize, const NF: usize, const R: usize>
     crate::integrate::SecondOrder<f64, nalgebra::Const<NQ>, nalgebra::Const<NV>>
     for ConstrainedChain<'_, C, F, NQ, NV, NF, R>
 where
-    C: crate::Chain<f64>
-        + MassMatrixAndNonlinearEffects<f64, NQ, NV>
-        + FramePlacements<f64, NQ, NV, NF>
-        + FrameJacobiansLocal<f64, NQ, NV, NF>
-        + FrameVelocities<f64, NQ, NV, NF>
-        + FrameAccelerations<f64, NQ, NV, NF>,
+    C: crate::Chain<f64> + ConstraintOutputs<NQ, NV, NF>,
     F: FnMut(f64, &SVector<f64, NQ>, &SVector<f64, NV>) -> SVector<f64, NV>,
 {
     fn coordinates(&self) -> &[crate::Coordinates] {

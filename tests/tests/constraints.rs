@@ -439,9 +439,9 @@ fn inverse_dynamics_with_contacts_recovers_the_forces() {
 /// Wieber's whole-body Newton and Euler equations (eqs. 17–18): the contact wrenches, moved to
 /// the centre of mass in world axes, sum to `ḣ_G − [0; m·g]`, with `ḣ_G` by central
 /// differences of the generated centroidal momentum along the constrained motion, to 1e-8 of
-/// `m·‖g‖` (the data's velocities are large: the differences' truncation error is about
-/// `1e4·dt²` of `m·‖g‖`, so the step is 1e-7 s, where they agree to 3e-10 and rounding,
-/// `ε·|h|/dt`, is below that); and the
+/// `m·‖g‖` (the data's velocities are large, so the differences' truncation error, which falls
+/// as `dt²`, needs a step as small as 1e-7 s, where rounding, `ε·|h|/dt`, is still below the
+/// tolerance; the test prints the agreement); and the
 /// zero-moment point of the support has no moment along the ground.
 #[test]
 fn contact_wrenches_are_the_rate_of_the_centroidal_momentum_less_gravity() {

@@ -63,10 +63,8 @@
 //! `frame_jacobians_local`, `frame_velocities`, `frame_accelerations`) for exactly the contact
 //! frames, so that each call computes the contacts' kinematics and nothing more (the model's
 //! own type has the hands too, for the frame outputs). Its `mass_matrix_and_nonlinear_effects`
-//! is a second copy of the model's: 7,448 operations for the humanoid, 892 for the arm; with
-//! both types, `cargo test -p articulated-bench --no-run` after touching this file took no
-//! measurably longer (31 and 45 s, against 43 and 43 s without, alternating, with another build
-//! beside it).
+//! is a second copy of the model's, which made no measurable difference to this binary's
+//! test-profile build.
 
 use std::hint::black_box;
 use std::path::Path;
