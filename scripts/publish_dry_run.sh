@@ -19,6 +19,22 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-target/publish}"
+# Each run packages into a fresh directory below that target directory. Cargo keys the copies it
+# unpacks from the local registry (in $CARGO_HOME/registry/src) by the registry's path and
+# reuses a copy it finds there: at a fixed path, a run verified against the packages of an
+# earlier run (a CI machine that keeps $CARGO_HOME and clones to the same folder failed so).
+# The copies this run unpacked are removed at the end.
+base="${CARGO_TARGET_DIR:-target/publish}"
+mkdir -p "$base"
+export CARGO_TARGET_DIR
+CARGO_TARGET_DIR="$(mktemp -d "$base/run.XXXXXX")"
 export CARGO_PROFILE_DEV_DEBUG="${CARGO_PROFILE_DEV_DEBUG:-false}"
-exec cargo publish --workspace --dry-run "$@"
+stamp="$CARGO_TARGET_DIR/started"
+touch "$stamp"
+cleanup() {
+  find "${CARGO_HOME:-$HOME/.cargo}/registry/src" -mindepth 2 -maxdepth 2 -name 'articulated*' \
+    -newer "$stamp" -exec rm -rf {} + 2>/dev/null || true
+  rm -rf "$CARGO_TARGET_DIR"
+}
+trap cleanup EXIT
+cargo publish --workspace --dry-run "$@"
