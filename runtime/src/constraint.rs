@@ -192,9 +192,13 @@ pub struct Settings {
     /// (`λ_max(G)/μ`), and a tolerance below that may never be met.
     pub tolerance: f64,
     /// A pivot of `M`'s or `G`'s factorization counts as zero below this times its unreduced
-    /// value. Default `1e-10`.
+    /// value. Default [`PIVOT_TOLERANCE`], `1e-10`.
     pub pivot_tolerance: f64,
 }
+
+/// [`Settings::pivot_tolerance`]'s default, which a generated `constrained_forward_dynamics`
+/// holds its pivots to as well.
+pub const PIVOT_TOLERANCE: f64 = 1e-10;
 
 impl Default for Settings {
     fn default() -> Self {
@@ -202,7 +206,7 @@ impl Default for Settings {
             mu: 0.0,
             max_iterations: 100,
             tolerance: 1e-8,
-            pivot_tolerance: 1e-10,
+            pivot_tolerance: PIVOT_TOLERANCE,
         }
     }
 }

@@ -56,14 +56,15 @@
 //!
 //! The models given `contacts Type [..]` in `models!` (`arm7`: its flange `link7` welded; the
 //! humanoid: both soles flat on the ground) also have the constrained forward dynamics
-//! ([`CONSTRAINED`]): each of those frames a six-dimensional contact, solved by the runtime's
-//! [`constraint::constrained_forward_dynamics`] with [`Settings::default`] (exact, `mu = 0`).
-//! It runs on a type of its own, `Type`, generated from the same `.chain` file with the five
-//! outputs it needs (`mass_matrix_and_nonlinear_effects`, `frame_placements`,
-//! `frame_jacobians_local`, `frame_velocities`, `frame_accelerations`) for exactly the contact
-//! frames, so that each call computes the contacts' kinematics and nothing more (the model's
-//! own type has the hands too, for the frame outputs). Its `mass_matrix_and_nonlinear_effects`
-//! is a second copy of the model's, which made no measurable difference to this binary's
+//! ([`CONSTRAINED`]): each of those frames a six-dimensional contact, declared in a type of its
+//! own, `Type`, generated from the same `.chain` file with `contacts = [..: six_d]`, whose
+//! generated `constrained_forward_dynamics` is timed; beside it ([`CONSTRAINED_RUNTIME`]) the
+//! runtime's [`constraint::constrained_forward_dynamics`] on the same contacts with
+//! [`Settings::default`] (exact, `mu = 0`), from the five outputs the declaration adds
+//! (`mass_matrix_and_nonlinear_effects`, `frame_placements`, `frame_jacobians_local`,
+//! `frame_velocities`, `frame_accelerations`, for exactly the contact frames: the model's own
+//! type has the hands too, for the frame outputs). Its `mass_matrix_and_nonlinear_effects` is a
+//! second copy of the model's, which made no measurable difference to this binary's
 //! test-profile build.
 
 use std::hint::black_box;
@@ -114,14 +115,14 @@ const FRAME_OUTPUTS: [Output; 3] = [
     Output::FrameJacobianTimeVariationsLocalWorldAligned,
 ];
 
-/// The timing of [`constraint::constrained_forward_dynamics`] with the model's contacts (`contacts
+/// The timing of the generated `constrained_forward_dynamics` of the model's contacts (`contacts
 /// Type [..]` in `models!`), timed after the [`FRAME_OUTPUTS`].
 const CONSTRAINED: &str = "constrained_forward_dynamics";
 
-/// The timing of the five generated functions [`CONSTRAINED`] calls, alone
-/// ([`constraint::Frames::of`] and `mass_matrix_and_nonlinear_effects`): the rest of its time is
-/// the runtime's solve.
-const CONSTRAINED_GENERATED: &str = "constrained_forward_dynamics_generated";
+/// The timing of the runtime's [`constraint::constrained_forward_dynamics`] on the same contacts
+/// (what a run-time choice of contacts costs): the five generated functions it reads, then its
+/// dense solve.
+const CONSTRAINED_RUNTIME: &str = "constrained_forward_dynamics_runtime";
 
 /// The timing of `C::mass_matrix_update(&q, &mut kept)`: `M` into a [`KeptMassMatrix`], only the
 /// entries that can be non-zero written (reported beside `mass_matrix`).
@@ -170,12 +171,12 @@ trait Peer<const NQ: usize, const NV: usize>:
     /// The contact frames of [`CONSTRAINED`] (`C::FRAMES` of its type); empty for a model
     /// without it.
     const CONTACTS: &'static [&'static str] = &[];
-    /// The generator's operation count of the five generated functions [`CONSTRAINED`] calls
-    /// (zero for a model without it).
-    fn constrained_ops() -> usize {
-        0
+    /// The generator's operation counts of [`CONSTRAINED`] and of the five generated functions
+    /// [`CONSTRAINED_RUNTIME`] calls (zeros for a model without them).
+    fn constrained_ops() -> (usize, usize) {
+        (0, 0)
     }
-    /// Hands `visitor` the closures of [`CONSTRAINED`] and [`CONSTRAINED_GENERATED`], for a
+    /// Hands `visitor` the closures of [`CONSTRAINED`] and [`CONSTRAINED_RUNTIME`], for a
     /// model given contacts ([`each_constrained`]); nothing otherwise.
     fn each_constrained<V: Visit>(_states: &[State<NQ, NV>], _visitor: &mut V) {}
     /// [`CONSTRAINED`] on `states` ([`constrained_values`]); `None` for a model without it.
@@ -252,7 +253,8 @@ macro_rules! contact_type {
                 frame_velocities,
                 frame_accelerations
             ],
-            frames = [$($contact),+]
+            frames = [$($contact),+],
+            contacts = [$($contact: six_d),+]
         )]
         struct $cty;
     };
@@ -264,8 +266,8 @@ macro_rules! contact_members {
     ([] $ty:ident) => {};
     ([$cty:ident] $ty:ident) => {
         const CONTACTS: &'static [&'static str] = <$cty as Chain<f64>>::FRAMES;
-        fn constrained_ops() -> usize {
-            [
+        fn constrained_ops() -> (usize, usize) {
+            let runtime = [
                 $cty::MASS_MATRIX_AND_NONLINEAR_EFFECTS_OPS,
                 $cty::FRAME_PLACEMENTS_OPS,
                 $cty::FRAME_JACOBIANS_LOCAL_OPS,
@@ -274,11 +276,14 @@ macro_rules! contact_members {
             ]
             .iter()
             .map(OpCounts::total)
-            .sum()
+            .sum();
+            ($cty::CONSTRAINED_FORWARD_DYNAMICS_OPS.total(), runtime)
         }
         fn each_constrained<V: Visit>(states: &[State<{ $ty::NQ }, { $ty::NV }>], visitor: &mut V) {
             each_constrained::<$cty, V, { $ty::NQ }, { $ty::NV }, { $cty::NF }, { 6 * $cty::NF }>(
-                states, visitor,
+                states,
+                $cty::constrained_forward_dynamics,
+                visitor,
             );
         }
         fn constrained_values(
@@ -290,7 +295,7 @@ macro_rules! contact_members {
                 { $ty::NV },
                 { $cty::NF },
                 { 6 * $cty::NF },
-            >(states))
+            >(states, $cty::constrained_forward_dynamics))
         }
     };
 }
@@ -547,7 +552,7 @@ enum Command {
         /// How many calls.
         calls: usize,
         /// Which output or kernel ([`OUTPUTS`], [`DERIVATIVE_OUTPUTS`], [`DIFFERENCES`],
-        /// [`FRAME_OUTPUTS`], [`CONSTRAINED`], [`CONSTRAINED_GENERATED`]).
+        /// [`FRAME_OUTPUTS`], [`CONSTRAINED`], [`CONSTRAINED_RUNTIME`]).
         output: String,
     },
 }
@@ -602,7 +607,7 @@ fn read_states<const NQ: usize, const NV: usize>(path: &str) -> Result<Vec<State
 trait Visit {
     /// Called once per output, by name, in the order of [`OUTPUTS`], then
     /// [`DERIVATIVE_OUTPUTS`] and [`DIFFERENCES`], then [`FRAME_OUTPUTS`], then [`CONSTRAINED`]
-    /// and [`CONSTRAINED_GENERATED`], where the model has them.
+    /// and [`CONSTRAINED_RUNTIME`], where the model has them.
     fn visit<F: FnMut(usize)>(&mut self, name: &'static str, f: F);
 }
 
@@ -816,10 +821,20 @@ fn six_d_contacts<const NF: usize>() -> [Contact; NF] {
     core::array::from_fn(Contact::six_d)
 }
 
-/// Hands `visitor` the closures of [`CONSTRAINED`] and [`CONSTRAINED_GENERATED`] on `states`,
-/// with `K` the type of the model's contacts (`NF` frames, `R = 6·NF` rows).
+/// A generated `constrained_forward_dynamics` (`generated` below).
+type Solve<const NQ: usize, const NV: usize, const R: usize> =
+    fn(
+        &SVector<f64, NQ>,
+        &SVector<f64, NV>,
+        &SVector<f64, NV>,
+    ) -> Result<(SVector<f64, NV>, SVector<f64, R>), constraint::ConstraintError>;
+
+/// Hands `visitor` the closures of [`CONSTRAINED`] (`generated`, the type's own) and
+/// [`CONSTRAINED_RUNTIME`] on `states`, with `K` the type of the model's contacts (`NF` frames,
+/// `R = 6·NF` rows).
 fn each_constrained<K, V, const NQ: usize, const NV: usize, const NF: usize, const R: usize>(
     states: &[State<NQ, NV>],
+    generated: Solve<NQ, NV, R>,
     visitor: &mut V,
 ) where
     K: ConstrainedPeer<NQ, NV, NF>,
@@ -831,6 +846,14 @@ fn each_constrained<K, V, const NQ: usize, const NV: usize, const NF: usize, con
     let settings = Settings::default();
     visitor.visit(CONSTRAINED, |i| {
         let x = s(i);
+        let _ = black_box(generated(
+            black_box(&x.q),
+            black_box(&x.v),
+            black_box(&x.tau),
+        ));
+    });
+    visitor.visit(CONSTRAINED_RUNTIME, |i| {
+        let x = s(i);
         let _ = black_box(
             constraint::constrained_forward_dynamics::<K, NQ, NV, NF, R>(
                 black_box(&x.q),
@@ -841,17 +864,6 @@ fn each_constrained<K, V, const NQ: usize, const NV: usize, const NF: usize, con
                 &settings,
             ),
         );
-    });
-    visitor.visit(CONSTRAINED_GENERATED, |i| {
-        let x = s(i);
-        black_box(constraint::Frames::<NV, NF>::of::<K, NQ>(
-            black_box(&x.q),
-            black_box(&x.v),
-        ));
-        black_box(K::mass_matrix_and_nonlinear_effects(
-            black_box(&x.q),
-            black_box(&x.v),
-        ));
     });
 }
 
@@ -1026,9 +1038,10 @@ fn layout<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>() -> Result<Layout,
         .map(|&o| (o.name(), M::ops(o).total()))
         .collect();
     if !M::CONTACTS.is_empty() {
-        // The generated part only: the runtime's solve is not counted.
-        ops.push((CONSTRAINED, M::constrained_ops()));
-        ops.push((CONSTRAINED_GENERATED, M::constrained_ops()));
+        // The runtime's: the generated part only, its solve not counted.
+        let (generated, runtime) = M::constrained_ops();
+        ops.push((CONSTRAINED, generated));
+        ops.push((CONSTRAINED_RUNTIME, runtime));
     }
     Ok(Layout {
         nq: NQ,
@@ -1152,23 +1165,25 @@ struct ConstrainedValues {
     acceleration: Option<Vec<f64>>,
     /// Each contact's wrench `[n; f]` in its frame, in the order of the contacts.
     forces: Option<Vec<Vec<f64>>>,
-    /// `max |J·q̈ + γ|` over the rows.
+    /// `max |J·q̈ + γ|` over the rows, of the runtime's solution.
     residual: Option<f64>,
     /// `state k: the error`, for every state of the file whose solve fails (a timed call on it
     /// would return early): the driver stops on any.
     errors: Vec<String>,
 }
 
-/// [`CONSTRAINED`] of the contacts' type `K` on `states`: the solution at the first, the errors
-/// of all.
+/// [`CONSTRAINED`] of the contacts' type `K` on `states` (`generated`, its own function): the
+/// solution at the first, the errors of all, and of [`CONSTRAINED_RUNTIME`] on the same contacts
+/// where it fails or differs from it by more than 1e-10 of the largest entry.
 fn constrained_values<K, const NQ: usize, const NV: usize, const NF: usize, const R: usize>(
     states: &[State<NQ, NV>],
+    generated: Solve<NQ, NV, R>,
 ) -> ConstrainedValues
 where
     K: ConstrainedPeer<NQ, NV, NF>,
 {
     let contacts = six_d_contacts::<NF>();
-    let solve = |x: &State<NQ, NV>| {
+    let runtime = |x: &State<NQ, NV>| {
         constraint::constrained_forward_dynamics::<K, NQ, NV, NF, R>(
             &x.q,
             &x.v,
@@ -1178,18 +1193,37 @@ where
             &Settings::default(),
         )
     };
+    let differ = |a: &[f64], b: &[f64]| {
+        let scale = b.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        a.iter().zip(b).any(|(a, b)| (a - b).abs() > 1e-10 * scale)
+    };
     let errors = states
         .iter()
         .enumerate()
-        .filter_map(|(k, x)| solve(x).err().map(|e| format!("state {k}: {e}")))
+        .filter_map(|(k, x)| match (generated(&x.q, &x.v, &x.tau), runtime(x)) {
+            (Err(e), _) => Some(format!("state {k}: {e}")),
+            (_, Err(e)) => Some(format!("state {k}: the runtime's: {e}")),
+            (Ok((qdd, f)), Ok(s))
+                if differ(qdd.as_slice(), s.acceleration.as_slice())
+                    || differ(f.as_slice(), s.forces.as_slice()) =>
+            {
+                Some(format!(
+                    "state {k}: the generated and the runtime's solutions differ"
+                ))
+            }
+            _ => None,
+        })
         .collect();
-    let first = solve(&states[0]).ok();
+    let first = generated(&states[0].q, &states[0].v, &states[0].tau).ok();
+    let residual = runtime(&states[0]).ok().map(|s| s.residual);
     ConstrainedValues {
-        acceleration: first.as_ref().map(|s| vector(&s.acceleration)),
-        forces: first
-            .as_ref()
-            .map(|s| (0..NF).map(|k| s.force::<6>(6 * k).to_vec()).collect()),
-        residual: first.as_ref().map(|s| s.residual),
+        acceleration: first.as_ref().map(|s| vector(&s.0)),
+        forces: first.as_ref().map(|s| {
+            (0..NF)
+                .map(|k| s.1.as_slice()[6 * k..6 * k + 6].to_vec())
+                .collect()
+        }),
+        residual,
         errors,
     }
 }

@@ -1,29 +1,39 @@
 //! The constraints a description declares (`contacts: […]`, `loops: […]`) on the generated
-//! type: the constants `CONTACTS`, `LOOPS` and `CONSTRAINT_ROWS`, and
-//! `constrained_forward_dynamics(q, v, τ)`, which hands them to the runtime's solver
-//! (`articulated::constraint::forward_dynamics_of`, f64 only: the check stage refused other
-//! scalars) with the frame outputs [`Options::resolved`](crate::options::Options::resolved)
-//! added.
+//! type: the constants `CONTACTS`, `LOOPS`, `CONSTRAINT_ROWS` and
+//! `CONSTRAINED_FORWARD_DYNAMICS_OPS`, and `constrained_forward_dynamics(q, v, τ)`, traced for
+//! these constraints ([`crate::trace::constrained`]; f64 only: the check stage refused other
+//! scalars). [`Options::resolved`](crate::options::Options::resolved) adds the frame outputs
+//! the runtime's `articulated::constraint::forward_dynamics_of` reads, which solves any subset
+//! of the same constraints and is checked against this function.
 
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-use super::{docs, Context};
+use super::{docs, function, Context};
+use crate::emit;
 use crate::options::{ContactKind, Loop};
+use crate::sym::{Node, OpCounts, Sym, Var};
+use crate::trace::constrained::{self, ConstrainedTraced, Constraint};
 
-/// The constants and the function; nothing for a description without constraints.
-pub(super) fn items(cx: &Context) -> TokenStream {
+/// The runtime's `articulated::constraint::PIVOT_TOLERANCE`, for the checks the generator
+/// decides itself (a pivot that is a constant).
+const PIVOT_TOLERANCE: f64 = 1e-10;
+
+/// The constants and the function, with the function's operations; nothing for a description
+/// without constraints.
+///
+/// # Errors
+/// A constant that cannot be emitted (as every function's).
+pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Option<OpCounts>)> {
     let options = cx.options;
     if !options.constrained() {
-        return quote!();
+        return Ok((quote!(), None));
     }
     // The check stage made sure each frame exists; `resolved` put each in `frames`.
-    let index = |name: &str| {
-        let i = options.frames.iter().position(|f| f == name).unwrap_or(0);
-        Literal::usize_unsuffixed(i)
-    };
+    let index = |name: &str| options.frames.iter().position(|f| f == name).unwrap_or(0);
+    let lit = Literal::usize_unsuffixed;
     let contacts = options.contacts.iter().map(|c| {
-        let frame = index(&c.frame);
+        let frame = lit(index(&c.frame));
         let kind = match c.kind {
             ContactKind::Point => quote!(Point),
             ContactKind::SixD => quote!(SixD),
@@ -36,13 +46,28 @@ pub(super) fn items(cx: &Context) -> TokenStream {
         }
     });
     let loops = options.loops.iter().map(|l| {
-        let (a, b) = (index(&l.a), index(&l.b));
+        let (a, b) = (lit(index(&l.a)), lit(index(&l.b)));
         quote!(::articulated::constraint::Loop { a: #a, b: #b })
     });
+    let constraints: Vec<Constraint> = options
+        .contacts
+        .iter()
+        .map(|c| match c.kind {
+            ContactKind::Point => Constraint::Point(index(&c.frame)),
+            ContactKind::SixD => Constraint::SixD(index(&c.frame)),
+        })
+        .chain(
+            options
+                .loops
+                .iter()
+                .map(|l| Constraint::Loop(index(&l.a), index(&l.b))),
+        )
+        .collect();
+    let traced = constrained::trace(cx.model, &cx.frames(), &constraints);
+    let ops = traced.ops();
+    let function = function(cx, &traced, &constraints)?;
     let rows = options.constraint_rows();
-    let [nq, nv, nf, r] = [cx.nq, cx.nv, options.frames.len(), rows].map(Literal::usize_unsuffixed);
-    let vector = |n: &Literal| quote!(::articulated::nalgebra::SVector<f64, #n>);
-    let (q_ty, v_ty, r_ty) = (vector(&nq), vector(&nv), vector(&r));
+    let r = lit(rows);
     let doc = |lines: Vec<String>| lines.into_iter().map(|d| quote!(#[doc = #d]));
     let contacts_doc = doc(docs::lines(&contacts_doc(cx)));
     let loops_doc = doc(docs::lines(&loops_doc(cx)));
@@ -50,9 +75,9 @@ pub(super) fn items(cx: &Context) -> TokenStream {
         `constrained_forward_dynamics` returns: 3 per point contact and loop, 6 per \
         six-dimensional contact."
         .to_string()]));
-    let function_doc = doc(docs::lines(&function_doc(cx)));
+    let ops_const = super::ops_const(super::CONSTRAINED, &ops);
     let name = &cx.name;
-    quote! {
+    let tokens = quote! {
         impl #name {
             #(#contacts_doc)*
             pub const CONTACTS: &'static [::articulated::constraint::Contact] = &[#(#contacts),*];
@@ -60,25 +85,145 @@ pub(super) fn items(cx: &Context) -> TokenStream {
             pub const LOOPS: &'static [::articulated::constraint::Loop] = &[#(#loops),*];
             #(#rows_doc)*
             pub const CONSTRAINT_ROWS: usize = #r;
-            #(#function_doc)*
-            pub fn constrained_forward_dynamics(
-                q: &#q_ty,
-                v: &#v_ty,
-                tau: &#v_ty,
-            ) -> ::core::result::Result<(#v_ty, #r_ty), ::articulated::constraint::ConstraintError> {
-                let solution = ::articulated::constraint::forward_dynamics_of::<Self, #nq, #nv, #nf, #r>(
-                    q,
-                    v,
-                    tau,
-                    Self::CONTACTS,
-                    Self::LOOPS,
-                    None,
-                    &::articulated::constraint::Settings::default(),
-                )?;
-                Ok((solution.acceleration, solution.forces))
+            #ops_const
+            #function
+        }
+    };
+    Ok((tokens, Some(ops)))
+}
+
+/// `constrained_forward_dynamics(q, v, τ)`: the traced solve as straight-line code, the inputs
+/// checked finite first, each pivot of `M` and of `G` checked against its unreduced value (in
+/// the order of elimination, the runtime's `Settings::pivot_tolerance`), the results checked
+/// finite last.
+fn function(
+    cx: &Context,
+    traced: &ConstrainedTraced,
+    constraints: &[Constraint],
+) -> syn::Result<TokenStream> {
+    let outputs = traced.all_outputs();
+    let emitted = emit::straight_line_into(
+        &traced.graph,
+        &outputs,
+        cx.options.scalar,
+        &|var| cx.input(var),
+        None,
+    )?;
+    let (nq, nv) = (cx.nq, cx.nv);
+    let rows = traced.values.len() - nv;
+    let mut used = [vec![false; nq], vec![false; nv], vec![false; nv]];
+    let mut params = false;
+    for s in traced.graph.live(&outputs) {
+        if let Node::Input(var) = traced.graph.node(s) {
+            match var {
+                Var::Q(i) => used[0][i] = true,
+                Var::V(i) => used[1][i] = true,
+                Var::Tau(i) => used[2][i] = true,
+                Var::Param(_) => params = true,
+                Var::A(_) | Var::Base(_) => {}
             }
         }
     }
+    let bind = [("q", &used[0]), ("v", &used[1]), ("tau", &used[2])]
+        .map(|(name, used)| function::destructure(name, used));
+    let params_ty = &cx.params_ty;
+    let bind_params = if params {
+        quote!(let p = &<#params_ty>::defaults();)
+    } else {
+        quote!()
+    };
+    // Each pivot: decided here where both are constants, `> 0` where nothing was eliminated
+    // from it, else against its unreduced value.
+    let exprs = &emitted.outputs[nv + rows..];
+    let constant = |s| match traced.graph.node(s) {
+        Node::Const(x) => Some(x),
+        _ => None,
+    };
+    let zero = cx.lit(0.0);
+    let check = |k: usize, (p, d): (Sym, Sym), error: TokenStream| {
+        let (pe, de) = (&exprs[2 * k], &exprs[2 * k + 1]);
+        let condition = match (constant(p), constant(d)) {
+            (Some(pv), Some(dv)) if pv > PIVOT_TOLERANCE * dv => return None,
+            (Some(_), Some(_)) => {
+                quote!(!::articulated::__private::singular_at_every_configuration())
+            }
+            _ if p == d => quote!(#pe > #zero),
+            _ => quote!(::articulated::__private::positive_pivot(#pe, #de, PIVOT_TOLERANCE)),
+        };
+        Some(quote! {
+            if !(#condition) {
+                return Err(#error);
+            }
+        })
+    };
+    let mass = (0..nv).rev().filter_map(|k| {
+        let velocity = Literal::usize_unsuffixed(k);
+        check(
+            k,
+            traced.mass[k],
+            quote!(::articulated::constraint::ConstraintError::MassMatrix { velocity: #velocity }),
+        )
+    });
+    let mut owners = Vec::new();
+    for (c, constraint) in constraints.iter().enumerate() {
+        owners.extend((0..constraint.rows()).map(|row| (c, row)));
+    }
+    let delassus = (0..rows).filter_map(|i| {
+        let (contact, row) = owners[i];
+        let (contact, row) = (
+            Literal::usize_unsuffixed(contact),
+            Literal::usize_unsuffixed(row),
+        );
+        check(
+            nv + i,
+            traced.delassus[i],
+            quote!(::articulated::constraint::ConstraintError::Redundant {
+                contact: #contact,
+                row: #row,
+            }),
+        )
+    });
+    let checks: Vec<TokenStream> = mass.chain(delassus).collect();
+    let values = &emitted.outputs[..nv + rows];
+    let qdd = function::vector(cx, &values[..nv]);
+    let forces = function::vector(cx, &values[nv..]);
+    let (q_ty, v_ty, r_ty) = (vector_type(nq), vector_type(nv), vector_type(rows));
+    let (uses, statements) = (&emitted.uses, &emitted.statements);
+    let function_doc = docs::lines(&function_doc(cx, traced))
+        .into_iter()
+        .map(|d| quote!(#[doc = #d]));
+    let [bind_q, bind_v, bind_tau] = bind;
+    Ok(quote! {
+        #(#function_doc)*
+        pub fn constrained_forward_dynamics(
+            q: &#q_ty,
+            v: &#v_ty,
+            tau: &#v_ty,
+        ) -> ::core::result::Result<(#v_ty, #r_ty), ::articulated::constraint::ConstraintError> {
+            const PIVOT_TOLERANCE: f64 = ::articulated::constraint::PIVOT_TOLERANCE;
+            if !q.iter().chain(v.iter()).chain(tau.iter()).all(|x| x.is_finite()) {
+                return Err(::articulated::constraint::ConstraintError::NonFinite);
+            }
+            #uses
+            #bind_q
+            #bind_v
+            #bind_tau
+            #bind_params
+            #statements
+            #(#checks)*
+            let qdd = #qdd;
+            let forces = #forces;
+            if !qdd.iter().chain(forces.iter()).all(|x| x.is_finite()) {
+                return Err(::articulated::constraint::ConstraintError::NonFinite);
+            }
+            Ok((qdd, forces))
+        }
+    })
+}
+
+fn vector_type(n: usize) -> TokenStream {
+    let n = Literal::usize_unsuffixed(n);
+    quote!(::articulated::nalgebra::SVector<f64, #n>)
 }
 
 /// Each constraint's rows and what its force is, in declaration order.
@@ -157,7 +302,7 @@ fn loops_doc(cx: &Context) -> Vec<String> {
     )]
 }
 
-fn function_doc(cx: &Context) -> Vec<String> {
+fn function_doc(cx: &Context, traced: &ConstrainedTraced) -> Vec<String> {
     let mut paragraphs = vec![
         "Constrained forward dynamics with the constraints the description declares \
          (`Self::CONTACTS`, then `Self::LOOPS`): the accelerations `q̈` and the constraint \
@@ -173,13 +318,18 @@ fn function_doc(cx: &Context) -> Vec<String> {
         ),
     ];
     paragraphs.extend(rows_of(cx).into_iter().map(|r| format!("- {r}")));
-    paragraphs.push(
-        "The runtime's `articulated::constraint::forward_dynamics_of` computes them from this \
-         chain's `mass_matrix_and_nonlinear_effects`, `frame_placements`, \
-         `frame_jacobians_local`, `frame_velocities` and `frame_accelerations` (at the \
-         parameters' defaults); call it for Baumgarte terms or a proximal solve."
-            .to_string(),
-    );
+    paragraphs.push(format!(
+        "Generated for these constraints: `M`, `N·q̇ + g`, the rows and their drifts in one \
+         pass; `M = LᵀDL` factored with the tree's sparsity, the operational-space matrix \
+         `G = J·M⁻¹·Jᵀ` formed through `L⁻ᵀ·Jᵀ` (which keeps each row's sparsity) and factored, \
+         `q̈` from one more sparse solve: {} ({}). The runtime's \
+         `articulated::constraint::forward_dynamics_of` computes the same from this chain's \
+         `mass_matrix_and_nonlinear_effects`, `frame_placements`, `frame_jacobians_local`, \
+         `frame_velocities` and `frame_accelerations`: call it for a subset of the \
+         constraints, Baumgarte terms or a proximal solve.",
+        traced.ops(),
+        traced.variant
+    ));
     paragraphs.push("# Errors".to_string());
     paragraphs.push(
         "`ConstraintError::Redundant` where the constraints' rows depend on each other at this \

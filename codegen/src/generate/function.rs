@@ -365,7 +365,7 @@ fn transposed(values: &[TokenStream], rows: usize) -> Vec<TokenStream> {
 }
 
 /// `SVector::from_array_storage(ArrayStorage([[v0, v1, …]]))`.
-fn vector(cx: &Context, values: &[TokenStream]) -> TokenStream {
+pub(super) fn vector(cx: &Context, values: &[TokenStream]) -> TokenStream {
     let (scalar, nv) = (&cx.scalar, Literal::usize_unsuffixed(values.len()));
     quote! {
         ::articulated::nalgebra::SVector::<#scalar, #nv>::from_array_storage(
@@ -513,7 +513,7 @@ fn pivot_checks(cx: &Context, traced: &Traced, emitted: &Emitted) -> Vec<TokenSt
 
 /// `let [[q0, _, q2]] = q.data.0;` binding the inputs a function uses (`_` for the others, so
 /// the user's crate sees no unused variable).
-fn destructure(vector: &str, used: &[bool]) -> TokenStream {
+pub(super) fn destructure(vector: &str, used: &[bool]) -> TokenStream {
     let vector_id = format_ident!("{}", vector);
     let names = used.iter().enumerate().map(|(i, &u)| {
         if u {

@@ -25,6 +25,9 @@ pub struct Generated {
     pub tokens: TokenStream,
     /// Each emitted function's figures.
     pub functions: Vec<FunctionReport>,
+    /// The operations of `constrained_forward_dynamics`, where the description declares
+    /// constraints.
+    pub constrained_ops: Option<OpCounts>,
 }
 
 /// One generated function's figures.
@@ -96,12 +99,19 @@ pub fn generate_file(model: &Model, options: &Options, source: &str) -> syn::Res
         .functions
         .iter()
         .map(|f| f.output.name().len())
+        .chain(g.constrained_ops.map(|_| CONSTRAINED.len()))
         .fold(24, usize::max);
     for f in &g.functions {
         header.push_str(&format!("// {:<width$} {}\n", f.output.name(), f.ops));
     }
+    if let Some(ops) = &g.constrained_ops {
+        header.push_str(&format!("// {CONSTRAINED:<width$} {ops}\n"));
+    }
     Ok(format!("{header}\n{body}"))
 }
+
+/// The name of the function the declared constraints give ([`constraints`]).
+const CONSTRAINED: &str = "constrained_forward_dynamics";
 
 /// What every generated item needs to know: the names, sizes and types of the chain.
 struct Context<'a> {
@@ -278,7 +288,7 @@ impl<'a> Context<'a> {
         );
         let params_item = self.params_item();
         let chain_impl = self.chain_impl();
-        let constraints = constraints::items(self);
+        let (constraints, constrained_ops) = constraints::items(self)?;
         // Only where frames are named (a constant nothing reads is a warning in the user's
         // crate).
         let nf_const = (!self.options.frames.is_empty()).then(|| {
@@ -304,7 +314,11 @@ impl<'a> Context<'a> {
             #chain_impl
             #(#items)*
         };
-        Ok(Generated { tokens, functions })
+        Ok(Generated {
+            tokens,
+            functions,
+            constrained_ops,
+        })
     }
 
     /// One output through the pipeline: traced every way there is, each trace optimized and
@@ -342,7 +356,7 @@ impl<'a> Context<'a> {
             variant: traced.variant,
             candidates: traced.candidates,
         };
-        Ok((item, ops_const(output, &ops), report))
+        Ok((item, ops_const(output.name(), &ops), report))
     }
 
     /// The frames of `frames: [...]` on the model, in that order (the check stage made sure
@@ -457,10 +471,10 @@ impl<'a> Context<'a> {
     }
 }
 
-/// `pub const MASS_MATRIX_OPS: OpCounts = …;`
-fn ops_const(output: Output, ops: &OpCounts) -> TokenStream {
-    let const_name = format_ident!("{}_OPS", output.name().to_uppercase());
-    let doc = format!(" Operation count of `{}`: {ops}.", output.name());
+/// `pub const MASS_MATRIX_OPS: OpCounts = …;` for the function `name`.
+fn ops_const(name: &str, ops: &OpCounts) -> TokenStream {
+    let const_name = format_ident!("{}_OPS", name.to_uppercase());
+    let doc = format!(" Operation count of `{name}`: {ops}.");
     let OpCounts {
         adds,
         muls,

@@ -50,7 +50,7 @@ pub struct FrameAt {
 
 /// Which of the three reference frames a Jacobian is in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum In {
+pub(super) enum In {
     Local,
     World,
     LocalWorldAligned,
@@ -236,19 +236,19 @@ fn label_matrix(values: Vec<Sym>, name: &str, stem: &str, nv: usize) -> Vec<Sym>
 }
 
 /// A frame on the traced tree: its body's node, its placement in the world.
-struct Frame<T> {
+pub(super) struct Frame<T> {
     /// The node of its body, `None` for a frame fixed to the world.
     node: Option<usize>,
     /// Its origin in its body's frame.
     offset: Vec3<T>,
     /// `world_R_frame`.
-    rotation: Mat3<T>,
+    pub(super) rotation: Mat3<T>,
     /// Its origin in the world.
     origin: Vec3<T>,
 }
 
 /// The tree's kinematics at `(q, v)`: each node's transforms and spatial velocity.
-struct Kinematics<'a, T> {
+pub(super) struct Kinematics<'a, T> {
     tree: &'a Tree<T>,
     x_up: Vec<Transform<T>>,
     /// World → node.
@@ -260,7 +260,7 @@ struct Kinematics<'a, T> {
 }
 
 impl<'a, T: Scalar> Kinematics<'a, T> {
-    fn new(tree: &'a Tree<T>, q: &[T], v: &[T]) -> Self {
+    pub(super) fn new(tree: &'a Tree<T>, q: &[T], v: &[T]) -> Self {
         let x_up = tree.x_up(q);
         let x0 = world_transforms(tree, &x_up);
         let mut vel: Vec<Motion<T>> = Vec::with_capacity(tree.nodes.len());
@@ -281,7 +281,7 @@ impl<'a, T: Scalar> Kinematics<'a, T> {
     }
 
     /// The frame `f`, placed.
-    fn frame(&self, f: &FrameAt, params: &[T]) -> Frame<T> {
+    pub(super) fn frame(&self, f: &FrameAt, params: &[T]) -> Frame<T> {
         let p = &f.placement;
         let offset = Vec3(p.xyz.map(|x| x.get(params)));
         let [roll, pitch, yaw] = p.rpy.map(|x| x.get(params));
@@ -314,7 +314,7 @@ impl<'a, T: Scalar> Kinematics<'a, T> {
     }
 
     /// `[ω; v]` of the frame in LOCAL.
-    fn local_velocity(&self, f: &Frame<T>) -> (Vec3<T>, Vec3<T>) {
+    pub(super) fn local_velocity(&self, f: &Frame<T>) -> (Vec3<T>, Vec3<T>) {
         let Some(n) = f.node else {
             return (Vec3::zero(), Vec3::zero());
         };
@@ -326,8 +326,22 @@ impl<'a, T: Scalar> Kinematics<'a, T> {
         (to_frame(body.ang), to_frame(at_origin))
     }
 
+    /// `[ω; ṗ]` of the frame's origin in world axes (LOCAL_WORLD_ALIGNED).
+    pub(super) fn aligned_velocity(&self, f: &Frame<T>) -> (Vec3<T>, Vec3<T>) {
+        let Some(n) = f.node else {
+            return (Vec3::zero(), Vec3::zero());
+        };
+        let body = self.vel[n];
+        let at_origin = body.lin + body.ang.cross(f.offset);
+        let world_r_body = self.body_rotation(f);
+        (
+            world_r_body.mul_vec(body.ang),
+            world_r_body.mul_vec(at_origin),
+        )
+    }
+
     /// `[ω̇; p̈]` of the frame's origin, world axes, at the accelerations `a`.
-    fn classical_acceleration(&self, f: &Frame<T>, a: &[T]) -> (Vec3<T>, Vec3<T>) {
+    pub(super) fn classical_acceleration(&self, f: &Frame<T>, a: &[T]) -> (Vec3<T>, Vec3<T>) {
         let Some(n) = f.node else {
             return (Vec3::zero(), Vec3::zero());
         };
@@ -421,7 +435,7 @@ impl<'a, T: Scalar> Kinematics<'a, T> {
     }
 
     /// The frame's Jacobian in `frame`, `6 × nv` of the tree, row-major.
-    fn jacobian(&self, f: &Frame<T>, frame: In) -> Vec<T> {
+    pub(super) fn jacobian(&self, f: &Frame<T>, frame: In) -> Vec<T> {
         let nv = self.tree.nv;
         let mut j = vec![T::zero(); 6 * nv];
         let mut put = |k: usize, col: Motion<T>| {

@@ -27,6 +27,7 @@
 //! round differently.
 
 pub mod condensed;
+pub mod constrained;
 pub mod crba;
 pub mod derivatives;
 pub mod forward;
