@@ -150,8 +150,8 @@ impl Loop {
     pub const ROWS: usize = 3;
 }
 
-/// The outputs the runtime's constraint solver reads, generated with any declared constraint
-/// (`articulated::constraint::forward_dynamics_of`).
+/// The outputs the runtime's constraint solver reads (`articulated::constraint::forward_dynamics_of`),
+/// generated with any declared constraint so that it can solve any subset of them at run time.
 pub const CONSTRAINT_OUTPUTS: [Output; 5] = [
     Output::MassMatrixAndNonlinearEffects,
     Output::FramePlacements,

@@ -1080,3 +1080,142 @@ fn a_declared_planar_loop_is_redundant() {
         );
     }
 }
+
+#[derive(Chain)]
+#[chain(
+    urdf = "../models/humanoid.urdf",
+    floating = quaternion,
+    outputs = [],
+    contacts = [left_foot: six_d, right_foot: six_d]
+)]
+struct HumanoidFeet;
+
+#[derive(Chain)]
+#[chain(
+    urdf = "../models/humanoid.urdf",
+    floating = quaternion,
+    outputs = [],
+    contacts = [left_foot: six_d, right_hand: point]
+)]
+struct HumanoidFootAndHand;
+
+#[derive(Chain)]
+#[chain(urdf = "../models/arm7.urdf", outputs = [], contacts = [link7: six_d])]
+struct Arm7Welded;
+
+/// A generated `constrained_forward_dynamics`.
+type Generated<const NQ: usize, const NV: usize, const R: usize> =
+    fn(
+        &SVector<f64, NQ>,
+        &SVector<f64, NV>,
+        &SVector<f64, NV>,
+    ) -> Result<(SVector<f64, NV>, SVector<f64, R>), ConstraintError>;
+
+/// The generated `constrained_forward_dynamics` of a declared set (issue 34, item 1) on every
+/// state of the Pinocchio case without Baumgarte terms that holds the same contacts: `q̈` and the
+/// forces against Pinocchio's (to [`TOL`], the forces of `m·‖g‖`) and against the runtime's
+/// solution from the chain's other outputs (to 1e-11): the two ways, a solve traced for the set
+/// and one assembled at run time for any subset, checked against each other.
+fn check_generated<C, const NQ: usize, const NV: usize, const NF: usize, const RR: usize>(
+    case: &str,
+    solve: Generated<NQ, NV, RR>,
+    contacts: &[Contact],
+) where
+    C: Chain<f64>
+        + MassMatrixAndNonlinearEffects<f64, NQ, NV>
+        + FramePlacements<f64, NQ, NV, NF>
+        + FrameJacobiansLocal<f64, NQ, NV, NF>
+        + FrameVelocities<f64, NQ, NV, NF>
+        + FrameAccelerations<f64, NQ, NV, NF>,
+{
+    let data = data();
+    let c = &data["cases"][case];
+    assert!(c["baumgarte"].is_null());
+    let weight = data["models"][c["model"].as_str().unwrap()]["mass"]
+        .as_f64()
+        .unwrap()
+        * 9.81;
+    for (k, state) in c["states"].as_array().unwrap().iter().enumerate() {
+        let q = SVector::<f64, NQ>::from_column_slice(&vec_of(&state["q"]));
+        let v = SVector::<f64, NV>::from_column_slice(&vec_of(&state["v"]));
+        let tau = SVector::<f64, NV>::from_column_slice(&vec_of(&state["tau"]));
+        let (qdd, forces) = solve(&q, &v, &tau).unwrap_or_else(|e| panic!("{case} {k}: {e}"));
+        let e_qdd = rel_err(qdd.as_slice(), &vec_of(&state["qdd"]));
+        let e_f = common::abs_err(forces.as_slice(), &forces_of(c, &state["forces"])) / weight;
+        let runtime: Solution<NV, RR> =
+            constraint::constrained_forward_dynamics::<C, NQ, NV, NF, RR>(
+                &q,
+                &v,
+                &tau,
+                contacts,
+                None,
+                &Settings::default(),
+            )
+            .unwrap();
+        let r_qdd = rel_err(qdd.as_slice(), runtime.acceleration.as_slice());
+        let r_f = common::abs_err(forces.as_slice(), runtime.forces.as_slice()) / weight;
+        println!(
+            "{case} state {k}: against Pinocchio q̈ {e_qdd:.1e}, forces {e_f:.1e}; against the \
+             runtime q̈ {r_qdd:.1e}, forces {r_f:.1e}"
+        );
+        assert!(
+            e_qdd < TOL && e_f < TOL,
+            "{case} state {k}: q̈ {e_qdd:.1e}, forces {e_f:.1e} off Pinocchio's"
+        );
+        assert!(
+            r_qdd < 1e-11 && r_f < 1e-11,
+            "{case} state {k}: q̈ {r_qdd:.1e}, forces {r_f:.1e} off the runtime's"
+        );
+    }
+}
+
+#[test]
+fn generated_constrained_dynamics_agree_with_pinocchio_and_the_runtime() {
+    check_generated::<HumanoidFeet, 38, 37, 2, 12>(
+        "humanoid_feet",
+        HumanoidFeet::constrained_forward_dynamics,
+        HumanoidFeet::CONTACTS,
+    );
+    check_generated::<HumanoidFootAndHand, 38, 37, 2, 9>(
+        "humanoid_foot_and_hand",
+        HumanoidFootAndHand::constrained_forward_dynamics,
+        HumanoidFootAndHand::CONTACTS,
+    );
+    check_generated::<Arm7Welded, 7, 7, 1, 6>(
+        "arm7_welded",
+        Arm7Welded::constrained_forward_dynamics,
+        Arm7Welded::CONTACTS,
+    );
+}
+
+/// The generated function's errors: a non-finite input is `NonFinite` before anything is
+/// computed, as the runtime's (a redundancy: `a_declared_planar_loop_is_redundant`).
+#[test]
+fn generated_constrained_dynamics_refuse_what_the_runtime_refuses() {
+    let data = data();
+    let state = &data["cases"]["humanoid_feet"]["states"][0];
+    let q = SVector::<f64, 38>::from_column_slice(&vec_of(&state["q"]));
+    let v = SVector::<f64, 37>::from_column_slice(&vec_of(&state["v"]));
+    let tau = SVector::<f64, 37>::from_column_slice(&vec_of(&state["tau"]));
+    let mut bad = v;
+    bad[7] = f64::NAN;
+    assert_eq!(
+        HumanoidFeet::constrained_forward_dynamics(&q, &bad, &tau).unwrap_err(),
+        ConstraintError::NonFinite
+    );
+    let mut far = q;
+    far[0] = f64::INFINITY;
+    assert_eq!(
+        HumanoidFeet::constrained_forward_dynamics(&far, &v, &tau).unwrap_err(),
+        ConstraintError::NonFinite
+    );
+    let (q7, v7) = (
+        SVector::<f64, 7>::repeat(0.3),
+        SVector::<f64, 7>::repeat(0.1),
+    );
+    assert!(Arm7Welded::constrained_forward_dynamics(&q7, &v7, &v7).is_ok());
+    assert!(matches!(
+        Arm7Welded::constrained_forward_dynamics(&q7, &v7, &SVector::repeat(f64::NAN)),
+        Err(ConstraintError::NonFinite)
+    ));
+}

@@ -58,12 +58,14 @@
 //! Outputs are sorted and duplicates dropped.
 //!
 //! `contacts` and `loops` declare the constraints the generated
-//! `constrained_forward_dynamics(q, v, tau)` holds (in `f64` only, the runtime's
-//! `articulated::constraint` solver's): a contact per frame, a loop per name, on frames that
-//! move, and no more rows (3 per point and loop, 6 per `six_d`) than velocities. Their frames
-//! join `frames` (appended in order where absent) and the outputs the solver reads are
-//! generated too ([`Options::resolved`](crate::options::Options::resolved)). The type gains
-//! `CONTACTS`, `LOOPS` (frames by their index in `FRAMES`) and `CONSTRAINT_ROWS`.
+//! `constrained_forward_dynamics(q, v, tau)` holds, generated for that set (in `f64` only, as
+//! the runtime's `articulated::constraint` solver): a contact per frame, a loop per name, on
+//! frames that move, and no more rows (3 per point and loop, 6 per `six_d`) than velocities.
+//! Their frames join `frames` (appended in order where absent) and the outputs the runtime's
+//! solver reads are generated too, for any subset of them at run time
+//! ([`Options::resolved`](crate::options::Options::resolved)). The type gains `CONTACTS`, `LOOPS`
+//! (frames by their index in `FRAMES`), `CONSTRAINT_ROWS` and
+//! `CONSTRAINED_FORWARD_DYNAMICS_OPS`.
 //!
 //! ## Parameters: `param name = default;`
 //! A runtime parameter: a number the generated code takes as an argument instead of baking it
