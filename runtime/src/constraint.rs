@@ -68,6 +68,7 @@ use crate::{
     MassMatrixAndNonlinearEffects,
 };
 
+pub mod derivatives;
 #[cfg(feature = "contact-qp")]
 pub mod optimal;
 

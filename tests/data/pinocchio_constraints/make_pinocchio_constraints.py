@@ -84,6 +84,12 @@ in our order):
   |J·q̈ + γ + Kd·J·v + Kp·e|), J and γ from Pinocchio's own frame Jacobians and accelerations
   computed here apart from `constraintDynamics`;
 - with gains, `contacts`: per frame `reference` and `error` (above);
+- for the arm's cases without gains (`arm7_welded`, `arm7_point`), `derivatives`:
+  Pinocchio's `computeConstraintDynamicsDerivatives` after `constraintDynamics`,
+  `dqdd_dq`, `dqdd_dv`, `dqdd_dtau` (nv × nv) and `dforces_dq`, `dforces_dv`, `dforces_dtau`
+  (rows × nv), row-major, rows q̈ in our order and the forces as ours (six_d angular first),
+  columns our v (∂/∂q along the tangent, `pin.integrate`); each checked here against central
+  differences of Pinocchio's own `constraintDynamics` (step 1e-6, to 1e-5 of the largest entry);
 - for the cases marked "with impulses", `impulses`: a list, one per restitution `e` in (0, 0.5),
   each `{restitution, v_minus, v_plus, impulses}`: Pinocchio's `impulseDynamics(model, data, q,
   v, contact_models, contact_datas, e, ProximalSettings(1e-12, 0, 1))` (4.1's signature), every
@@ -144,6 +150,9 @@ CASES = [
     ('humanoid_baumgarte_point', 'humanoid_free_flyer',
      [('left_foot', 'six_d'), ('right_hand', 'point')], False, GAINS),
 ]
+# The models whose cases without gains carry the derivatives (the humanoid's would be 30 times
+# the file; ours are checked on it against central differences instead).
+DERIVATIVE_MODELS = ('arm7',)
 KIND = {'six_d': (pin.ContactType.CONTACT_6D, pin.ReferenceFrame.LOCAL),
         'point': (pin.ContactType.CONTACT_3D, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)}
 
@@ -282,6 +291,8 @@ def state_values(setup, rng, contacts, impulses, gains, worst):
     target = np.zeros(len(gamma))
     out = {'q': q.tolist(), 'v': v.tolist(), 'tau': tau.tolist(), 'qdd': qdd.tolist(),
            'forces': {k: x.tolist() for k, x in forces.items()}}
+    if setup.name in DERIVATIVE_MODELS and gains is None:
+        out['derivatives'] = derivatives(setup, qp, vp, taup, cms, cds, data, contacts, worst)
     if gains is not None:
         out['contacts'] = {}
         errors = []
@@ -337,10 +348,61 @@ def state_values(setup, rng, contacts, impulses, gains, worst):
     return out
 
 
+def stacked_forces(setup, cds, contacts):
+    """The contacts' forces, ours, stacked in order."""
+    return np.concatenate([ours(cd.contact_force.vector, kind)
+                           for (frame, kind), cd in zip(contacts, cds)])
+
+
+def derivatives(setup, qp, vp, taup, cms, cds, data, contacts, worst):
+    """Pinocchio's `computeConstraintDynamicsDerivatives` after `constraintDynamics`, in our
+    layout (rows: q̈ in our order, the forces as ours; columns: our v), each checked against
+    central differences of Pinocchio's own `constraintDynamics` (q moved by `pin.integrate`)."""
+    model, p = setup.model, setup.perm_v
+    d = pin.computeConstraintDynamicsDerivatives(model, data, cms, cds,
+                                                 pin.ProximalSettings(1e-12, 0.0, 10))
+    # Rows of the forces: Pinocchio's lambda stacks each contact's force linear first.
+    rows, at = [], 0
+    for _frame, kind in contacts:
+        n = 6 if kind == 'six_d' else 3
+        block = list(range(at, at + n))
+        rows += block[3:] + block[:3] if kind == 'six_d' else block
+        at += n
+    ddq = [np.asarray(x)[np.ix_(p, p)] for x in d[:3]]
+    dlambda = [np.asarray(x)[np.ix_(rows, p)] for x in d[3:]]
+
+    def solve(qp, vp, taup):
+        cds2 = [cm.createData() for cm in cms]
+        data2 = model.createData()
+        pin.initConstraintDynamics(model, data2, cms, cds2)
+        qdd = pin.constraintDynamics(model, data2, qp, vp, taup, cms, cds2,
+                                     pin.ProximalSettings(1e-12, 0.0, 10))
+        return qdd[p], stacked_forces(setup, cds2, contacts)
+
+    h = 1e-6
+    fd = [np.zeros_like(x) for x in ddq], [np.zeros_like(x) for x in dlambda]
+    for k in range(model.nv):
+        e = np.zeros(model.nv)
+        e[p[k]] = h
+        moves = [(pin.integrate(model, qp, e), vp, taup), (pin.integrate(model, qp, -e), vp, taup),
+                 (qp, vp + e, taup), (qp, vp - e, taup), (qp, vp, taup + e), (qp, vp, taup - e)]
+        values = [solve(*m) for m in moves]
+        for w in range(3):
+            plus, minus = values[2 * w], values[2 * w + 1]
+            fd[0][w][:, k] = (plus[0] - minus[0]) / (2 * h)
+            fd[1][w][:, k] = (plus[1] - minus[1]) / (2 * h)
+    for ours_, theirs in zip(ddq + dlambda, fd[0] + fd[1]):
+        e = np.abs(ours_ - theirs).max() / max(1.0, np.abs(theirs).max())
+        worst['derivatives'] = max(worst['derivatives'], e)
+        assert e < 1e-5, e
+    names = ['dqdd_dq', 'dqdd_dv', 'dqdd_dtau', 'dforces_dq', 'dforces_dv', 'dforces_dtau']
+    return {n: x.tolist() for n, x in zip(names, ddq + dlambda)}
+
+
 def main():
     rng = np.random.default_rng(SEED)
     setups = {name: Setup(name) for name in MODELS}
-    worst = {'residual': 0.0, 'eom': 0.0, 'cond': 0.0, 'impulse': 0.0}
+    worst = {'residual': 0.0, 'eom': 0.0, 'cond': 0.0, 'impulse': 0.0, 'derivatives': 0.0}
     cases = {}
     for name, model, contacts, impulses, gains in CASES:
         cases[name] = {
@@ -359,7 +421,8 @@ def main():
         'cases': cases,
     }
     print('largest residual {residual:.1e}, equation of motion {eom:.1e}, impulses {impulse:.1e}, '
-          'cond(G) {cond:.1e}'.format(**worst))
+          'cond(G) {cond:.1e}, derivatives against central differences {derivatives:.1e}'
+          .format(**worst))
     target = os.path.join(HERE, 'pinocchio-constraints.json')
     with open(target + '.tmp', 'w') as f:
         f.write(compact(json.dumps(out, indent=1)) + '\n')

@@ -1,0 +1,280 @@
+//! Derivatives of the constrained forward dynamics with respect to `q`, `v` and `τ`: what
+//! model-predictive control of a robot on its feet linearizes (Pinocchio's
+//! `computeConstraintDynamicsDerivatives`).
+//!
+//! At the solution `(q̈, f)` of `M·q̈ + nle = τ + Jᵀ·f`, `J·q̈ + γ = 0`, the two residuals
+//! `r₁ = ID(q, v, q̈) − J(q)ᵀ·f − τ` and `r₂ = c(q, v, q̈)` (the constraints' acceleration, zero
+//! at the solution) vanish for every `x = (q, v, τ)`; differentiating them at fixed `(q̈, f)`,
+//!
+//! ```text
+//! [M  −Jᵀ] [∂q̈]     [∂r₁/∂x]        ∂f = G⁻¹·(J·M⁻¹·∂r₁/∂x − ∂r₂/∂x),
+//! [J   0 ] [∂f ] = − [∂r₂/∂x],  so   ∂q̈ = M⁻¹·(Jᵀ·∂f − ∂r₁/∂x),   G = J·M⁻¹·Jᵀ,
+//! ```
+//!
+//! with `∂r₁/∂τ = −I`, `∂r₂/∂τ = 0`. The pieces are generated outputs of the chain:
+//! - `∂ID/∂q`, `∂ID/∂v` at `(q, v, q̈)`: `inverse_dynamics_derivatives`;
+//! - `∂(Jᵀ·f)/∂q` at fixed `f`: column `k` is `(∂J/∂δ_k)ᵀ·f`, and `∂J/∂δ_k`, the derivative
+//!   along the tangent direction `e_k`, is the Jacobian's rate at the velocity `e_k`
+//!   (`frame_jacobian_time_variations_*(q, e_k)`, one call per velocity coordinate): LOCAL for a
+//!   six-dimensional contact (its wrench is fixed in the frame), LOCAL_WORLD_ALIGNED for a point
+//!   (its force is fixed in world axes);
+//! - `∂c/∂q`, `∂c/∂v` at fixed `q̈`: a point's and a loop's rows are the linear part of the
+//!   classical acceleration, whose derivatives are `frame_acceleration_derivatives(q, v, q̈)`; a
+//!   six-dimensional contact's are its spatial acceleration in LOCAL, `c = Wᵀ·c_w` with
+//!   `c_w = [ω̇; p̈ − ω × ṗ]` in world axes (`W = world_R_frame`, blockwise), and since `c = 0`
+//!   at the solution, `∂c = Wᵀ·∂c_w`: the classical acceleration's derivatives less those of
+//!   `ω × ṗ`, from `frame_velocity_derivatives` turned into world axes
+//!   (`∂(W·u)/∂δ_k = ω_k × (W·u) + W·∂u/∂δ_k`, `ω_k` the LOCAL_WORLD_ALIGNED Jacobian's angular
+//!   column `k`).
+//!
+//! `∂/∂q` is along the configuration's tangent, as every derivative output's
+//! ([`crate::generated`]). Exact solves only ([`Settings::default`]): redundant constraints have
+//! no unique forces to differentiate.
+
+use nalgebra::{SMatrix, SVector, Vector3};
+
+use super::{forward_dynamics, ConstraintError, ConstraintOutputs, Contact, Frames, Kind, Loop};
+use super::{Settings, Solution};
+use crate::{
+    FrameAccelerationDerivatives, FrameJacobianTimeVariationsLocal,
+    FrameJacobianTimeVariationsLocalWorldAligned, FrameVelocityDerivatives,
+    InverseDynamicsDerivatives,
+};
+
+/// What the derivatives need besides [`ConstraintOutputs`]: `inverse_dynamics_derivatives`,
+/// `frame_jacobian_time_variations_local`, `frame_jacobian_time_variations_local_world_aligned`,
+/// `frame_acceleration_derivatives` and `frame_velocity_derivatives` (`outputs = [derivatives,
+/// frames…]`); implemented by every chain that has them.
+pub trait DerivativeOutputs<const NQ: usize, const NV: usize, const NF: usize>:
+    ConstraintOutputs<NQ, NV, NF>
+    + InverseDynamicsDerivatives<f64, NQ, NV>
+    + FrameJacobianTimeVariationsLocal<f64, NQ, NV, NF>
+    + FrameJacobianTimeVariationsLocalWorldAligned<f64, NQ, NV, NF>
+    + FrameAccelerationDerivatives<f64, NQ, NV, NF>
+    + FrameVelocityDerivatives<f64, NQ, NV, NF>
+{
+}
+
+impl<C, const NQ: usize, const NV: usize, const NF: usize> DerivativeOutputs<NQ, NV, NF> for C where
+    C: ConstraintOutputs<NQ, NV, NF>
+        + InverseDynamicsDerivatives<f64, NQ, NV>
+        + FrameJacobianTimeVariationsLocal<f64, NQ, NV, NF>
+        + FrameJacobianTimeVariationsLocalWorldAligned<f64, NQ, NV, NF>
+        + FrameAccelerationDerivatives<f64, NQ, NV, NF>
+        + FrameVelocityDerivatives<f64, NQ, NV, NF>
+{
+}
+
+/// The constrained forward dynamics and its derivatives. The forces' rows past
+/// `solution.rows` are zero, as are their derivatives.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Derivatives<const NV: usize, const R: usize> {
+    /// `q̈` and the forces.
+    pub solution: Solution<NV, R>,
+    /// `∂q̈/∂q` (along the tangent).
+    pub dqdd_dq: SMatrix<f64, NV, NV>,
+    /// `∂q̈/∂v`.
+    pub dqdd_dv: SMatrix<f64, NV, NV>,
+    /// `∂q̈/∂τ`.
+    pub dqdd_dtau: SMatrix<f64, NV, NV>,
+    /// `∂f/∂q` (along the tangent).
+    pub dforces_dq: SMatrix<f64, R, NV>,
+    /// `∂f/∂v`.
+    pub dforces_dv: SMatrix<f64, R, NV>,
+    /// `∂f/∂τ`.
+    pub dforces_dtau: SMatrix<f64, R, NV>,
+}
+
+/// [`super::forward_dynamics_of`] (exact, no Baumgarte terms) and its derivatives with respect
+/// to `q`, `v` and `τ` (module docs), for the `contacts` then the `loops` on a generated
+/// chain's frames.
+///
+/// # Errors
+/// As [`super::forward_dynamics_of`]; [`ConstraintError::NonFinite`] where a derivative is not
+/// finite.
+pub fn forward_dynamics_derivatives_of<
+    C,
+    const NQ: usize,
+    const NV: usize,
+    const NF: usize,
+    const R: usize,
+>(
+    q: &SVector<f64, NQ>,
+    v: &SVector<f64, NV>,
+    tau: &SVector<f64, NV>,
+    contacts: &[Contact],
+    loops: &[Loop],
+) -> Result<Derivatives<NV, R>, ConstraintError>
+where
+    C: DerivativeOutputs<NQ, NV, NF>,
+{
+    let frames = Frames::<NV, NF>::of::<C, NQ>(q, v);
+    let system = frames.system::<R>(contacts, loops, None)?;
+    let (m, nle) = C::mass_matrix_and_nonlinear_effects(q, v);
+    let settings = Settings::default();
+    let solution = forward_dynamics(&m, &nle, tau, v, &system, None, &settings)?;
+    let (qdd, f) = (&solution.acceleration, &solution.forces);
+
+    // ∂r₁/∂q = ∂ID/∂q − ∂(Jᵀ·f)/∂q, ∂r₁/∂v = ∂ID/∂v.
+    let (did_dq, did_dv) = C::inverse_dynamics_derivatives(q, v, qdd);
+    let points = contacts.iter().any(|c| c.kind == Kind::Point) || !loops.is_empty();
+    let six_d = contacts.iter().any(|c| c.kind == Kind::SixD);
+    let mut djtf_dq = SMatrix::<f64, NV, NV>::zeros();
+    for k in 0..NV {
+        let e = SVector::<f64, NV>::from_fn(|i, _| if i == k { 1.0 } else { 0.0 });
+        let local = six_d.then(|| C::frame_jacobian_time_variations_local(q, &e));
+        let aligned = points.then(|| C::frame_jacobian_time_variations_local_world_aligned(q, &e));
+        let mut column = SVector::<f64, NV>::zeros();
+        let mut row = 0;
+        for c in contacts {
+            match (c.kind, &local, &aligned) {
+                (Kind::SixD, Some(local), _) => {
+                    column += local[c.frame].tr_mul(&f.fixed_rows::<6>(row));
+                }
+                (Kind::Point, _, Some(aligned)) => {
+                    column += aligned[c.frame]
+                        .fixed_rows::<3>(3)
+                        .tr_mul(&f.fixed_rows::<3>(row));
+                }
+                _ => {}
+            }
+            row += c.kind.rows();
+        }
+        if let Some(aligned) = &aligned {
+            for l in loops {
+                let d = aligned[l.a].fixed_rows::<3>(3) - aligned[l.b].fixed_rows::<3>(3);
+                column += d.tr_mul(&f.fixed_rows::<3>(row));
+                row += 3;
+            }
+        }
+        djtf_dq.set_column(k, &column);
+    }
+    let r1_dq = did_dq - djtf_dq;
+    let r1_dv = did_dv;
+
+    // ∂r₂/∂q, ∂r₂/∂v, the constraints' rows in order.
+    let acc = C::frame_acceleration_derivatives(q, v, qdd);
+    let vel = C::frame_velocity_derivatives(q, v);
+    let mut r2_dq = SMatrix::<f64, R, NV>::zeros();
+    let mut r2_dv = SMatrix::<f64, R, NV>::zeros();
+    let mut row = 0;
+    for c in contacts {
+        let (da_dq, da_dv, _) = &acc[c.frame];
+        match c.kind {
+            Kind::Point => {
+                r2_dq
+                    .fixed_rows_mut::<3>(row)
+                    .copy_from(&da_dq.fixed_rows::<3>(3));
+                r2_dv
+                    .fixed_rows_mut::<3>(row)
+                    .copy_from(&da_dv.fixed_rows::<3>(3));
+            }
+            Kind::SixD => {
+                let (dq, dv) = six_d_rows(&frames, c.frame, da_dq, da_dv, &vel[c.frame]);
+                r2_dq.fixed_rows_mut::<6>(row).copy_from(&dq);
+                r2_dv.fixed_rows_mut::<6>(row).copy_from(&dv);
+            }
+        }
+        row += c.kind.rows();
+    }
+    for l in loops {
+        let ((a_dq, a_dv, _), (b_dq, b_dv, _)) = (&acc[l.a], &acc[l.b]);
+        r2_dq
+            .fixed_rows_mut::<3>(row)
+            .copy_from(&(a_dq.fixed_rows::<3>(3) - b_dq.fixed_rows::<3>(3)));
+        r2_dv
+            .fixed_rows_mut::<3>(row)
+            .copy_from(&(a_dv.fixed_rows::<3>(3) - b_dv.fixed_rows::<3>(3)));
+        row += 3;
+    }
+
+    // The block solve, with the rows past `rows` left out (identity in `G`, zero elsewhere).
+    let rows = system.rows;
+    let mut j = system.jacobian;
+    j.rows_mut(rows, R - rows).fill(0.0);
+    let chol_m = m
+        .cholesky()
+        .ok_or(ConstraintError::MassMatrix { velocity: 0 })?;
+    let minv_jt: SMatrix<f64, NV, R> = chol_m.solve(&j.transpose());
+    let mut g: SMatrix<f64, R, R> = j * minv_jt;
+    for r in rows..R {
+        g[(r, r)] = 1.0;
+    }
+    let chol_g = g
+        .cholesky()
+        .ok_or(ConstraintError::Redundant { contact: 0, row: 0 })?;
+    let derivative = |r1: &SMatrix<f64, NV, NV>, r2: &SMatrix<f64, R, NV>| {
+        let y: SMatrix<f64, NV, NV> = chol_m.solve(r1);
+        let df: SMatrix<f64, R, NV> = chol_g.solve(&(j * y - r2));
+        (minv_jt * df - y, df)
+    };
+    let (dqdd_dq, dforces_dq) = derivative(&r1_dq, &r2_dq);
+    let (dqdd_dv, dforces_dv) = derivative(&r1_dv, &r2_dv);
+    let (dqdd_dtau, dforces_dtau) =
+        derivative(&-SMatrix::<f64, NV, NV>::identity(), &SMatrix::zeros());
+    let all = [&dqdd_dq, &dqdd_dv, &dqdd_dtau]
+        .into_iter()
+        .flat_map(|x| x.iter())
+        .chain(
+            [&dforces_dq, &dforces_dv, &dforces_dtau]
+                .into_iter()
+                .flat_map(|x| x.iter()),
+        );
+    if !super::finite(all) {
+        return Err(ConstraintError::NonFinite);
+    }
+    Ok(Derivatives {
+        solution,
+        dqdd_dq,
+        dqdd_dv,
+        dqdd_dtau,
+        dforces_dq,
+        dforces_dv,
+        dforces_dtau,
+    })
+}
+
+/// A six-dimensional contact's `(∂c/∂q, ∂c/∂v)` (module docs) from the classical
+/// acceleration's derivatives and the LOCAL velocity's.
+fn six_d_rows<const NV: usize, const NF: usize>(
+    frames: &Frames<NV, NF>,
+    i: usize,
+    da_dq: &SMatrix<f64, 6, NV>,
+    da_dv: &SMatrix<f64, 6, NV>,
+    velocity: &(SMatrix<f64, 6, NV>, SMatrix<f64, 6, NV>),
+) -> (SMatrix<f64, 6, NV>, SMatrix<f64, 6, NV>) {
+    let w = frames.placements[i].rotation;
+    let local = &frames.jacobians[i];
+    let vel = &frames.velocities[i];
+    let omega = w * vel.fixed_rows::<3>(0);
+    let pdot = w * vel.fixed_rows::<3>(3);
+    let (dvel_dq, dvel_dv) = velocity;
+    let mut dq = SMatrix::<f64, 6, NV>::zeros();
+    let mut dv = SMatrix::<f64, 6, NV>::zeros();
+    for k in 0..NV {
+        // ω_k: the angular column of the LOCAL_WORLD_ALIGNED Jacobian.
+        let omega_k = w * local.fixed_view::<3, 1>(0, k);
+        let turn = |u: &Vector3<f64>, du: Vector3<f64>| omega_k.cross(u) + w * du;
+        let d_omega = turn(&omega, dvel_dq.fixed_view::<3, 1>(0, k).into());
+        let d_pdot = turn(&pdot, dvel_dq.fixed_view::<3, 1>(3, k).into());
+        let mut c = SVector::<f64, 6>::from(da_dq.column(k));
+        let lin = c.fixed_rows::<3>(3) - d_omega.cross(&pdot) - omega.cross(&d_pdot);
+        c.fixed_rows_mut::<3>(3).copy_from(&lin);
+        dq.set_column(k, &to_local(&w, &c));
+        // ∂/∂v: ∂ω/∂v and ∂ṗ/∂v are the LOCAL_WORLD_ALIGNED Jacobian's columns.
+        let a = w * dvel_dv.fixed_view::<3, 1>(0, k);
+        let l = w * dvel_dv.fixed_view::<3, 1>(3, k);
+        let mut c = SVector::<f64, 6>::from(da_dv.column(k));
+        let lin = c.fixed_rows::<3>(3) - a.cross(&pdot) - omega.cross(&l);
+        c.fixed_rows_mut::<3>(3).copy_from(&lin);
+        dv.set_column(k, &to_local(&w, &c));
+    }
+    (dq, dv)
+}
+
+/// `[Wᵀ·a; Wᵀ·l]`.
+fn to_local(w: &nalgebra::Matrix3<f64>, c: &SVector<f64, 6>) -> SVector<f64, 6> {
+    let a = w.tr_mul(&c.fixed_rows::<3>(0));
+    let l = w.tr_mul(&c.fixed_rows::<3>(3));
+    SVector::<f64, 6>::new(a[0], a[1], a[2], l[0], l[1], l[2])
+}

@@ -1,0 +1,259 @@
+//! The derivatives of the constrained forward dynamics (`constraint::derivatives`, issue 34,
+//! item 8) against central differences of the constrained forward dynamics itself (`q` moved
+//! along the configuration's tangent by `control::tangent::retract`), on a fixed arm with its
+//! flange welded or held at a point, the same arm on a free base with its flange welded or its
+//! flange and forearm held at points, or the flange held on the forearm by a loop, and Hemami's two-link on a free foot (quaternions in the base and
+//! the joints) standing on its sole, or held at a point of its trunk.
+
+mod common;
+
+use articulated::constraint::derivatives::{forward_dynamics_derivatives_of, DerivativeOutputs};
+use articulated::constraint::{self, Contact, Loop, Settings, Solution};
+use articulated::control::tangent::retract;
+use articulated::nalgebra::{SMatrix, SVector};
+use articulated::{Chain, Coordinates};
+use common::max_abs;
+
+macro_rules! chain_with_derivatives {
+    ($name:ident, $source:tt = $path:literal, [$($frame:ident),*] $(, $floating:ident)?) => {
+        #[derive(Chain)]
+        #[chain(
+            $source = $path,
+            $($floating = quaternion,)?
+            outputs = [
+                mass_matrix_and_nonlinear_effects,
+                frame_placements,
+                frame_jacobians_local,
+                frame_velocities,
+                frame_accelerations,
+                inverse_dynamics_derivatives,
+                frame_jacobian_time_variations_local,
+                frame_jacobian_time_variations_local_world_aligned,
+                frame_acceleration_derivatives,
+                frame_velocity_derivatives
+            ],
+            frames = [$($frame),*]
+        )]
+        struct $name;
+    };
+}
+
+chain_with_derivatives!(Arm7, urdf = "../models/arm7.urdf", [link7, link4]);
+chain_with_derivatives!(
+    Arm7Floating,
+    urdf = "../models/arm7.urdf",
+    [link7, link4],
+    floating
+);
+chain_with_derivatives!(Foot, file = "../models/two_link_foot.chain", [sole, trunk]);
+
+/// A state: `q` from the neutral configuration moved by `δ` (deterministic, away from
+/// singularities), `v` and `τ` alike.
+fn state<C: Chain<f64>, const NQ: usize, const NV: usize>(
+    seed: f64,
+) -> (SVector<f64, NQ>, SVector<f64, NV>, SVector<f64, NV>) {
+    // Identity quaternions, zero elsewhere.
+    let mut neutral = Vec::with_capacity(NQ);
+    for c in C::COORDINATES {
+        match c {
+            Coordinates::Vector(n) => neutral.extend(vec![0.0; *n]),
+            Coordinates::Quaternion => neutral.extend([1.0, 0.0, 0.0, 0.0]),
+            Coordinates::FreeQuaternion => neutral.extend([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]),
+        }
+    }
+    let delta: Vec<f64> = (0..NV)
+        .map(|i| 0.3 * ((i as f64) * 1.3 + seed).sin())
+        .collect();
+    let mut q = vec![0.0; NQ];
+    assert!(retract(C::COORDINATES, &neutral, &delta, &mut q));
+    let v = SVector::from_fn(|i, _| 0.6 * ((i as f64) * 0.7 + 2.0 * seed).cos());
+    let tau = SVector::from_fn(|i, _| 2.0 * ((i as f64) * 1.9 + 3.0 * seed).sin());
+    (SVector::from_column_slice(&q), v, tau)
+}
+
+/// Every derivative against central differences (step `h`), each matrix to `tol` of its
+/// largest entry (1 at least); returns the worst.
+fn check<C, const NQ: usize, const NV: usize, const NF: usize, const R: usize>(
+    label: &str,
+    contacts: &[Contact],
+    loops: &[Loop],
+    seed: f64,
+) -> f64
+where
+    C: DerivativeOutputs<NQ, NV, NF> + Chain<f64>,
+{
+    let (q, v, tau) = state::<C, NQ, NV>(seed);
+    let d = forward_dynamics_derivatives_of::<C, NQ, NV, NF, R>(&q, &v, &tau, contacts, loops)
+        .unwrap_or_else(|e| panic!("{label}: {e}"));
+    let solve = |q: &SVector<f64, NQ>, v: &SVector<f64, NV>, tau: &SVector<f64, NV>| {
+        let s: Solution<NV, R> = constraint::forward_dynamics_of::<C, NQ, NV, NF, R>(
+            q,
+            v,
+            tau,
+            contacts,
+            loops,
+            None,
+            &Settings::default(),
+        )
+        .unwrap();
+        (s.acceleration, s.forces)
+    };
+    let h = 1e-6;
+    let mut fd_q = (
+        SMatrix::<f64, NV, NV>::zeros(),
+        SMatrix::<f64, R, NV>::zeros(),
+    );
+    let mut fd_v = fd_q;
+    let mut fd_tau = fd_q;
+    for k in 0..NV {
+        let moved = |s: f64| {
+            let mut delta = [0.0; NV];
+            delta[k] = s * h;
+            let mut out = [0.0; NQ];
+            assert!(retract(C::COORDINATES, q.as_slice(), &delta, &mut out));
+            SVector::<f64, NQ>::from(out)
+        };
+        let e = SVector::<f64, NV>::from_fn(|i, _| if i == k { h } else { 0.0 });
+        let central =
+            |plus: (SVector<f64, NV>, SVector<f64, R>),
+             minus: (SVector<f64, NV>, SVector<f64, R>),
+             into: &mut (SMatrix<f64, NV, NV>, SMatrix<f64, R, NV>)| {
+                into.0.set_column(k, &((plus.0 - minus.0) / (2.0 * h)));
+                into.1.set_column(k, &((plus.1 - minus.1) / (2.0 * h)));
+            };
+        central(
+            solve(&moved(1.0), &v, &tau),
+            solve(&moved(-1.0), &v, &tau),
+            &mut fd_q,
+        );
+        central(
+            solve(&q, &(v + e), &tau),
+            solve(&q, &(v - e), &tau),
+            &mut fd_v,
+        );
+        central(
+            solve(&q, &v, &(tau + e)),
+            solve(&q, &v, &(tau - e)),
+            &mut fd_tau,
+        );
+    }
+    let err = |ours: &[f64], theirs: &[f64]| {
+        let scale = max_abs(theirs).max(1.0);
+        ours.iter()
+            .zip(theirs)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+            / scale
+    };
+    let pairs = [
+        ("∂q̈/∂q", err(d.dqdd_dq.as_slice(), fd_q.0.as_slice())),
+        ("∂q̈/∂v", err(d.dqdd_dv.as_slice(), fd_v.0.as_slice())),
+        ("∂q̈/∂τ", err(d.dqdd_dtau.as_slice(), fd_tau.0.as_slice())),
+        ("∂f/∂q", err(d.dforces_dq.as_slice(), fd_q.1.as_slice())),
+        ("∂f/∂v", err(d.dforces_dv.as_slice(), fd_v.1.as_slice())),
+        ("∂f/∂τ", err(d.dforces_dtau.as_slice(), fd_tau.1.as_slice())),
+    ];
+    println!(
+        "{label}: {}",
+        pairs
+            .iter()
+            .map(|(n, e)| format!("{n} {e:.1e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let worst = pairs.iter().fold(0.0f64, |m, p| m.max(p.1));
+    assert!(worst < 1e-6, "{label}: {pairs:?}");
+    worst
+}
+
+#[test]
+fn derivatives_match_central_differences() {
+    for seed in [0.0, 1.0] {
+        check::<Arm7, 7, 7, 2, 6>("arm7, flange welded", &[Contact::six_d(0)], &[], seed);
+        check::<Arm7, 7, 7, 2, 6>("arm7, flange at a point", &[Contact::point(0)], &[], seed);
+        check::<Arm7Floating, 14, 13, 2, 12>(
+            "arm7 on a free base, flange welded",
+            &[Contact::six_d(0)],
+            &[],
+            seed,
+        );
+        check::<Arm7Floating, 14, 13, 2, 12>(
+            "arm7 on a free base, flange and forearm at points",
+            &[Contact::point(0), Contact::point(1)],
+            &[],
+            seed,
+        );
+        check::<Arm7Floating, 14, 13, 2, 12>(
+            "arm7 on a free base, flange held on the forearm by a loop",
+            &[],
+            &[Loop { a: 0, b: 1 }],
+            seed,
+        );
+        check::<Foot, 13, 12, 2, 9>(
+            "two-link on its foot, sole flat",
+            &[Contact::six_d(0)],
+            &[],
+            seed,
+        );
+        check::<Foot, 13, 12, 2, 9>(
+            "two-link on its foot, trunk at a point",
+            &[Contact::point(1)],
+            &[],
+            seed,
+        );
+    }
+}
+
+/// Against Pinocchio 4.1's `computeConstraintDynamicsDerivatives`
+/// (`tests/data/pinocchio_constraints/`, the arm's cases: flange welded, flange at a point), each
+/// matrix to 1e-9 of its largest entry.
+#[test]
+fn derivatives_agree_with_pinocchio() {
+    let data = common::read_json("data/pinocchio_constraints/pinocchio-constraints.json");
+    let mut worst = 0.0f64;
+    for (case, contact) in [
+        ("arm7_welded", Contact::six_d(0)),
+        ("arm7_point", Contact::point(0)),
+    ] {
+        for (k, state) in data["cases"][case]["states"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .enumerate()
+        {
+            let vec =
+                |key: &str| SVector::<f64, 7>::from_column_slice(&common::vec_of(&state[key]));
+            let d = forward_dynamics_derivatives_of::<Arm7, 7, 7, 2, 6>(
+                &vec("q"),
+                &vec("v"),
+                &vec("tau"),
+                &[contact],
+                &[],
+            )
+            .unwrap();
+            let theirs = &state["derivatives"];
+            let rows = d.solution.rows;
+            // Ours are column-major; the forces' rows past `rows` are zero.
+            let forces = |m: &SMatrix<f64, 6, 7>| -> Vec<f64> {
+                (0..rows)
+                    .flat_map(|r| (0..7).map(move |c| (r, c)))
+                    .map(|(r, c)| m[(r, c)])
+                    .collect()
+            };
+            let square = |m: &SMatrix<f64, 7, 7>| m.transpose().as_slice().to_vec();
+            for (name, ours) in [
+                ("dqdd_dq", square(&d.dqdd_dq)),
+                ("dqdd_dv", square(&d.dqdd_dv)),
+                ("dqdd_dtau", square(&d.dqdd_dtau)),
+                ("dforces_dq", forces(&d.dforces_dq)),
+                ("dforces_dv", forces(&d.dforces_dv)),
+                ("dforces_dtau", forces(&d.dforces_dtau)),
+            ] {
+                let pin = common::rows_of(&theirs[name]);
+                let e = common::abs_err(&ours, &pin) / max_abs(&pin).max(1.0);
+                assert!(e < 1e-9, "{case} state {k}: {name} off by {e:.1e}");
+                worst = worst.max(e);
+            }
+        }
+    }
+    println!("worst against Pinocchio: {worst:.1e}");
+}
