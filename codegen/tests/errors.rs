@@ -1567,30 +1567,6 @@ fn more_constraint_rows_than_velocities() {
 }
 
 #[test]
-fn constraints_need_f64() {
-    let mut items = vec!["scalar: f32;", "contacts: [tip: point];"];
-    items.extend(FREE);
-    check(
-        &items,
-        3,
-        12,
-        "`contacts` need the scalar `f64`, and `C` is generated in `f32`: the runtime's \
-         constraint solver (`articulated::constraint`) computes in f64; generate it in `f64` (the \
-         default scalar) or declare no constraints",
-    );
-    let mut items = vec!["scalar: generic;", "loops: [rod: point(tip, anchor)];"];
-    items.extend(FREE);
-    check(
-        &items,
-        3,
-        9,
-        "`loops` need the scalar `f64`, and `C` is generated in `generic`: the runtime's \
-         constraint solver (`articulated::constraint`) computes in f64; generate it in `f64` (the \
-         default scalar) or declare no constraints",
-    );
-}
-
-#[test]
 fn unknown_loop_kind() {
     check_constraint(
         "loops: [rod: line(tip, anchor)];",

@@ -957,23 +957,45 @@ fn optimal_contact_forces_respect_friction_and_soles() {
     }
 }
 
-articulated::chain! {
-    /// A leg on a free base whose description declares its contact (issue 34, item 1): the
-    /// sole held flat, six rows.
-    chain Walker {
-        contacts: [sole: six_d];
-        outputs: [mass_matrix];
-        body pelvis { mass: 10.0, com: [0.0, 0.0, 0.05], inertia: diag(0.15, 0.1, 0.12) }
-        body thigh { mass: 4.0, com: [0.0, 0.0, -0.2], inertia: diag(0.06, 0.06, 0.01) }
-        body shank { mass: 2.5, com: [0.0, 0.0, -0.2], inertia: diag(0.04, 0.04, 0.006) }
-        body foot { mass: 1.0, com: [0.05, 0.0, -0.03], inertia: diag(0.002, 0.005, 0.005) }
-        joint base: free(quaternion) { parent: world, child: pelvis }
-        joint hip: spherical(zxy) { parent: pelvis, child: thigh, xyz: [0.0, 0.1, -0.05] }
-        joint knee: revolute(y) { parent: thigh, child: shank, xyz: [0.0, 0.0, -0.4] }
-        joint ankle: spherical(zyx) { parent: shank, child: foot, xyz: [0.0, 0.0, -0.4] }
-        frame sole { parent: foot, xyz: [0.05, 0.0, -0.06], rpy: [0.0, 0.1, 0.0] }
-    }
+/// A leg on a free base whose description declares its contact (issue 34, item 1): the sole
+/// held flat, six rows; in the scalar given.
+macro_rules! walker {
+    ($(#[$doc:meta])* $name:ident, $scalar:ident) => {
+        articulated::chain! {
+            $(#[$doc])*
+            chain $name {
+                scalar: $scalar;
+                contacts: [sole: six_d];
+                outputs: [mass_matrix];
+                body pelvis { mass: 10.0, com: [0.0, 0.0, 0.05], inertia: diag(0.15, 0.1, 0.12) }
+                body thigh { mass: 4.0, com: [0.0, 0.0, -0.2], inertia: diag(0.06, 0.06, 0.01) }
+                body shank { mass: 2.5, com: [0.0, 0.0, -0.2], inertia: diag(0.04, 0.04, 0.006) }
+                body foot { mass: 1.0, com: [0.05, 0.0, -0.03], inertia: diag(0.002, 0.005, 0.005) }
+                joint base: free(quaternion) { parent: world, child: pelvis }
+                joint hip: spherical(zxy) { parent: pelvis, child: thigh, xyz: [0.0, 0.1, -0.05] }
+                joint knee: revolute(y) { parent: thigh, child: shank, xyz: [0.0, 0.0, -0.4] }
+                joint ankle: spherical(zyx) { parent: shank, child: foot, xyz: [0.0, 0.0, -0.4] }
+                frame sole { parent: foot, xyz: [0.05, 0.0, -0.06], rpy: [0.0, 0.1, 0.0] }
+            }
+        }
+    };
 }
+
+walker!(
+    /// The leg in `f64`.
+    Walker,
+    f64
+);
+walker!(
+    /// The leg in `f32`.
+    WalkerF32,
+    f32
+);
+walker!(
+    /// The leg generic in its scalar.
+    WalkerGeneric,
+    generic
+);
 
 /// A state of [`Walker`] away from its neutral configuration: a turned base, bent joints,
 /// every velocity nonzero, torques on the joints.
@@ -1218,4 +1240,39 @@ fn generated_constrained_dynamics_refuse_what_the_runtime_refuses() {
         Arm7Welded::constrained_forward_dynamics(&q7, &v7, &SVector::repeat(f64::NAN)),
         Err(ConstraintError::NonFinite)
     ));
+}
+
+/// The declared contact's function in `f32` and generic in the scalar (issue 34: "f32 and
+/// generic where the solver allows"): generic at `T = f64` gives the `f64` chain's values to
+/// 1e-12, `f32` to 1e-4 of the largest entry, at the states of
+/// `a_declared_contact_gives_the_runtime_constrained_dynamics`.
+#[test]
+fn a_declared_contact_solves_in_f32_and_generic_scalars() {
+    for k in 0..4 {
+        let (q, v, tau) = walker_state(k);
+        let (qdd, forces) = Walker::constrained_forward_dynamics(&q, &v, &tau).unwrap();
+        let (g_qdd, g_forces) = WalkerGeneric::constrained_forward_dynamics(&q, &v, &tau).unwrap();
+        let e_generic = rel_err(g_qdd.as_slice(), qdd.as_slice())
+            .max(rel_err(g_forces.as_slice(), forces.as_slice()));
+        let (s_qdd, s_forces) = WalkerF32::constrained_forward_dynamics(
+            &q.map(|x| x as f32),
+            &v.map(|x| x as f32),
+            &tau.map(|x| x as f32),
+        )
+        .unwrap();
+        let wide = |x: &[f32]| x.iter().map(|&x| f64::from(x)).collect::<Vec<_>>();
+        let e_f32 = rel_err(&wide(s_qdd.as_slice()), qdd.as_slice())
+            .max(rel_err(&wide(s_forces.as_slice()), forces.as_slice()));
+        println!("state {k}: generic {e_generic:.1e}, f32 {e_f32:.1e}");
+        assert!(e_generic < 1e-12, "state {k}: generic off by {e_generic:e}");
+        assert!(e_f32 < 1e-4, "state {k}: f32 off by {e_f32:e}");
+    }
+    let mut bad = walker_state(0).1.map(|x| x as f32);
+    bad[3] = f32::NAN;
+    let (q, _, tau) = walker_state(0);
+    assert_eq!(
+        WalkerF32::constrained_forward_dynamics(&q.map(|x| x as f32), &bad, &tau.map(|x| x as f32))
+            .unwrap_err(),
+        ConstraintError::NonFinite
+    );
 }

@@ -10,7 +10,7 @@ use articulated_dynamics::prune::PruneError;
 
 use super::{About, Problem};
 use crate::model::{JointKind, Model};
-use crate::options::{did_you_mean, Accuracy, Options, Output, ScalarKind};
+use crate::options::{did_you_mean, Accuracy, Options, Output};
 
 /// The most velocity coordinates the generator emits straight-line code for.
 pub const MAX_NV: usize = 160;
@@ -88,19 +88,13 @@ fn rigid_body(model: &Model, name: &str) -> Option<Option<usize>> {
 
 /// The constraints (`contacts`, `loops`) on the model the scene leaves: each frame one it has,
 /// one contact per frame, one loop per name, frames that move (a contact's; a loop's two apart
-/// from each other), the scalar `f64` (the runtime's solver's), and no more rows than
-/// velocities (rows that always depend on each other, which the exact solve of the generated
+/// from each other), and no more rows than velocities (rows that always depend on each other, which the exact solve of the generated
 /// `constrained_forward_dynamics` refuses at every state).
 fn constraints(model: &Model, options: &Options) -> Vec<Problem> {
     let mut problems = Vec::new();
     if !options.constrained() {
         return problems;
     }
-    let (first, setting) = if options.contacts.is_empty() {
-        (About::Loop(0), "loops")
-    } else {
-        (About::Contact(0), "contacts")
-    };
     for (k, c) in options.contacts.iter().enumerate() {
         let about = About::Contact(k);
         if options.contacts[..k].iter().any(|d| d.frame == c.frame) {
@@ -200,18 +194,6 @@ fn constraints(model: &Model, options: &Options) -> Vec<Problem> {
                  solve of `constrained_forward_dynamics` refuses; declare fewer constraints, or \
                  `point` contacts (3 rows) for `six_d` ones (6)",
                 model.name
-            ),
-        ));
-    }
-    if options.scalar != ScalarKind::F64 {
-        problems.push(Problem::new(
-            first,
-            format!(
-                "`{setting}` need the scalar `f64`, and `{}` is generated in `{}`: the runtime's \
-                 constraint solver (`articulated::constraint`) computes in f64; generate it in \
-                 `f64` (the default scalar) or declare no constraints",
-                model.name,
-                options.scalar.name()
             ),
         ));
     }

@@ -1,23 +1,26 @@
 //! The constraints a description declares (`contacts: […]`, `loops: […]`) on the generated
 //! type: the constants `CONTACTS`, `LOOPS`, `CONSTRAINT_ROWS` and
 //! `CONSTRAINED_FORWARD_DYNAMICS_OPS`, and `constrained_forward_dynamics(q, v, τ)`, traced for
-//! these constraints ([`crate::trace::constrained`]; f64 only: the check stage refused other
-//! scalars). [`Options::resolved`](crate::options::Options::resolved) adds the frame outputs
-//! the runtime's `articulated::constraint::forward_dynamics_of` reads, which solves any subset
-//! of the same constraints and is checked against this function.
+//! these constraints ([`crate::trace::constrained`]), in the chain's scalar.
+//! [`Options::resolved`](crate::options::Options::resolved) adds the frame outputs the runtime's
+//! `articulated::constraint::forward_dynamics_of` reads, which solves any subset of the same
+//! constraints (in `f64`) and is checked against this function.
 
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use super::{docs, function, Context};
 use crate::emit;
-use crate::options::{ContactKind, Loop};
+use crate::options::{ContactKind, Loop, ScalarKind};
 use crate::sym::{Node, OpCounts, Sym, Var};
 use crate::trace::constrained::{self, ConstrainedTraced, Constraint};
 
 /// The runtime's `articulated::constraint::PIVOT_TOLERANCE`, for the checks the generator
 /// decides itself (a pivot that is a constant).
 const PIVOT_TOLERANCE: f64 = 1e-10;
+/// The same in `f32`: a pivot below this fraction of its unreduced value is rounding noise
+/// (forward dynamics' `PIVOT_TOL_F32`, 84 of `f32`'s epsilons).
+const PIVOT_TOLERANCE_F32: f64 = crate::trace::PIVOT_TOL_F32;
 
 /// The constants and the function, with the function's operations; nothing for a description
 /// without constraints.
@@ -140,10 +143,14 @@ fn function(
         _ => None,
     };
     let zero = cx.lit(0.0);
+    let tolerance = match cx.options.scalar {
+        ScalarKind::F32 => PIVOT_TOLERANCE_F32,
+        ScalarKind::F64 | ScalarKind::Generic => PIVOT_TOLERANCE,
+    };
     let check = |k: usize, (p, d): (Sym, Sym), error: TokenStream| {
         let (pe, de) = (&exprs[2 * k], &exprs[2 * k + 1]);
         let condition = match (constant(p), constant(d)) {
-            (Some(pv), Some(dv)) if pv > PIVOT_TOLERANCE * dv => return None,
+            (Some(pv), Some(dv)) if pv > tolerance * dv => return None,
             (Some(_), Some(_)) => {
                 quote!(!::articulated::__private::singular_at_every_configuration())
             }
@@ -187,7 +194,30 @@ fn function(
     let values = &emitted.outputs[..nv + rows];
     let qdd = function::vector(cx, &values[..nv]);
     let forces = function::vector(cx, &values[nv..]);
-    let (q_ty, v_ty, r_ty) = (vector_type(nq), vector_type(nv), vector_type(rows));
+    let (q_ty, v_ty, r_ty) = (
+        vector_type(cx, nq),
+        vector_type(cx, nv),
+        vector_type(cx, rows),
+    );
+    let scalar = &cx.scalar;
+    // The tolerance by name: the runtime's in `f64`, a constant in `f32`, converted once in a
+    // generic scalar.
+    let declare_tolerance = match cx.options.scalar {
+        ScalarKind::F64 => {
+            quote!(
+                const PIVOT_TOLERANCE: f64 = ::articulated::constraint::PIVOT_TOLERANCE;
+            )
+        }
+        ScalarKind::F32 => {
+            let t = cx.lit(PIVOT_TOLERANCE_F32);
+            quote!(const PIVOT_TOLERANCE: f32 = #t;)
+        }
+        ScalarKind::Generic => {
+            let t = cx.lit(PIVOT_TOLERANCE);
+            quote!(#[allow(non_snake_case)] let PIVOT_TOLERANCE: #scalar = #t;)
+        }
+    };
+    let generics = &cx.impl_generics;
     let (uses, statements) = (&emitted.uses, &emitted.statements);
     let function_doc = docs::lines(&function_doc(cx, traced))
         .into_iter()
@@ -195,12 +225,12 @@ fn function(
     let [bind_q, bind_v, bind_tau] = bind;
     Ok(quote! {
         #(#function_doc)*
-        pub fn constrained_forward_dynamics(
+        pub fn constrained_forward_dynamics #generics(
             q: &#q_ty,
             v: &#v_ty,
             tau: &#v_ty,
         ) -> ::core::result::Result<(#v_ty, #r_ty), ::articulated::constraint::ConstraintError> {
-            const PIVOT_TOLERANCE: f64 = ::articulated::constraint::PIVOT_TOLERANCE;
+            #declare_tolerance
             if !q.iter().chain(v.iter()).chain(tau.iter()).all(|x| x.is_finite()) {
                 return Err(::articulated::constraint::ConstraintError::NonFinite);
             }
@@ -221,9 +251,9 @@ fn function(
     })
 }
 
-fn vector_type(n: usize) -> TokenStream {
-    let n = Literal::usize_unsuffixed(n);
-    quote!(::articulated::nalgebra::SVector<f64, #n>)
+fn vector_type(cx: &Context, n: usize) -> TokenStream {
+    let (scalar, n) = (&cx.scalar, Literal::usize_unsuffixed(n));
+    quote!(::articulated::nalgebra::SVector<#scalar, #n>)
 }
 
 /// Each constraint's rows and what its force is, in declaration order.

@@ -58,8 +58,8 @@
 //! Outputs are sorted and duplicates dropped.
 //!
 //! `contacts` and `loops` declare the constraints the generated
-//! `constrained_forward_dynamics(q, v, tau)` holds, generated for that set (in `f64` only, as
-//! the runtime's `articulated::constraint` solver): a contact per frame, a loop per name, on
+//! `constrained_forward_dynamics(q, v, tau)` holds, generated for that set in the chain's
+//! scalar: a contact per frame, a loop per name, on
 //! frames that move, and no more rows (3 per point and loop, 6 per `six_d`) than velocities.
 //! Their frames join `frames` (appended in order where absent) and the outputs the runtime's
 //! solver reads are generated too, for any subset of them at run time

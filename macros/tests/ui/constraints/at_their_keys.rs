@@ -1,6 +1,6 @@
 // Constraints given in `#[chain(…)]` are judged against the file's model at the attribute's
 // tokens: an unknown frame at its name, a malformed loop at its value, a frame that cannot move
-// and a chain in `generic` at the contact.
+// at the contact.
 #[derive(articulated::Chain)]
 #[chain(file = "tests/ui/fixtures/pendulum.chain", contacts = [bobb: point])]
 pub struct Pendulum;
@@ -12,9 +12,5 @@ pub struct Looped;
 #[derive(articulated::Chain)]
 #[chain(urdf = "tests/ui/fixtures/pendulum.urdf", contacts = [base: point])]
 pub struct Fixed;
-
-#[derive(articulated::Chain)]
-#[chain(urdf = "tests/ui/fixtures/pendulum.urdf", floating, contacts = [bob: six_d], scalar = generic)]
-pub struct Generic;
 
 fn main() {}
