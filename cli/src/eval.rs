@@ -332,6 +332,15 @@ fn by_reference(r: &Reference, s: &State) -> Fields {
             },
         ),
         (
+            "centroidal_momentum_rate",
+            match r.centroidal_momentum_rate(&s.q, &s.v, &s.a) {
+                _ if nothing_moves => Ok(Value::Null),
+                h => h
+                    .map(|x| vector(&DVector::from_column_slice(x.as_slice())))
+                    .map_err(text),
+            },
+        ),
+        (
             "kinetic_energy",
             r.kinetic_energy(&s.q, &s.v).map(Value::from).map_err(text),
         ),
@@ -448,6 +457,10 @@ fn by_graph(model: &Model, s: &State) -> Fields {
         (
             "centroidal_momentum",
             values(Output::CentroidalMomentum).map(vec_of),
+        ),
+        (
+            "centroidal_momentum_rate",
+            values(Output::CentroidalMomentumRate).map(vec_of),
         ),
         ("kinetic_energy", values(Output::KineticEnergy).map(scalar)),
         (

@@ -379,6 +379,7 @@ fn symbolic_engine_agrees_with_the_reference() {
             "center_of_mass",
             "center_of_mass_velocity",
             "centroidal_momentum",
+            "centroidal_momentum_rate",
             "kinetic_energy",
             "potential_energy",
             "coriolis_matrix",

@@ -518,6 +518,45 @@ outputs! {
                     `h_G = A_G·v` (Orin, Goswami & Lee 2013), what humanoid balance controllers \
                     use.",
     },
+    /// `centroidal_momentum_rate(q, v, a)`: `ḣ_G = A_G·a + Ȧ_G·v`, laid out as `h_G`.
+    CentroidalMomentumRate {
+        name: "centroidal_momentum_rate",
+        trait_name: "CentroidalMomentumRate",
+        group: Some(Group::WholeBody),
+        default: false,
+        args: [Q, V, A],
+        parts: [Vector(N(6))],
+        fallible: false,
+        whole_body: true,
+        value: "`ḣ_G`",
+        equation: "`ḣ_G = [k̇_G; ṗ] = A_G·a + Ȧ_G·v`: the rate of the centroidal momentum at \
+                   `(q, v, a)`, laid out as `centroidal_momentum` (angular about the centre of \
+                   mass first, world axes), without gravity: the bodies' net forces of \
+                   Newton–Euler summed to the centre of mass.",
+        trait_doc: "`ḣ_G = [k̇_G; ṗ] = A_G·a + Ȧ_G·v`: the rate of [`CentroidalMomentum`], same \
+                    layout (angular about the centre of mass first, world axes). It is the net \
+                    external wrench about the centre of mass less gravity's `[0; m·g]`: what \
+                    the contact wrenches of a standing or walking robot sum to (Wieber 2005, \
+                    §5). Pinocchio's `computeCentroidalMomentumTimeVariation` (`dhg`) with the \
+                    halves swapped.",
+    },
+    /// `centroidal_momentum_drift(q, v)`: `Ȧ_G·v`, the rate at `a = 0`.
+    CentroidalMomentumDrift {
+        name: "centroidal_momentum_drift",
+        trait_name: "CentroidalMomentumDrift",
+        group: Some(Group::WholeBody),
+        default: false,
+        args: [Q, V],
+        parts: [Vector(N(6))],
+        fallible: false,
+        whole_body: true,
+        value: "`Ȧ_G·v`",
+        equation: "`Ȧ_G·v`: the drift of the centroidal momentum, its rate at `a = 0` \
+                   (`centroidal_momentum_rate`), laid out as `centroidal_momentum`.",
+        trait_doc: "`Ȧ_G·v`: the drift of the centroidal momentum, [`CentroidalMomentumRate`] at \
+                    `a = 0`, same layout (angular first, world axes): the term a centroidal \
+                    task `A_G·a = ḣ_G* − Ȧ_G·v` needs.",
+    },
     /// `kinetic_energy(q, v)`: `½·vᵀ·M(q)·v`.
     KineticEnergy {
         name: "kinetic_energy",

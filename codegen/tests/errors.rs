@@ -165,7 +165,8 @@ fn unknown_output() {
          `nonlinear_effects`, \
          `mass_matrix_and_nonlinear_effects`, `joint_wrenches`, `joint_wrenches_bottom_up`, \
          `center_of_mass`, `center_of_mass_velocity`, `center_of_mass_jacobian`, \
-         `centroidal_momentum`, `centroidal_momentum_matrix`, `kinetic_energy`, \
+         `centroidal_momentum`, `centroidal_momentum_matrix`, `centroidal_momentum_rate`, \
+         `centroidal_momentum_drift`, `kinetic_energy`, \
          `potential_energy`, `coriolis_matrix`, `inverse_dynamics_derivatives`, \
          `forward_dynamics_derivatives`, `mass_matrix_inverse`, `frame_placements`, \
          `frame_velocities`, `frame_accelerations`, `frame_velocity_derivatives`, \

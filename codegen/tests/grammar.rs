@@ -216,6 +216,8 @@ fn output_groups_expand_to_their_outputs() {
             O::CenterOfMassJacobian,
             O::CentroidalMomentum,
             O::CentroidalMomentumMatrix,
+            O::CentroidalMomentumRate,
+            O::CentroidalMomentumDrift,
             O::KineticEnergy,
             O::PotentialEnergy,
             O::CoriolisMatrix,

@@ -22,6 +22,8 @@
 //! | [`CenterOfMassJacobian`] | `C::center_of_mass_jacobian(&q)` | `J_G`, `3 × NV` |
 //! | [`CentroidalMomentum`] | `C::centroidal_momentum(&q, &v)` | `[k_G; p]`, world axes, about the centre of mass |
 //! | [`CentroidalMomentumMatrix`] | `C::centroidal_momentum_matrix(&q)` | `A_G`, `6 × NV` |
+//! | [`CentroidalMomentumRate`] | `C::centroidal_momentum_rate(&q, &v, &a)` | `ḣ_G = A_G·a + Ȧ_G·v`, laid out as `h_G` |
+//! | [`CentroidalMomentumDrift`] | `C::centroidal_momentum_drift(&q, &v)` | `Ȧ_G·v`, the rate at `a = 0` |
 //! | [`KineticEnergy`] | `C::kinetic_energy(&q, &v)` | `½·vᵀ·M·v` |
 //! | [`PotentialEnergy`] | `C::potential_energy(&q)` | `−Σ m_k·gᵀ·x_k` |
 //! | [`CoriolisMatrix`] | `C::coriolis_matrix(&q, &v)` | `N(q, q̇)` with `N·v = bias`, `Ṁ − 2N` skew |

@@ -4,6 +4,11 @@
 //!   energies and the Coriolis matrix of the shipped floating models against Pinocchio
 //!   (`tests/data/pinocchio-centroidal.json`, written by `tests/data/make_centroidal_reference.py`)
 //!   to 1e-10, and against the interpreted reference on random states to 1e-12;
+//! - the rate of the centroidal momentum and its drift: the humanoid's against Pinocchio's
+//!   `computeCentroidalMomentumTimeVariation` (`tests/data/pinocchio_centroidal_rate/`) to 1e-12,
+//!   every floating model's against the reference to 1e-12 and against five-point central
+//!   differences of the generated `centroidal_momentum` along the motion to 1e-9, the drift
+//!   against the rate at `a = 0` to 1e-12;
 //! - Wieber's claims as identities of the generated code: gravity is `−M·[g; 0]` on an Euler free
 //!   base (§4), and the six base rows of `M·q̈ + N·q̇` are the Newton and Euler equations of the
 //!   whole system, `ḣ_G = Σ` of the bodies' net wrenches about the centre of mass (computed
@@ -26,8 +31,8 @@ use articulated_codegen::load::load_model;
 use articulated_dynamics::model::Model;
 use articulated_dynamics::random::{random_state, Rng};
 use common::{
-    coriolis_error, read_json, rel_err, row_major, rows_of, vec_of, whole_body_errors,
-    WHOLE_BODY_OUTPUTS,
+    centroidal_rate_by_differences, centroidal_rate_errors, coriolis_error, read_json, rel_err,
+    row_major, rows_of, vec_of, whole_body_errors, WHOLE_BODY_OUTPUTS,
 };
 use serde_json::Value as Json;
 
@@ -43,6 +48,8 @@ const TOL: f64 = 1e-10;
         center_of_mass_jacobian,
         centroidal_momentum,
         centroidal_momentum_matrix,
+        centroidal_momentum_rate,
+        centroidal_momentum_drift,
         kinetic_energy,
         potential_energy,
         coriolis_matrix
@@ -64,6 +71,8 @@ struct Humanoid;
         center_of_mass_jacobian,
         centroidal_momentum,
         centroidal_momentum_matrix,
+        centroidal_momentum_rate,
+        centroidal_momentum_drift,
         kinetic_energy,
         potential_energy,
         coriolis_matrix
@@ -81,6 +90,8 @@ struct Arm7Floating;
         center_of_mass_jacobian,
         centroidal_momentum,
         centroidal_momentum_matrix,
+        centroidal_momentum_rate,
+        centroidal_momentum_drift,
         kinetic_energy,
         potential_energy,
         coriolis_matrix
@@ -251,6 +262,62 @@ fn floating_models_match_pinocchio() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// The humanoid's rate of the centroidal momentum and its drift, generated and interpreted,
+/// against Pinocchio 4.1's `computeCentroidalMomentumTimeVariation` (`data.dhg`, linear first:
+/// swapped by the script) on its free flyer, to 1e-12 of the largest entry
+/// (`tests/data/pinocchio_centroidal_rate/`, script and values).
+#[test]
+fn humanoid_centroidal_momentum_rate_matches_pinocchio() {
+    let json = read_json("data/pinocchio_centroidal_rate/pinocchio-centroidal-rate.json");
+    let data = &json["models"]["humanoid_free_flyer"];
+    let model = load_model(Path::new(&repo("models/humanoid.chain")), false).unwrap();
+    assert_eq!(data["nv"].as_u64(), Some(model.nv() as u64));
+    let r = Reference::new(&model).unwrap();
+    let mut worst = [0.0f64; 5];
+    for (k, s) in data["states"].as_array().unwrap().iter().enumerate() {
+        let (q, v, a) = (vec_of(&s["q"]), vec_of(&s["v"]), vec_of(&s["a"]));
+        let (rate, drift, h) = (
+            vec_of(&s["centroidal_momentum_rate"]),
+            vec_of(&s["centroidal_momentum_drift"]),
+            vec_of(&s["centroidal_momentum"]),
+        );
+        let (qs, vs, as_) = (
+            SVector::<f64, 38>::from_column_slice(&q),
+            SVector::<f64, 37>::from_column_slice(&v),
+            SVector::<f64, 37>::from_column_slice(&a),
+        );
+        let e = [
+            rel_err(
+                Humanoid::centroidal_momentum_rate(&qs, &vs, &as_).as_slice(),
+                &rate,
+            ),
+            rel_err(
+                Humanoid::centroidal_momentum_drift(&qs, &vs).as_slice(),
+                &drift,
+            ),
+            rel_err(
+                r.centroidal_momentum_rate(&q, &v, &a).unwrap().as_slice(),
+                &rate,
+            ),
+            rel_err(
+                r.centroidal_momentum_drift(&q, &v).unwrap().as_slice(),
+                &drift,
+            ),
+            // The layout's check: the momentum itself, as `floating_models_match_pinocchio`.
+            rel_err(Humanoid::centroidal_momentum(&qs, &vs).as_slice(), &h),
+        ];
+        for (w, e) in worst.iter_mut().zip(e) {
+            *w = w.max(e);
+        }
+        assert!(e.iter().all(|&e| e < 1e-12), "state {k}: {e:?}");
+    }
+    println!(
+        "humanoid (free flyer) vs Pinocchio: rate {:.1e}, drift {:.1e} generated; {:.1e}, {:.1e} \
+         interpreted; h_G {:.1e}",
+        worst[0], worst[1], worst[2], worst[3], worst[4]
+    );
+}
+
 /// The generated outputs of every floating model against the reference at random states.
 #[test]
 fn floating_models_match_the_reference() {
@@ -271,6 +338,30 @@ fn floating_models_match_the_reference() {
         for (name, e) in WHOLE_BODY_OUTPUTS.iter().zip(worst) {
             assert!(e < 1e-12, "{label}: {name} off by {e:e}");
         }
+        // The rate of the centroidal momentum and its drift against the reference, the rate
+        // against differences of the generated `h_G` along the motion, the drift against the
+        // rate at `a = 0`.
+        let mut rate = [0.0f64; 4];
+        for seed in 0..16 {
+            let (q, v, a) = random_state(model, seed);
+            let e = centroidal_rate_errors::<C, NQ, NV>(&r, &q, &v, &a);
+            let d = centroidal_rate_by_differences::<C, NQ, NV>(&q, &v, &a, 1e-3);
+            for (w, e) in rate.iter_mut().zip(e.into_iter().chain(d)) {
+                *w = w.max(e);
+            }
+        }
+        println!(
+            "{label}: centroidal_momentum_rate, _drift vs reference {:.1e}, {:.1e}; rate vs \
+             differences of h_G {:.1e}; drift vs rate at a = 0 {:.1e}",
+            rate[0], rate[1], rate[2], rate[3]
+        );
+        let [reference, drift_reference, differences, drift] = rate;
+        assert!(
+            reference < 1e-12 && drift_reference < 1e-12,
+            "{label}: {rate:?}"
+        );
+        assert!(differences < 1e-9, "{label}: {rate:?}");
+        assert!(drift < 1e-12, "{label}: {rate:?}");
     }
     check::<Humanoid, 38, 37>(
         "humanoid",

@@ -20,7 +20,8 @@ use articulated::reference::Reference;
 use articulated_codegen::urdf::from_urdf_str;
 use articulated_dynamics::random::random_state;
 use common::{
-    check_chain, compare_pinocchio, coriolis_error, read_json, rel_err, whole_body_errors,
+    centroidal_rate_by_differences, centroidal_rate_errors, check_chain, compare_pinocchio,
+    coriolis_error, read_json, rel_err, whole_body_errors,
 };
 
 /// Every output there is.
@@ -30,8 +31,8 @@ use common::{
     outputs = [
         mass_matrix, bias, gravity, inverse_dynamics, nonlinear_effects, forward_dynamics,
         center_of_mass, center_of_mass_velocity, center_of_mass_jacobian, centroidal_momentum,
-        centroidal_momentum_matrix, kinetic_energy, potential_energy, coriolis_matrix,
-        inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse
+        centroidal_momentum_matrix, centroidal_momentum_rate, centroidal_momentum_drift,
+        kinetic_energy, potential_energy, coriolis_matrix, inverse_dynamics_derivatives, forward_dynamics_derivatives, mass_matrix_inverse
     ]
 )]
 struct Gripper;
@@ -178,9 +179,19 @@ fn every_output_against_the_reference() {
         random_state(r.model(), seed)
     });
     for seed in 0..20 {
-        let (q, v, _) = random_state(r.model(), seed);
+        let (q, v, a) = random_state(r.model(), seed);
         let e = whole_body_errors::<Gripper, NQ, NQ>(&r, &q, &v);
         assert!(e.iter().all(|&e| e < 1e-12), "{e:?}");
+        let e = centroidal_rate_errors::<Gripper, NQ, NQ>(&r, &q, &v, &a);
+        assert!(e.iter().all(|&e| e < 1e-12), "{e:?}");
+        // The mimic joints' accelerations too, independently of the coupling's code: the rate
+        // against differences of the generated momentum along the motion.
+        let [differences, drift] =
+            centroidal_rate_by_differences::<Gripper, NQ, NQ>(&q, &v, &a, 1e-3);
+        assert!(
+            differences < 1e-9 && drift < 1e-12,
+            "{differences:e} {drift:e}"
+        );
         assert!(coriolis_error::<Gripper, NQ, NQ>(&r, &q, &v) < 1e-12);
         let qs = SVector::<f64, NQ>::from_column_slice(&q);
         let vs = SVector::<f64, NQ>::from_column_slice(&v);

@@ -1,6 +1,8 @@
 //! Generated code of seeded random trees (`articulated_dynamics::random::random_model`, written by
 //! `tests/build.rs` through `articulated_codegen::Builder`) against the reference on random
-//! states from `random_state`, to the tolerances of `generated_common`.
+//! states from `random_state`, to the tolerances of `generated_common`; the rate of the
+//! centroidal momentum also against five-point central differences of the generated
+//! `centroidal_momentum` along the motion, to 1e-9.
 //!
 //! The trees are included below in a module with no `#[allow]`: rustc's and clippy's warnings on
 //! the emitted code are errors under `cargo clippy --workspace --all-targets -- -D warnings`.
@@ -21,7 +23,10 @@ use articulated::nalgebra::SVector;
 use articulated::prelude::*;
 use articulated::reference::Reference;
 use articulated_dynamics::random::{random_model, random_state};
-use common::{check_chain, coriolis_error, rel_err, whole_body_errors, WHOLE_BODY_OUTPUTS};
+use common::{
+    centroidal_rate_by_differences, centroidal_rate_errors, check_chain, coriolis_error, rel_err,
+    whole_body_errors, WHOLE_BODY_OUTPUTS,
+};
 
 /// The generated trees, exactly as the Builder wrote them.
 mod trees {
@@ -73,18 +78,45 @@ fn check_whole_body<C, const NQ: usize, const NV: usize>(
     C: WholeBodyOutputs<f64, NQ, NV>,
 {
     let mut worst = [0.0f64; 7];
+    // The rate and the drift against the reference, the rate against differences of `h_G`,
+    // the drift against the rate at `a = 0`.
+    let mut rate = [0.0f64; 4];
     for seed in 0..u64::from(CASES) {
-        let (q, v, _) = state(seed);
+        let (q, v, a) = state(seed);
         let e = whole_body_errors::<C, NQ, NV>(r, &q, &v);
         for (w, e) in worst.iter_mut().zip(e) {
+            *w = w.max(e);
+        }
+        let e = centroidal_rate_errors::<C, NQ, NV>(r, &q, &v, &a);
+        let d = centroidal_rate_by_differences::<C, NQ, NV>(&q, &v, &a, 1e-3);
+        for (w, e) in rate.iter_mut().zip(e.into_iter().chain(d)) {
             *w = w.max(e);
         }
     }
     for (name, e) in WHOLE_BODY_OUTPUTS.iter().zip(worst) {
         assert!(e < 1e-12, "{label}: {name} off by {e:e}");
     }
+    let [reference, drift_reference, differences, drift] = rate;
+    assert!(
+        reference < 1e-12 && drift_reference < 1e-12,
+        "{label}: centroidal_momentum_rate, _drift off the reference by {reference:e}, \
+         {drift_reference:e}"
+    );
+    assert!(
+        differences < 1e-9,
+        "{label}: centroidal_momentum_rate off the differences of h_G by {differences:e}"
+    );
+    assert!(
+        drift < 1e-12,
+        "{label}: centroidal_momentum_drift off the rate at a = 0 by {drift:e}"
+    );
     let worst: Vec<String> = worst.iter().map(|e| format!("{e:.1e}")).collect();
     println!("    whole body, worst relative errors {}", worst.join(" "));
+    println!(
+        "    centroidal_momentum_rate, _drift vs reference {reference:.1e}, \
+         {drift_reference:.1e}; rate vs differences of h_G {differences:.1e}; drift vs rate at \
+         a = 0 {drift:.1e}"
+    );
 }
 
 /// The generated Coriolis matrix against the reference's at random states, to 1e-12.
@@ -114,12 +146,14 @@ fn random_trees_match_the_reference() {
             check_whole_body::<trees::$name, $nq, $nv>($label, $r, |s| random_state($model, s));
             check_coriolis::<trees::$name, $nq, $nv>($label, $r, |s| random_state($model, s));
             println!(
-                "    ops: center_of_mass {} | center_of_mass_velocity {} | center_of_mass_jacobian {} | centroidal_momentum {} | centroidal_momentum_matrix {} | kinetic_energy {} | potential_energy {} | coriolis_matrix {}",
+                "    ops: center_of_mass {} | center_of_mass_velocity {} | center_of_mass_jacobian {} | centroidal_momentum {} | centroidal_momentum_matrix {} | centroidal_momentum_rate {} | centroidal_momentum_drift {} | kinetic_energy {} | potential_energy {} | coriolis_matrix {}",
                 trees::$name::CENTER_OF_MASS_OPS.total(),
                 trees::$name::CENTER_OF_MASS_VELOCITY_OPS.total(),
                 trees::$name::CENTER_OF_MASS_JACOBIAN_OPS.total(),
                 trees::$name::CENTROIDAL_MOMENTUM_OPS.total(),
                 trees::$name::CENTROIDAL_MOMENTUM_MATRIX_OPS.total(),
+                trees::$name::CENTROIDAL_MOMENTUM_RATE_OPS.total(),
+                trees::$name::CENTROIDAL_MOMENTUM_DRIFT_OPS.total(),
                 trees::$name::KINETIC_ENERGY_OPS.total(),
                 trees::$name::POTENTIAL_ENERGY_OPS.total(),
                 trees::$name::CORIOLIS_MATRIX_OPS.total(),

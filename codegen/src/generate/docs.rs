@@ -243,6 +243,11 @@ fn formulation(traced: &Traced) -> String {
             "By `M` from {} and one solve of its sparse `LᵀDL` (RBDA §6.5) per column",
             crba_name(specialized, root_frame)
         ),
+        (Output::CentroidalMomentumRate | Output::CentroidalMomentumDrift, _) => {
+            "By each body's net force of Newton–Euler without gravity, `I·a + v ×* I·v`, carried \
+             from the leaves in and moved to the centre of mass (`reference::centroidal`)"
+                .to_string()
+        }
         (output, _) if output.whole_body() => "By each subtree's mass, first moment and momentum \
              carried from the leaves in (`reference::centroidal`)"
             .to_string(),

@@ -414,6 +414,8 @@ pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy, quasi_stati
         | Output::CenterOfMassJacobian
         | Output::CentroidalMomentum
         | Output::CentroidalMomentumMatrix
+        | Output::CentroidalMomentumRate
+        | Output::CentroidalMomentumDrift
         | Output::PotentialEnergy => &[false],
         _ => &[false, true],
     };
@@ -541,6 +543,14 @@ fn trace_variant(model: &Model, output: Output, variant: Variant) -> Traced {
                 },
                 6,
             ),
+            Output::CentroidalMomentumRate => {
+                centroidal::centroidal_momentum_rate(&tree, &q, &v, &a)
+                    .to_array()
+                    .to_vec()
+            }
+            Output::CentroidalMomentumDrift => centroidal::centroidal_momentum_drift(&tree, &q, &v)
+                .to_array()
+                .to_vec(),
             Output::KineticEnergy => vec![centroidal::kinetic_energy(&tree, &q, &v)],
             Output::PotentialEnergy => vec![centroidal::potential_energy(&tree, &q)],
             Output::CoriolisMatrix => c.reduce_matrix(&match form {
@@ -584,6 +594,8 @@ fn label_outputs(output: Output, values: Vec<Sym>, nv: usize) -> Vec<Sym> {
         Output::CenterOfMassJacobian => "com_j",
         Output::CentroidalMomentum => "h_g",
         Output::CentroidalMomentumMatrix => "a_g",
+        Output::CentroidalMomentumRate => "dh_g",
+        Output::CentroidalMomentumDrift => "drift_h_g",
         Output::KineticEnergy => "kinetic_energy",
         Output::PotentialEnergy => "potential_energy",
         Output::CoriolisMatrix => "n",
@@ -625,6 +637,10 @@ fn label_outputs(output: Output, values: Vec<Sym>, nv: usize) -> Vec<Sym> {
             Output::CentroidalMomentum => {
                 let part = if k < 3 { "k_g" } else { "p" };
                 x.label(format_args!("{part}_{}", AXES[k % 3]))
+            }
+            Output::CentroidalMomentumRate | Output::CentroidalMomentumDrift => {
+                let part = if k < 3 { "k_g" } else { "p" };
+                x.label(format_args!("{stem}_{part}_{}", AXES[k % 3]))
             }
             Output::KineticEnergy | Output::PotentialEnergy => x.label(format_args!("{stem}")),
             _ => x.label(format_args!("{stem}_{k}")),

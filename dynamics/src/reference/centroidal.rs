@@ -15,6 +15,9 @@
 //!   inertia's momentum for a unit motion of the joint, moved to the centre of mass in world axes
 //!   (Orin, Goswami & Lee 2013, eq. 22). The momentum itself, `h_G = A_G·v`, is summed directly:
 //!   each body's momentum `I_i·v_i`, carried to the root like a force, then moved to `G`.
+//! - Its rate `ḣ_G = A_G·a + Ȧ_G·v` is the sum of the bodies' net forces of Newton–Euler
+//!   without gravity, `I_i·a_i + v_i ×* I_i·v_i`, carried in the same way, then moved to `G`:
+//!   `k̇_G = k̇_O − x_G × ṗ`, since `ẋ_G × p = 0`.
 //! - The Coriolis matrix is the factorization whose `Ṁ − 2N` is skew-symmetric and whose
 //!   `N·v` is the bias: with the body Jacobian columns `t = ⁱX_j·S` and their rates
 //!   `u = ⁱX_j·(v_j × S)` (every node's `S` is constant in its own frame,
@@ -185,6 +188,43 @@ pub fn centroidal_momentum<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T]) -> Force
     // About the world origin; about G: k_G = k_O − x_G × p.
     let (k_o, p) = (world.ang, world.lin);
     Force::new(k_o - com.cross(p), p)
+}
+
+/// The rate of the centroidal momentum `ḣ_G = A_G·a + Ȧ_G·v = [k̇_G; ṗ]`, world axes, same
+/// layout as [`centroidal_momentum`]. The momentum about the world origin `h_O = Σ I_i·v_i` has
+/// the rate `Σ (I_i·a_i + v_i ×* I_i·v_i)`: each body's net force of Newton–Euler without
+/// gravity ([`super::rnea::inertial_forces`]), summed to the world like the momenta. About the
+/// centre of mass `k_G = k_O − x_G × p`, and `ẋ_G × p = 0` (`p = m·ẋ_G`), so
+/// `k̇_G = k̇_O − x_G × ṗ`; the linear part `ṗ` is the same about any point. Without gravity:
+/// gravity adds `[0; m·g]`, an external force, not part of the motion's rate (Wieber 2005, §5).
+/// The rotors' armature is left out, as in [`centroidal_momentum`].
+///
+/// Labels, per node `n`: those of [`super::rnea::inertial_forces`], and `n_dhm_n_x, …`,
+/// `n_dhm_f_x, …` for the subtree's rate about the node's origin.
+pub fn centroidal_momentum_rate<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T], a: &[T]) -> Force<T> {
+    let (x_up, mut f) = super::rnea::inertial_forces(tree, q, v, a, false);
+    let moments = subtree_first_moments(tree, &x_up);
+    let (mass, first) = world_first_moment(tree, &x_up, &moments);
+    let com = com_from(mass, first);
+    // Each subtree's net force about its node's origin, carried in as in `centroidal_momentum`.
+    let mut world = Force::zero();
+    for (i, node) in tree.nodes.iter().enumerate().rev() {
+        let n = &node.name;
+        let f_i = f[i].label(format_args!("{n}_dhm_n"), format_args!("{n}_dhm_f"));
+        let up = x_up[i].inv_apply_force(f_i);
+        match node.parent {
+            Some(p) => f[p] = f[p] + up,
+            None => world = world + up,
+        }
+    }
+    let (dk_o, dp) = (world.ang, world.lin);
+    Force::new(dk_o - com.cross(dp), dp)
+}
+
+/// The drift of the centroidal momentum `Ȧ_G·v`: [`centroidal_momentum_rate`] at `a = 0`.
+pub fn centroidal_momentum_drift<T: Scalar>(tree: &Tree<T>, q: &[T], v: &[T]) -> Force<T> {
+    let zero = alloc::vec![T::zero(); tree.nv];
+    centroidal_momentum_rate(tree, q, v, &zero)
 }
 
 /// The velocity of the centre of mass, `ẋ_G = p / m`, world frame, labelled `com_v_x, …`.

@@ -661,6 +661,42 @@ impl Reference {
         Ok(Vector6::from_column_slice(&h))
     }
 
+    /// The rate of the centroidal momentum `ḣ_G = A_G·a + Ȧ_G·v`, laid out as
+    /// [`Reference::centroidal_momentum`] (`[k̇_G; ṗ]`, world axes, about the centre of mass),
+    /// without gravity ([`centroidal::centroidal_momentum_rate`]).
+    ///
+    /// # Errors
+    /// As [`Reference::inverse_dynamics`].
+    pub fn centroidal_momentum_rate(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+    ) -> Result<Vector6<f64>, Error> {
+        check_q(&self.model, q)?;
+        check_vector("v", v, self.nv())?;
+        check_vector("a", a, self.nv())?;
+        let h =
+            centroidal::centroidal_momentum_rate(&self.tree, &self.q(q), &self.v(v), &self.v(a))
+                .to_array();
+        let h = finite("centroidal_momentum_rate", h.to_vec())?;
+        Ok(Vector6::from_column_slice(&h))
+    }
+
+    /// The drift of the centroidal momentum `Ȧ_G·v`: [`Reference::centroidal_momentum_rate`] at
+    /// `a = 0`.
+    ///
+    /// # Errors
+    /// As [`Reference::bias`].
+    pub fn centroidal_momentum_drift(&self, q: &[f64], v: &[f64]) -> Result<Vector6<f64>, Error> {
+        check_q(&self.model, q)?;
+        check_vector("v", v, self.nv())?;
+        let h =
+            centroidal::centroidal_momentum_drift(&self.tree, &self.q(q), &self.v(v)).to_array();
+        let h = finite("centroidal_momentum_drift", h.to_vec())?;
+        Ok(Vector6::from_column_slice(&h))
+    }
+
     /// The centroidal momentum matrix `A_G(q)`, `6 × nv`, angular rows first: `h_G = A_G·v`.
     ///
     /// # Errors

@@ -494,6 +494,76 @@ where
     ]
 }
 
+/// The generated rate of the centroidal momentum and its drift against the reference's at one
+/// state, each relative to the largest entry of the reference's value.
+pub fn centroidal_rate_errors<C, const NQ: usize, const NV: usize>(
+    r: &Reference,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+) -> [f64; 2]
+where
+    C: CentroidalMomentumRate<f64, NQ, NV> + CentroidalMomentumDrift<f64, NQ, NV>,
+{
+    let (qs, vs, as_) = (
+        SVector::from_column_slice(q),
+        SVector::from_column_slice(v),
+        SVector::from_column_slice(a),
+    );
+    [
+        rel_err(
+            C::centroidal_momentum_rate(&qs, &vs, &as_).as_slice(),
+            r.centroidal_momentum_rate(q, v, a).unwrap().as_slice(),
+        ),
+        rel_err(
+            C::centroidal_momentum_drift(&qs, &vs).as_slice(),
+            r.centroidal_momentum_drift(q, v).unwrap().as_slice(),
+        ),
+    ]
+}
+
+/// The generated `ḣ_G` at `(q, v, a)` against the derivative of the generated `h_G` along
+/// `q(t) = q ⊕ (v·t + a·t²/2)`, `v(t) = v + a·t` (`q̇(0)` is the velocity `v` and `v̇(0) = a`,
+/// all that `A_G·a + Ȧ_G·v` depends on), by the five-point central difference of step `dt`,
+/// whose truncation error falls as `dt⁴`. Relative to the largest entry of the differences;
+/// also returns the drift's difference from the rate at `a = 0`, relative to the latter.
+pub fn centroidal_rate_by_differences<C, const NQ: usize, const NV: usize>(
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    dt: f64,
+) -> [f64; 2]
+where
+    C: CentroidalMomentum<f64, NQ, NV>
+        + CentroidalMomentumRate<f64, NQ, NV>
+        + CentroidalMomentumDrift<f64, NQ, NV>,
+{
+    let (qs, vs, as_) = (
+        SVector::<f64, NQ>::from_column_slice(q),
+        SVector::<f64, NV>::from_column_slice(v),
+        SVector::<f64, NV>::from_column_slice(a),
+    );
+    let h = |t: f64| {
+        let delta = vs * t + as_ * (0.5 * t * t);
+        let mut qt = [0.0; NQ];
+        assert!(articulated::control::tangent::retract(
+            C::COORDINATES,
+            q,
+            delta.as_slice(),
+            &mut qt
+        ));
+        C::centroidal_momentum(&SVector::from_column_slice(&qt), &(vs + as_ * t))
+    };
+    let by_differences = ((h(dt) - h(-dt)) * 8.0 - (h(2.0 * dt) - h(-2.0 * dt))) / (12.0 * dt);
+    let rate = C::centroidal_momentum_rate(&qs, &vs, &as_);
+    let drift = C::centroidal_momentum_drift(&qs, &vs);
+    let at_zero = C::centroidal_momentum_rate(&qs, &vs, &SVector::zeros());
+    [
+        rel_err(rate.as_slice(), by_differences.as_slice()),
+        rel_err(drift.as_slice(), at_zero.as_slice()),
+    ]
+}
+
 /// The generated Coriolis matrix against the reference's at one state, relative to its largest
 /// entry (or to `max|M|·max|v|`, its natural size, where the matrix vanishes).
 pub fn coriolis_error<C, const NQ: usize, const NV: usize>(
