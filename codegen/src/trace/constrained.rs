@@ -37,7 +37,8 @@ use articulated_dynamics::spatial::Vec3;
 use articulated_dynamics::Scalar;
 
 use super::frames::{FrameAt, In, Kinematics};
-use super::{inputs, mass_matrix, model_inputs, rnea, symbolic_tree, Formulation, Variant};
+use super::{fewest, inputs, mass_matrix, model_inputs, rnea, symbolic_tree};
+use super::{Formulation, Variant};
 use crate::optimize::{reassociate, reciprocals};
 use crate::sym::{self, Graph, OpCounts, Sym, Var};
 
@@ -138,16 +139,7 @@ pub fn trace(model: &Model, frames: &[FrameAt], constraints: &[Constraint]) -> C
         .map(|v| trace_variant(model, frames, constraints, v).rebuilt(reciprocals))
         .collect();
     let candidates = traced.iter().map(|t| (t.variant, t.ops())).collect();
-    let mut best = traced
-        .into_iter()
-        .reduce(|best, t| {
-            if t.ops().total() < best.ops().total() {
-                t
-            } else {
-                best
-            }
-        })
-        .unwrap_or_else(|| unreachable!("four variants"));
+    let mut best = fewest(traced, |t| t.ops().total());
     best.candidates = candidates;
     best.rebuilt(reassociate)
 }

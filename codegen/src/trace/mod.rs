@@ -471,22 +471,24 @@ pub fn trace_with(model: &Model, output: Output, accuracy: Accuracy, quasi_stati
     let traced: Vec<Traced> = traced.into_iter().map(Traced::with_reciprocals).collect();
     let candidates: Vec<(Variant, OpCounts)> =
         traced.iter().map(|t| (t.variant, t.ops())).collect();
-    let mut best = traced
-        .into_iter()
-        .reduce(|best, t| {
-            if t.ops().total() < best.ops().total() {
-                t
-            } else {
-                best
-            }
-        })
-        .unwrap_or_else(|| unreachable!("every output has variants"));
+    let mut best = fewest(traced, |t| t.ops().total());
     best.candidates = candidates;
     let mut best = best.reassociated();
     if let Some(p) = &mut best.pivots {
         p.singular = singular_everywhere(model);
     }
     best
+}
+
+/// The traced variant with the fewest operations (`ops`), the first of equals.
+///
+/// # Panics
+/// With no variant: every output has at least one.
+pub(crate) fn fewest<T>(variants: Vec<T>, ops: impl Fn(&T) -> usize) -> T {
+    variants
+        .into_iter()
+        .reduce(|best, t| if ops(&t) < ops(&best) { t } else { best })
+        .unwrap_or_else(|| unreachable!("every output has variants"))
 }
 
 /// The (row, column) of each entry of an `nv × nv` matrix on and below its diagonal, row by
