@@ -9,10 +9,11 @@
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-use super::{docs, function, Context};
+use super::function::{self, Used};
+use super::{docs, Context};
 use crate::emit;
 use crate::options::{ContactKind, Loop, ScalarKind};
-use crate::sym::{Node, OpCounts, Sym, Var};
+use crate::sym::{Node, OpCounts, Sym};
 use crate::trace::constrained::{self, ConstrainedTraced, Constraint};
 
 /// The runtime's `articulated::constraint::PIVOT_TOLERANCE`, for the checks the generator
@@ -96,9 +97,8 @@ pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Option<OpCounts>)
 }
 
 /// `constrained_forward_dynamics(q, v, τ)`: the traced solve as straight-line code, the inputs
-/// checked finite first, each pivot of `M` and of `G` checked against its unreduced value (in
-/// the order of elimination, the runtime's `Settings::pivot_tolerance`), the results checked
-/// finite last.
+/// checked finite first, each pivot of `M` and of `G` checked against its unreduced value
+/// ([`pivot_checks`]), the results checked finite last.
 fn function(
     cx: &Context,
     traced: &ConstrainedTraced,
@@ -114,83 +114,16 @@ fn function(
     )?;
     let (nq, nv) = (cx.nq, cx.nv);
     let rows = traced.values.len() - nv;
-    let mut used = [vec![false; nq], vec![false; nv], vec![false; nv]];
-    let mut params = false;
-    for s in traced.graph.live(&outputs) {
-        if let Node::Input(var) = traced.graph.node(s) {
-            match var {
-                Var::Q(i) => used[0][i] = true,
-                Var::V(i) => used[1][i] = true,
-                Var::Tau(i) => used[2][i] = true,
-                Var::Param(_) => params = true,
-                Var::A(_) | Var::Base(_) => {}
-            }
-        }
-    }
-    let bind = [("q", &used[0]), ("v", &used[1]), ("tau", &used[2])]
+    let used = Used::in_graph(&traced.graph, &outputs, nq, nv, 0);
+    let [bind_q, bind_v, bind_tau] = [("q", &used.q), ("v", &used.v), ("tau", &used.tau)]
         .map(|(name, used)| function::destructure(name, used));
     let params_ty = &cx.params_ty;
-    let bind_params = if params {
+    let bind_params = if used.params {
         quote!(let p = &<#params_ty>::defaults();)
     } else {
         quote!()
     };
-    // Each pivot: decided here where both are constants, `> 0` where nothing was eliminated
-    // from it, else against its unreduced value.
-    let exprs = &emitted.outputs[nv + rows..];
-    let constant = |s| match traced.graph.node(s) {
-        Node::Const(x) => Some(x),
-        _ => None,
-    };
-    let zero = cx.lit(0.0);
-    let tolerance = match cx.options.scalar {
-        ScalarKind::F32 => PIVOT_TOLERANCE_F32,
-        ScalarKind::F64 | ScalarKind::Generic => PIVOT_TOLERANCE,
-    };
-    let check = |k: usize, (p, d): (Sym, Sym), error: TokenStream| {
-        let (pe, de) = (&exprs[2 * k], &exprs[2 * k + 1]);
-        let condition = match (constant(p), constant(d)) {
-            (Some(pv), Some(dv)) if pv > tolerance * dv => return None,
-            (Some(_), Some(_)) => {
-                quote!(!::articulated::__private::singular_at_every_configuration())
-            }
-            _ if p == d => quote!(#pe > #zero),
-            _ => quote!(::articulated::__private::positive_pivot(#pe, #de, PIVOT_TOLERANCE)),
-        };
-        Some(quote! {
-            if !(#condition) {
-                return Err(#error);
-            }
-        })
-    };
-    let mass = (0..nv).rev().filter_map(|k| {
-        let velocity = Literal::usize_unsuffixed(k);
-        check(
-            k,
-            traced.mass[k],
-            quote!(::articulated::constraint::ConstraintError::MassMatrix { velocity: #velocity }),
-        )
-    });
-    let mut owners = Vec::new();
-    for (c, constraint) in constraints.iter().enumerate() {
-        owners.extend((0..constraint.rows()).map(|row| (c, row)));
-    }
-    let delassus = (0..rows).filter_map(|i| {
-        let (contact, row) = owners[i];
-        let (contact, row) = (
-            Literal::usize_unsuffixed(contact),
-            Literal::usize_unsuffixed(row),
-        );
-        check(
-            nv + i,
-            traced.delassus[i],
-            quote!(::articulated::constraint::ConstraintError::Redundant {
-                contact: #contact,
-                row: #row,
-            }),
-        )
-    });
-    let checks: Vec<TokenStream> = mass.chain(delassus).collect();
+    let checks = pivot_checks(cx, traced, constraints, &emitted.outputs[nv + rows..]);
     let values = &emitted.outputs[..nv + rows];
     let qdd = function::vector(cx, &values[..nv]);
     let forces = function::vector(cx, &values[nv..]);
@@ -199,30 +132,12 @@ fn function(
         vector_type(cx, nv),
         vector_type(cx, rows),
     );
-    let scalar = &cx.scalar;
-    // The tolerance by name: the runtime's in `f64`, a constant in `f32`, converted once in a
-    // generic scalar.
-    let declare_tolerance = match cx.options.scalar {
-        ScalarKind::F64 => {
-            quote!(
-                const PIVOT_TOLERANCE: f64 = ::articulated::constraint::PIVOT_TOLERANCE;
-            )
-        }
-        ScalarKind::F32 => {
-            let t = cx.lit(PIVOT_TOLERANCE_F32);
-            quote!(const PIVOT_TOLERANCE: f32 = #t;)
-        }
-        ScalarKind::Generic => {
-            let t = cx.lit(PIVOT_TOLERANCE);
-            quote!(#[allow(non_snake_case)] let PIVOT_TOLERANCE: #scalar = #t;)
-        }
-    };
+    let declare_tolerance = declare_tolerance(cx);
     let generics = &cx.impl_generics;
     let (uses, statements) = (&emitted.uses, &emitted.statements);
     let function_doc = docs::lines(&function_doc(cx, traced))
         .into_iter()
         .map(|d| quote!(#[doc = #d]));
-    let [bind_q, bind_v, bind_tau] = bind;
     Ok(quote! {
         #(#function_doc)*
         pub fn constrained_forward_dynamics #generics(
@@ -249,6 +164,98 @@ fn function(
             Ok((qdd, forces))
         }
     })
+}
+
+/// The relative pivot tolerance in the chain's scalar.
+fn tolerance(cx: &Context) -> f64 {
+    match cx.options.scalar {
+        ScalarKind::F32 => PIVOT_TOLERANCE_F32,
+        ScalarKind::F64 | ScalarKind::Generic => PIVOT_TOLERANCE,
+    }
+}
+
+/// The tolerance by name: the runtime's in `f64`, a constant in `f32`, converted once in a
+/// generic scalar.
+fn declare_tolerance(cx: &Context) -> TokenStream {
+    let scalar = &cx.scalar;
+    match cx.options.scalar {
+        ScalarKind::F64 => {
+            quote!(
+                const PIVOT_TOLERANCE: f64 = ::articulated::constraint::PIVOT_TOLERANCE;
+            )
+        }
+        ScalarKind::F32 => {
+            let t = cx.lit(PIVOT_TOLERANCE_F32);
+            quote!(const PIVOT_TOLERANCE: f32 = #t;)
+        }
+        ScalarKind::Generic => {
+            let t = cx.lit(PIVOT_TOLERANCE);
+            quote!(#[allow(non_snake_case)] let PIVOT_TOLERANCE: #scalar = #t;)
+        }
+    }
+}
+
+/// One `if` per pivot that can fail, in the order of elimination: `M`'s from the last velocity
+/// to the first (`ConstraintError::MassMatrix`), then `G`'s from the first row to the last
+/// (`ConstraintError::Redundant`, naming the constraint and its row). A pivot is decided here
+/// where it and its unreduced value are constants, held `> 0` where nothing was eliminated from
+/// it, else against its unreduced value. `exprs`: the emitted pivots and unreduced values, in
+/// pairs, `M`'s then `G`'s.
+fn pivot_checks(
+    cx: &Context,
+    traced: &ConstrainedTraced,
+    constraints: &[Constraint],
+    exprs: &[TokenStream],
+) -> Vec<TokenStream> {
+    let nv = cx.nv;
+    let constant = |s| match traced.graph.node(s) {
+        Node::Const(x) => Some(x),
+        _ => None,
+    };
+    let (zero, tolerance) = (cx.lit(0.0), tolerance(cx));
+    let check = |k: usize, (p, d): (Sym, Sym), error: TokenStream| {
+        let (pe, de) = (&exprs[2 * k], &exprs[2 * k + 1]);
+        let condition = match (constant(p), constant(d)) {
+            (Some(pv), Some(dv)) if pv > tolerance * dv => return None,
+            (Some(_), Some(_)) => {
+                quote!(!::articulated::__private::singular_at_every_configuration())
+            }
+            _ if p == d => quote!(#pe > #zero),
+            _ => quote!(::articulated::__private::positive_pivot(#pe, #de, PIVOT_TOLERANCE)),
+        };
+        Some(quote! {
+            if !(#condition) {
+                return Err(#error);
+            }
+        })
+    };
+    let mass = (0..nv).rev().filter_map(|k| {
+        let velocity = Literal::usize_unsuffixed(k);
+        check(
+            k,
+            traced.mass[k],
+            quote!(::articulated::constraint::ConstraintError::MassMatrix { velocity: #velocity }),
+        )
+    });
+    let owners = constraints
+        .iter()
+        .enumerate()
+        .flat_map(|(c, constraint)| (0..constraint.rows()).map(move |row| (c, row)));
+    let delassus = owners.enumerate().filter_map(|(i, (contact, row))| {
+        let (contact, row) = (
+            Literal::usize_unsuffixed(contact),
+            Literal::usize_unsuffixed(row),
+        );
+        check(
+            nv + i,
+            traced.delassus[i],
+            quote!(::articulated::constraint::ConstraintError::Redundant {
+                contact: #contact,
+                row: #row,
+            }),
+        )
+    });
+    mass.chain(delassus).collect()
 }
 
 fn vector_type(cx: &Context, n: usize) -> TokenStream {

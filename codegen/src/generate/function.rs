@@ -8,7 +8,7 @@ use super::{docs, Context};
 use crate::emit::{self, Emitted};
 use crate::options::{Output, ScalarKind};
 use crate::outputs::{Arg, Dim, Each, Order, Part};
-use crate::sym::{Node, Sym, Var};
+use crate::sym::{Graph, Node, Sym, Var};
 use crate::trace::{
     lower_triangle, Pivots, Traced, PIVOT_TOL_F32, PIVOT_TOL_F64, PIVOT_TOL_GLOBAL_ABA_F32,
     PIVOT_TOL_GLOBAL_ABA_F64, PIVOT_TOL_GLOBAL_F64,
@@ -527,34 +527,43 @@ pub(super) fn destructure(vector: &str, used: &[bool]) -> TokenStream {
 }
 
 /// Which inputs the live part of a graph reads, per kind.
-struct Used {
-    q: Vec<bool>,
-    v: Vec<bool>,
-    a: Vec<bool>,
-    tau: Vec<bool>,
-    base: Vec<bool>,
-    params: bool,
+pub(super) struct Used {
+    pub(super) q: Vec<bool>,
+    pub(super) v: Vec<bool>,
+    pub(super) a: Vec<bool>,
+    pub(super) tau: Vec<bool>,
+    pub(super) base: Vec<bool>,
+    pub(super) params: bool,
 }
 
 impl Used {
     fn of(t: &Traced, outputs: &[Sym], nq: usize, nv: usize) -> Used {
+        let base = if t.output == Output::JointWrenchesBottomUp {
+            6
+        } else {
+            0
+        };
+        Used::in_graph(&t.graph, outputs, nq, nv, base)
+    }
+
+    /// The inputs `graph` reads to compute `outputs` (`base` the length of the base wrench).
+    pub(super) fn in_graph(
+        graph: &Graph,
+        outputs: &[Sym],
+        nq: usize,
+        nv: usize,
+        base: usize,
+    ) -> Used {
         let mut u = Used {
             q: vec![false; nq],
             v: vec![false; nv],
             a: vec![false; nv],
             tau: vec![false; nv],
-            base: vec![
-                false;
-                if t.output == Output::JointWrenchesBottomUp {
-                    6
-                } else {
-                    0
-                }
-            ],
+            base: vec![false; base],
             params: false,
         };
-        for s in t.graph.live(outputs) {
-            if let Node::Input(var) = t.graph.node(s) {
+        for s in graph.live(outputs) {
+            if let Node::Input(var) = graph.node(s) {
                 match var {
                     Var::Q(i) => u.q[i] = true,
                     Var::V(i) => u.v[i] = true,

@@ -116,77 +116,9 @@ where
     let (qdd, f) = (&solution.acceleration, &solution.forces);
 
     // ∂r₁/∂q = ∂ID/∂q − ∂(Jᵀ·f)/∂q, ∂r₁/∂v = ∂ID/∂v.
-    let (did_dq, did_dv) = C::inverse_dynamics_derivatives(q, v, qdd);
-    let points = contacts.iter().any(|c| c.kind == Kind::Point) || !loops.is_empty();
-    let six_d = contacts.iter().any(|c| c.kind == Kind::SixD);
-    let mut djtf_dq = SMatrix::<f64, NV, NV>::zeros();
-    for k in 0..NV {
-        let e = SVector::<f64, NV>::from_fn(|i, _| if i == k { 1.0 } else { 0.0 });
-        let local = six_d.then(|| C::frame_jacobian_time_variations_local(q, &e));
-        let aligned = points.then(|| C::frame_jacobian_time_variations_local_world_aligned(q, &e));
-        let mut column = SVector::<f64, NV>::zeros();
-        let mut row = 0;
-        for c in contacts {
-            match (c.kind, &local, &aligned) {
-                (Kind::SixD, Some(local), _) => {
-                    column += local[c.frame].tr_mul(&f.fixed_rows::<6>(row));
-                }
-                (Kind::Point, _, Some(aligned)) => {
-                    column += aligned[c.frame]
-                        .fixed_rows::<3>(3)
-                        .tr_mul(&f.fixed_rows::<3>(row));
-                }
-                _ => {}
-            }
-            row += c.kind.rows();
-        }
-        if let Some(aligned) = &aligned {
-            for l in loops {
-                let d = aligned[l.a].fixed_rows::<3>(3) - aligned[l.b].fixed_rows::<3>(3);
-                column += d.tr_mul(&f.fixed_rows::<3>(row));
-                row += 3;
-            }
-        }
-        djtf_dq.set_column(k, &column);
-    }
-    let r1_dq = did_dq - djtf_dq;
-    let r1_dv = did_dv;
-
-    // ∂r₂/∂q, ∂r₂/∂v, the constraints' rows in order.
-    let acc = C::frame_acceleration_derivatives(q, v, qdd);
-    let vel = C::frame_velocity_derivatives(q, v);
-    let mut r2_dq = SMatrix::<f64, R, NV>::zeros();
-    let mut r2_dv = SMatrix::<f64, R, NV>::zeros();
-    let mut row = 0;
-    for c in contacts {
-        let (da_dq, da_dv, _) = &acc[c.frame];
-        match c.kind {
-            Kind::Point => {
-                r2_dq
-                    .fixed_rows_mut::<3>(row)
-                    .copy_from(&da_dq.fixed_rows::<3>(3));
-                r2_dv
-                    .fixed_rows_mut::<3>(row)
-                    .copy_from(&da_dv.fixed_rows::<3>(3));
-            }
-            Kind::SixD => {
-                let (dq, dv) = six_d_rows(&frames, c.frame, da_dq, da_dv, &vel[c.frame]);
-                r2_dq.fixed_rows_mut::<6>(row).copy_from(&dq);
-                r2_dv.fixed_rows_mut::<6>(row).copy_from(&dv);
-            }
-        }
-        row += c.kind.rows();
-    }
-    for l in loops {
-        let ((a_dq, a_dv, _), (b_dq, b_dv, _)) = (&acc[l.a], &acc[l.b]);
-        r2_dq
-            .fixed_rows_mut::<3>(row)
-            .copy_from(&(a_dq.fixed_rows::<3>(3) - b_dq.fixed_rows::<3>(3)));
-        r2_dv
-            .fixed_rows_mut::<3>(row)
-            .copy_from(&(a_dv.fixed_rows::<3>(3) - b_dv.fixed_rows::<3>(3)));
-        row += 3;
-    }
+    let (did_dq, r1_dv) = C::inverse_dynamics_derivatives(q, v, qdd);
+    let r1_dq = did_dq - force_term::<C, NQ, NV, NF, R>(q, f, contacts, loops);
+    let (r2_dq, r2_dv) = constraint_term::<C, NQ, NV, NF, R>(q, v, qdd, &frames, contacts, loops);
 
     // The block solve, with the rows past `rows` left out (identity in `G`, zero elsewhere).
     let rows = system.rows;
@@ -232,6 +164,102 @@ where
         dforces_dv,
         dforces_dtau,
     })
+}
+
+/// `∂(Jᵀ·f)/∂q` at fixed `f`: column `k` is `(∂J/∂δ_k)ᵀ·f`, the Jacobians' rates at the velocity
+/// `e_k` (module docs).
+fn force_term<C, const NQ: usize, const NV: usize, const NF: usize, const R: usize>(
+    q: &SVector<f64, NQ>,
+    f: &SVector<f64, R>,
+    contacts: &[Contact],
+    loops: &[Loop],
+) -> SMatrix<f64, NV, NV>
+where
+    C: DerivativeOutputs<NQ, NV, NF>,
+{
+    let points = contacts.iter().any(|c| c.kind == Kind::Point) || !loops.is_empty();
+    let six_d = contacts.iter().any(|c| c.kind == Kind::SixD);
+    let mut djtf_dq = SMatrix::<f64, NV, NV>::zeros();
+    for k in 0..NV {
+        let e = SVector::<f64, NV>::from_fn(|i, _| if i == k { 1.0 } else { 0.0 });
+        let local = six_d.then(|| C::frame_jacobian_time_variations_local(q, &e));
+        let aligned = points.then(|| C::frame_jacobian_time_variations_local_world_aligned(q, &e));
+        let mut column = SVector::<f64, NV>::zeros();
+        let mut row = 0;
+        for c in contacts {
+            match (c.kind, &local, &aligned) {
+                (Kind::SixD, Some(local), _) => {
+                    column += local[c.frame].tr_mul(&f.fixed_rows::<6>(row));
+                }
+                (Kind::Point, _, Some(aligned)) => {
+                    column += aligned[c.frame]
+                        .fixed_rows::<3>(3)
+                        .tr_mul(&f.fixed_rows::<3>(row));
+                }
+                _ => {}
+            }
+            row += c.kind.rows();
+        }
+        if let Some(aligned) = &aligned {
+            for l in loops {
+                let d = aligned[l.a].fixed_rows::<3>(3) - aligned[l.b].fixed_rows::<3>(3);
+                column += d.tr_mul(&f.fixed_rows::<3>(row));
+                row += 3;
+            }
+        }
+        djtf_dq.set_column(k, &column);
+    }
+    djtf_dq
+}
+
+/// `(∂c/∂q, ∂c/∂v)` of the constraints' accelerations at fixed `q̈`, their rows in order
+/// (module docs).
+fn constraint_term<C, const NQ: usize, const NV: usize, const NF: usize, const R: usize>(
+    q: &SVector<f64, NQ>,
+    v: &SVector<f64, NV>,
+    qdd: &SVector<f64, NV>,
+    frames: &Frames<NV, NF>,
+    contacts: &[Contact],
+    loops: &[Loop],
+) -> (SMatrix<f64, R, NV>, SMatrix<f64, R, NV>)
+where
+    C: DerivativeOutputs<NQ, NV, NF>,
+{
+    let acc = C::frame_acceleration_derivatives(q, v, qdd);
+    let vel = C::frame_velocity_derivatives(q, v);
+    let mut r2_dq = SMatrix::<f64, R, NV>::zeros();
+    let mut r2_dv = SMatrix::<f64, R, NV>::zeros();
+    let mut row = 0;
+    for c in contacts {
+        let (da_dq, da_dv, _) = &acc[c.frame];
+        match c.kind {
+            Kind::Point => {
+                r2_dq
+                    .fixed_rows_mut::<3>(row)
+                    .copy_from(&da_dq.fixed_rows::<3>(3));
+                r2_dv
+                    .fixed_rows_mut::<3>(row)
+                    .copy_from(&da_dv.fixed_rows::<3>(3));
+            }
+            Kind::SixD => {
+                let (dq, dv) = six_d_rows(frames, c.frame, da_dq, da_dv, &vel[c.frame]);
+                r2_dq.fixed_rows_mut::<6>(row).copy_from(&dq);
+                r2_dv.fixed_rows_mut::<6>(row).copy_from(&dv);
+            }
+        }
+        row += c.kind.rows();
+    }
+    for l in loops {
+        let ((a_dq, a_dv, _), (b_dq, b_dv, _)) = (&acc[l.a], &acc[l.b]);
+        r2_dq
+            .fixed_rows_mut::<3>(row)
+            .copy_from(&(a_dq.fixed_rows::<3>(3) - b_dq.fixed_rows::<3>(3)));
+        r2_dv
+            .fixed_rows_mut::<3>(row)
+            .copy_from(&(a_dv.fixed_rows::<3>(3) - b_dv.fixed_rows::<3>(3)));
+        row += 3;
+    }
+    (r2_dq, r2_dv)
 }
 
 /// A six-dimensional contact's `(∂c/∂q, ∂c/∂v)` (module docs) from the classical
