@@ -23,17 +23,16 @@
 //! ```
 
 use articulated::constraint::{self, Baumgarte, ConstrainedChain, Contact, Settings, System};
-use articulated::control::linearize::exact;
-use articulated::control::riccati::lqr;
 use articulated::control::state_feedback::split_gain;
 use articulated::control::tangent::retract;
 use articulated::differentiate::{velocities, SavitzkyGolay};
 use articulated::integrate::{Integrator, Rk4, State};
-use articulated::nalgebra::{DMatrix, SMatrix, SVector};
+use articulated::nalgebra::{SMatrix, SVector};
 use articulated::plot::{svg, Panel};
 use articulated::prelude::*;
 use articulated::FramePlacement;
 use articulated_dynamics::random::Rng;
+use articulated_examples::hemami::upright_lqr;
 
 /// The two-link system on its foot, with what the contact needs.
 #[derive(Chain)]
@@ -68,18 +67,9 @@ const GAINS: Baumgarte = Baumgarte {
     kd: 20.0,
 };
 
-/// The LQR gains about upright on the fixed-ankle model: `Q = diag(100·I, 10·I)`, `R = 0.01·I`.
+/// The LQR gains about upright on the fixed-ankle model ([`upright_lqr`]).
 fn lqr_gains() -> Result<(M6, M6), String> {
-    let upright = V6::zeros();
-    let lin = exact::<TwoLink, 6, 6>(&upright, &V6::zeros(), &TwoLink::gravity(&upright))
-        .map_err(|e| format!("linearization: {e}"))?;
-    let mut q = DMatrix::<f64>::zeros(12, 12);
-    for i in 0..6 {
-        q[(i, i)] = 100.0;
-        q[(6 + i, 6 + i)] = 10.0;
-    }
-    let design = lqr(&lin.a, &lin.b, &q, &(DMatrix::identity(6, 6) * 0.01))
-        .map_err(|e| format!("LQR: {e}"))?;
+    let (_, design) = upright_lqr::<TwoLink, 6>()?;
     split_gain::<6>(&design.k).ok_or_else(|| "the gain is not 6 × 12".into())
 }
 

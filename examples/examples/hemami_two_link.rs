@@ -21,19 +21,19 @@ use std::f64::consts::PI;
 use std::path::Path;
 
 use articulated::control::computed_torque::{computed_torque, hold};
-use articulated::control::linearize::exact;
-use articulated::control::riccati::{lqr, spectral_abscissa};
+use articulated::control::riccati::spectral_abscissa;
 use articulated::control::state_feedback::{split_gain, state_feedback};
 use articulated::control::Controller;
 use articulated::differentiate::SavitzkyGolay;
 use articulated::integrate::{ControlledChain, Rk4, SecondOrder, State};
 use articulated::invert::couples;
-use articulated::nalgebra::{DMatrix, SMatrix, SVector};
+use articulated::nalgebra::{SMatrix, SVector};
 use articulated::plot::{svg, Panel};
 use articulated::prelude::*;
 use articulated::reference::Reference;
 use articulated::trajectory::Trajectory;
 use articulated_dynamics::random::Rng;
+use articulated_examples::hemami::upright_lqr;
 use articulated_examples::output::Output;
 
 /// Hemami's two-link system, generated from its description, with its joint wrenches.
@@ -84,16 +84,7 @@ fn simulate<S: SecondOrder<f64, C6, C6>>(
 /// The LQR gains about upright: `A`, `B` from the generated exact derivatives of forward
 /// dynamics (`forward_dynamics_derivatives`), `Q = diag(100·I, 10·I)`, `R = 0.01·I`.
 fn lqr_gains() -> Result<(M6, M6, f64, f64), String> {
-    let upright = V6::zeros();
-    let lin = exact::<TwoLink, 6, 6>(&upright, &V6::zeros(), &TwoLink::gravity(&upright))
-        .map_err(|e| format!("linearization: {e}"))?;
-    let mut q = DMatrix::<f64>::zeros(12, 12);
-    for i in 0..6 {
-        q[(i, i)] = 100.0;
-        q[(6 + i, 6 + i)] = 10.0;
-    }
-    let design = lqr(&lin.a, &lin.b, &q, &(DMatrix::identity(6, 6) * 0.01))
-        .map_err(|e| format!("LQR: {e}"))?;
+    let (lin, design) = upright_lqr::<TwoLink, 6>()?;
     let open = spectral_abscissa(&lin.a).unwrap_or(f64::NAN);
     let closed = spectral_abscissa(&(&lin.a - &lin.b * &design.k)).unwrap_or(f64::NAN);
     let (kq, kv) = split_gain::<6>(&design.k).ok_or("the gain is not 6 × 12")?;

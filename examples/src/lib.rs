@@ -13,6 +13,7 @@
 //! - [`extremes`]: the accuracy study's extremes (gimbal lock, mass ratios, slender bodies,
 //!   lengths, spin), generated code against the double-double ground truth; the example
 //!   `extremes` writes `docs/accuracy.md` from it.
+//! - [`hemami`]: the LQR design about upright that Hemami's two-link examples share.
 //! - [`output`]: where the examples write their pages and figures: a folder the user names
 //!   (default `target/docs/`); `scripts/figures.sh` regenerates the committed ones in `docs/`.
 
@@ -20,5 +21,6 @@ pub mod drift;
 pub mod extremes;
 pub mod falling_cat;
 pub mod free_floating;
+pub mod hemami;
 pub mod output;
 pub mod trade;
