@@ -118,7 +118,7 @@ fn parse_contacts(list: &str) -> Result<Vec<Contact>, String> {
         .collect()
 }
 
-/// `--loops rod:point(a,b),…`: each loop's name and two frames, in order (as `loops: […]`);
+/// `--loops rod:point(a,b),grip:six_d(c,d),…`: each loop's name and two frames, in order (as `loops: […]`);
 /// the commas inside the parentheses are the frames'.
 fn parse_loops(list: &str) -> Result<Vec<Loop>, String> {
     let mut items = Vec::new();
@@ -142,7 +142,8 @@ fn parse_loops(list: &str) -> Result<Vec<Loop>, String> {
             let bad = || {
                 format!(
                     "error: --loops: `{item}`: expected NAME:point(A,B), frame A's origin held \
-                     on frame B's, e.g. `rod:point(tip,ground)`"
+                     on frame B's, or NAME:six_d(A,B), frame A held on frame B, e.g. \
+                     `rod:point(tip,ground)`"
                 )
             };
             let (name, value) = item.split_once(':').ok_or_else(bad)?;
@@ -150,13 +151,14 @@ fn parse_loops(list: &str) -> Result<Vec<Loop>, String> {
                 Some((kind, rest)) => (kind.trim(), rest.strip_suffix(')').ok_or_else(bad)?),
                 None => (value.trim(), ""),
             };
-            if kind != "point" {
+            let Some(kind) = ContactKind::from_name(kind) else {
                 return Err(format!("error: --loops: {}", unknown_loop_kind(kind)));
-            }
+            };
             let frames: Vec<&str> = frames.split(',').map(str::trim).collect();
             match (name.trim(), &frames[..]) {
                 (name, [a, b]) if !name.is_empty() && !a.is_empty() && !b.is_empty() => Ok(Loop {
                     name: name.to_string(),
+                    kind,
                     a: a.to_string(),
                     b: b.to_string(),
                 }),

@@ -160,7 +160,8 @@ pub struct ExpandArgs {
     #[arg(long)]
     pub contacts: Option<String>,
     /// The loop closures, in place of the description's, comma-separated `NAME:point(A,B)`
-    /// (frame A's origin held on frame B's), e.g. `--loops 'rod:point(tip,ground)'`.
+    /// (frame A's origin held on frame B's) or `NAME:six_d(A,B)` (frame A held on frame B),
+    /// e.g. `--loops 'rod:point(tip,ground)'`.
     #[arg(long)]
     pub loops: Option<String>,
 }

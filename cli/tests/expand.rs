@@ -156,7 +156,7 @@ fn contacts_and_loops_give_constrained_forward_dynamics() {
         "pub fn constrained_forward_dynamics(",
         "const FRAMES: &'static [&'static str] = &[\"link2\", \"link7\", \"link5\"];",
         "Contact { frame: 1, kind: ::articulated::constraint::Kind::Point, }",
-        "::articulated::constraint::Loop { a: 2, b: 0, }",
+        "::articulated::constraint::Loop { a: 2, b: 0, kind: ::articulated::constraint::Kind::Point, }",
     ] {
         assert!(flat.contains(expected), "no `{expected}` in:\n{stdout}");
     }

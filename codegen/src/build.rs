@@ -234,11 +234,14 @@ impl Builder {
     }
 
     /// The loop closures of the source added last, in that order (as `loops = […]`): each
-    /// loop's name and its two frames `(name, a, b)`, frame `a`'s origin held on frame `b`'s.
-    pub fn loops(mut self, loops: &[(&str, &str, &str)]) -> Self {
+    /// loop's name, what it holds and its two frames `(name, kind, a, b)`: frame `a`'s origin
+    /// held on frame `b`'s (`ContactKind::Point`) or frame `a` on frame `b`
+    /// (`ContactKind::SixD`).
+    pub fn loops(mut self, loops: &[(&str, ContactKind, &str, &str)]) -> Self {
         if let Some(last) = self.sources.last_mut() {
-            let loops = loops.iter().map(|&(name, a, b)| Loop {
+            let loops = loops.iter().map(|&(name, kind, a, b)| Loop {
                 name: name.to_string(),
+                kind,
                 a: a.to_string(),
                 b: b.to_string(),
             });

@@ -116,7 +116,7 @@ impl ContactKind {
     }
 
     /// Its rows: 3 for a point, 6 for a six-dimensional contact.
-    pub fn rows(self) -> usize {
+    pub const fn rows(self) -> usize {
         match self {
             ContactKind::Point => 3,
             ContactKind::SixD => 6,
@@ -133,21 +133,26 @@ pub struct Contact {
     pub kind: ContactKind,
 }
 
-/// A loop closure declared in the description: `rod: point(a, b)` holds frame `a`'s origin on
-/// frame `b`'s (3 rows, world axes: the runtime's `articulated::constraint::Loop`).
+/// A loop closure declared in the description (the runtime's `articulated::constraint::Loop`):
+/// `rod: point(a, b)` holds frame `a`'s origin on frame `b`'s (3 rows, world axes);
+/// `grip: six_d(a, b)` holds frame `a` on frame `b` (6 rows, `a`'s axes).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Loop {
     /// Its name.
     pub name: String,
-    /// The frame whose origin is held.
+    /// What it holds.
+    pub kind: ContactKind,
+    /// The frame held.
     pub a: String,
     /// The frame it is held on.
     pub b: String,
 }
 
 impl Loop {
-    /// Its rows: 3.
-    pub const ROWS: usize = 3;
+    /// Its rows: 3 for a point, 6 for a frame.
+    pub const fn rows(&self) -> usize {
+        self.kind.rows()
+    }
 }
 
 /// The outputs the runtime's constraint solver reads (`articulated::constraint::forward_dynamics_of`),
@@ -286,7 +291,7 @@ impl Options {
     /// six-dimensional contact.
     pub fn constraint_rows(&self) -> usize {
         let contacts: usize = self.contacts.iter().map(|c| c.kind.rows()).sum();
-        contacts + Loop::ROWS * self.loops.len()
+        contacts + self.loops.iter().map(Loop::rows).sum::<usize>()
     }
 
     /// The frames the constraints name, in declaration order (the contacts', then each loop's
@@ -435,10 +440,11 @@ pub fn unknown_contact_kind(found: &str) -> String {
 
 /// The message for an unknown loop kind.
 pub fn unknown_loop_kind(found: &str) -> String {
-    let hint = did_you_mean(found, ["point"]);
+    let hint = did_you_mean(found, ContactKind::ALL.iter().map(|(_, n)| *n));
     format!(
         "unknown loop kind `{found}`:{hint} expected `point(a, b)` (frame `a`'s origin held on \
-         frame `b`'s: 3 rows, a force in world axes)"
+         frame `b`'s: 3 rows, a force in world axes) or `six_d(a, b)` (frame `a` held on frame \
+         `b`: 6 rows, a wrench in `a`'s axes)"
     )
 }
 

@@ -1573,13 +1573,15 @@ fn unknown_loop_kind() {
         "loops: [rod: line(tip, anchor)];",
         14,
         "unknown loop kind `line`: expected `point(a, b)` (frame `a`'s origin held on frame \
-         `b`'s: 3 rows, a force in world axes)",
+         `b`'s: 3 rows, a force in world axes) or `six_d(a, b)` (frame `a` held on frame `b`: 6 \
+         rows, a wrench in `a`'s axes)",
     );
     check_constraint(
         "loops: [rod: pont(tip, anchor)];",
         14,
         "unknown loop kind `pont`: did you mean `point`? expected `point(a, b)` (frame `a`'s \
-         origin held on frame `b`'s: 3 rows, a force in world axes)",
+         origin held on frame `b`'s: 3 rows, a force in world axes) or `six_d(a, b)` (frame `a` \
+         held on frame `b`: 6 rows, a wrench in `a`'s axes)",
     );
 }
 
@@ -1672,7 +1674,7 @@ fn a_builder_states_constraints() {
     let source = Builder::new()
         .description(d())
         .contacts(&[("tip", ContactKind::SixD)])
-        .loops(&[("rod", "toe", "anchor")])
+        .loops(&[("rod", ContactKind::Point, "toe", "anchor")])
         .to_source()
         .unwrap_or_else(|e| panic!("{e}"));
     for expected in [
@@ -1685,7 +1687,7 @@ fn a_builder_states_constraints() {
     let e = Builder::new()
         .description(d())
         .contacts(&[("tpi", ContactKind::Point)])
-        .loops(&[("rod", "tip", "tip")])
+        .loops(&[("rod", ContactKind::Point, "tip", "tip")])
         .to_source()
         .unwrap_err()
         .to_string();

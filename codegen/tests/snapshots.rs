@@ -63,6 +63,7 @@ fn declared_loop() {
     let mut chain = load(Path::new(&path), false).unwrap_or_else(|e| panic!("{e}"));
     chain.options.loops = vec![articulated_codegen::options::Loop {
         name: "closure".into(),
+        kind: articulated_codegen::options::ContactKind::Point,
         a: "tip".into(),
         b: "ground".into(),
     }];

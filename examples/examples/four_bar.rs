@@ -57,7 +57,7 @@ struct Run {
 }
 
 fn run(q0: &V3, gains: Option<Baumgarte>) -> Result<Run, String> {
-    let loops = [Loop { a: 0, b: 1 }];
+    let loops = [Loop::point(0, 1)];
     // The loop's third row (along the pins' axis) is identically zero: a proximal μ solves it.
     let settings = Settings {
         mu: 1e-4,

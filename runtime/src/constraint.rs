@@ -157,16 +157,47 @@ impl Contact {
     }
 }
 
-/// A loop closure: frame `a`'s origin held on frame `b`'s (3 rows, world axes): a four-bar
-/// linkage, a parallel robot, a rod between two bodies. Its force, in world axes, acts on `a`'s
-/// body and its opposite on `b`'s; its position error is `p_a − p_b`. A planar loop has fewer
-/// independent rows than three: solve it with a proximal [`Settings::mu`]` > 0`.
+/// A loop closure between two frames of the chain: a four-bar linkage, a parallel robot, a rod
+/// between two bodies ([`Kind::Point`]), a tool held rigidly in two hands ([`Kind::SixD`]). Its
+/// force acts on `a`'s body and its opposite on `b`'s:
+/// - [`Kind::Point`], 3 rows: frame `a`'s origin held on frame `b`'s; the rows are the
+///   difference of the two origins' classical linear accelerations, world axes (Pinocchio's
+///   two-joint `CONTACT_3D` in `LOCAL_WORLD_ALIGNED`); the force is in world axes, the position
+///   error `p_a − p_b`. A planar loop has fewer independent rows than three: solve it with a
+///   proximal [`Settings::mu`]` > 0`.
+/// - [`Kind::SixD`], 6 rows: frame `a` held on frame `b`, their relative motion in `a`'s axes,
+///   `v_a − ᵃX_b·v_b` (LOCAL velocities, `ᵃX_b` the motion transform from `b` to `a`), whose
+///   rate at `q̈ = 0` is the drift `γ_a − ᵃX_b·γ_b + v_a × ᵃX_b·v_b` (Pinocchio's two-joint
+///   `CONTACT_6D` in `LOCAL`); the wrench `[n; f]` is about `a`'s origin in its axes, the
+///   position error `log6(M_b⁻¹·M_a)`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Loop {
     /// The first frame, by its index in `Chain::FRAMES`.
     pub a: usize,
     /// The second frame.
     pub b: usize,
+    /// What it holds.
+    pub kind: Kind,
+}
+
+impl Loop {
+    /// Frame `a`'s origin held on frame `b`'s.
+    pub const fn point(a: usize, b: usize) -> Self {
+        Loop {
+            a,
+            b,
+            kind: Kind::Point,
+        }
+    }
+
+    /// Frame `a` held on frame `b`.
+    pub const fn six_d(a: usize, b: usize) -> Self {
+        Loop {
+            a,
+            b,
+            kind: Kind::SixD,
+        }
+    }
 }
 
 /// Baumgarte stabilization gains: `J·q̈ + γ = −kd·J·v − kp·e` (module docs), the same on every
@@ -439,16 +470,71 @@ impl<const NV: usize, const NF: usize> Frames<NV, NF> {
         }
         for l in loops {
             let (a, b) = (known(l.a)?, known(l.b)?);
-            let world_rows = |i: usize| -> SMatrix<f64, 3, NV> {
-                self.placements[i].rotation * self.jacobians[i].fixed_rows::<3>(3)
-            };
-            let rows = world_rows(a) - world_rows(b);
-            let (da, db) = (point_drift(&self.drifts[a]), point_drift(&self.drifts[b]));
-            let e = point_error(&self.placements[a], &self.placements[b]);
-            system.push(&rows, &core::array::from_fn(|r| da[r] - db[r]), &e)?;
+            let (pa, pb) = (&self.placements[a], &self.placements[b]);
+            match l.kind {
+                Kind::Point => {
+                    let world_rows = |i: usize| -> SMatrix<f64, 3, NV> {
+                        self.placements[i].rotation * self.jacobians[i].fixed_rows::<3>(3)
+                    };
+                    let rows = world_rows(a) - world_rows(b);
+                    let (da, db) = (point_drift(&self.drifts[a]), point_drift(&self.drifts[b]));
+                    let e = point_error(pa, pb);
+                    system.push(&rows, &core::array::from_fn(|r| da[r] - db[r]), &e)?;
+                }
+                Kind::SixD => {
+                    let x = Transform::between(pa, pb);
+                    let mut rows = self.jacobians[a];
+                    for c in 0..NV {
+                        let moved = x.motion(&self.jacobians[b].column(c).into());
+                        let mut column = rows.column_mut(c);
+                        column -= moved;
+                    }
+                    let (va, vb) = (&self.velocities[a], &self.velocities[b]);
+                    let ga = SVector::from(six_d_drift(pa, va, &self.drifts[a]));
+                    let gb = SVector::from(six_d_drift(pb, vb, &self.drifts[b]));
+                    let drift = ga - x.motion(&gb) + cross_motion(va, &x.motion(vb));
+                    system.push(&rows, &drift.into(), &six_d_error(pa, pb))?;
+                }
+            }
         }
         Ok(system)
     }
+}
+
+/// The motion transform `ᵃX_b` between two frames placed in the world: `b`'s coordinates to
+/// `a`'s.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Transform {
+    /// `ᵃR_b`.
+    rotation: nalgebra::Matrix3<f64>,
+    /// `b`'s origin in `a`'s axes.
+    origin: nalgebra::Vector3<f64>,
+}
+
+impl Transform {
+    /// `ᵃX_b` for frames placed at `a` and `b`.
+    pub(crate) fn between(a: &FramePlacement<f64>, b: &FramePlacement<f64>) -> Self {
+        Transform {
+            rotation: a.rotation.tr_mul(&b.rotation),
+            origin: a.rotation.tr_mul(&(b.translation - a.translation)),
+        }
+    }
+
+    /// A motion `[ω; v]` in `b`'s coordinates, in `a`'s: `[R·ω; R·v + p × R·ω]`.
+    pub(crate) fn motion(&self, m: &SVector<f64, 6>) -> SVector<f64, 6> {
+        let w = self.rotation * m.fixed_rows::<3>(0);
+        let v = self.rotation * m.fixed_rows::<3>(3) + self.origin.cross(&w);
+        SVector::<f64, 6>::new(w[0], w[1], w[2], v[0], v[1], v[2])
+    }
+}
+
+/// The motion cross product `a × b = [ω_a × ω_b; ω_a × v_b + v_a × ω_b]`.
+pub(crate) fn cross_motion(a: &SVector<f64, 6>, b: &SVector<f64, 6>) -> SVector<f64, 6> {
+    let (wa, va) = (a.fixed_rows::<3>(0), a.fixed_rows::<3>(3));
+    let (wb, vb) = (b.fixed_rows::<3>(0), b.fixed_rows::<3>(3));
+    let w = wa.cross(&wb);
+    let v = wa.cross(&vb) + va.cross(&wb);
+    SVector::<f64, 6>::new(w[0], w[1], w[2], v[0], v[1], v[2])
 }
 
 /// A point contact's drift: the classical linear acceleration at `q̈ = 0`, world axes.
@@ -672,7 +758,7 @@ where
 ///         frames: [tip, anchor];
 ///     }
 /// }
-/// let loops = [Loop { a: 0, b: 1 }];
+/// let loops = [Loop::point(0, 1)];
 /// let settings = Settings { mu: 1e-8, ..Settings::default() }; // 1 of its 3 rows is free
 /// let mut held = ConstrainedChain::<Held, _, 1, 1, 2, 3>::new(
 ///     &SVector::zeros(), &[], &loops, Some(Baumgarte { kp: 100.0, kd: 20.0 }), settings,

@@ -2,8 +2,10 @@
 //! item 8) against central differences of the constrained forward dynamics itself (`q` moved
 //! along the configuration's tangent by `control::tangent::retract`), on a fixed arm with its
 //! flange welded or held at a point, the same arm on a free base with its flange welded or its
-//! flange and forearm held at points, or the flange held on the forearm by a loop, and Hemami's two-link on a free foot (quaternions in the base and
-//! the joints) standing on its sole, or held at a point of its trunk.
+//! flange and forearm held at points, the flange held on the forearm by a point loop or rigidly
+//! on the first link by a six-dimensional one (alone, or beside the forearm held at a point), and Hemami's
+//! two-link on a free foot (quaternions in the base and the joints) standing on its sole, or held
+//! at a point of its trunk.
 
 mod common;
 
@@ -42,7 +44,7 @@ chain_with_derivatives!(Arm7, urdf = "../models/arm7.urdf", [link7, link4]);
 chain_with_derivatives!(
     Arm7Floating,
     urdf = "../models/arm7.urdf",
-    [link7, link4],
+    [link7, link4, link1],
     floating
 );
 chain_with_derivatives!(Foot, file = "../models/two_link_foot.chain", [sole, trunk]);
@@ -170,22 +172,34 @@ fn derivatives_match_central_differences() {
     for seed in [0.0, 1.0] {
         check::<Arm7, 7, 7, 2, 6>("arm7, flange welded", &[Contact::six_d(0)], &[], seed);
         check::<Arm7, 7, 7, 2, 6>("arm7, flange at a point", &[Contact::point(0)], &[], seed);
-        check::<Arm7Floating, 14, 13, 2, 12>(
+        check::<Arm7Floating, 14, 13, 3, 12>(
             "arm7 on a free base, flange welded",
             &[Contact::six_d(0)],
             &[],
             seed,
         );
-        check::<Arm7Floating, 14, 13, 2, 12>(
+        check::<Arm7Floating, 14, 13, 3, 12>(
             "arm7 on a free base, flange and forearm at points",
             &[Contact::point(0), Contact::point(1)],
             &[],
             seed,
         );
-        check::<Arm7Floating, 14, 13, 2, 12>(
+        check::<Arm7Floating, 14, 13, 3, 12>(
             "arm7 on a free base, flange held on the forearm by a loop",
             &[],
-            &[Loop { a: 0, b: 1 }],
+            &[Loop::point(0, 1)],
+            seed,
+        );
+        check::<Arm7Floating, 14, 13, 3, 12>(
+            "arm7 on a free base, flange held rigidly on the first link by a loop",
+            &[],
+            &[Loop::six_d(0, 2)],
+            seed,
+        );
+        check::<Arm7Floating, 14, 13, 3, 12>(
+            "arm7 on a free base, forearm at a point, flange held rigidly on the first link",
+            &[Contact::point(1)],
+            &[Loop::six_d(0, 2)],
             seed,
         );
         check::<Foot, 13, 12, 2, 9>(

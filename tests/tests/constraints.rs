@@ -543,7 +543,7 @@ fn a_four_bar_has_one_degree_of_freedom_and_stays_closed() {
     let gap = (tip.translation - ground.translation).norm();
     assert!(gap < 1e-12, "the closed configuration is {gap:e} m open");
 
-    let loops = [Loop { a: 0, b: 1 }];
+    let loops = [Loop::point(0, 1)];
     let frames = constraint::Frames::<3, 2>::of::<FourBar, 3>(&q0, &SVector::zeros());
     let system: System<3, 3> = frames.system(&[], &loops, None).unwrap();
     let sv = system.jacobian.singular_values();
@@ -664,7 +664,7 @@ fn a_pendulum_held_by_a_loop_moves_as_the_closed_form() {
             gap < 1e-15,
             "θ {theta}: the rod's end is {gap:e} m off the pivot"
         );
-        let system: System<6, 3> = frames.system(&[], &[Loop { a: 0, b: 1 }], None).unwrap();
+        let system: System<6, 3> = frames.system(&[], &[Loop::point(0, 1)], None).unwrap();
         let (m, nle) = Bob::mass_matrix_and_nonlinear_effects(&q, &v);
         let sol = constraint::forward_dynamics(
             &m,
@@ -1070,7 +1070,7 @@ fn a_declared_planar_loop_is_redundant() {
     use articulated::constraint::Loop;
     assert_eq!(<ClosedFourBar as Chain<f64>>::FRAMES, ["tip", "ground"]);
     assert!(ClosedFourBar::CONTACTS.is_empty());
-    assert_eq!(ClosedFourBar::LOOPS, [Loop { a: 0, b: 1 }]);
+    assert_eq!(ClosedFourBar::LOOPS, [Loop::point(0, 1)]);
     assert_eq!(ClosedFourBar::CONSTRAINT_ROWS, 3);
     for theta in [0.3, 1.2, -2.0] {
         let q = four_bar_closed(theta);

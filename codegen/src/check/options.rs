@@ -10,7 +10,7 @@ use articulated_dynamics::prune::PruneError;
 
 use super::{About, Problem};
 use crate::model::{JointKind, Model};
-use crate::options::{did_you_mean, Accuracy, Options, Output};
+use crate::options::{did_you_mean, Accuracy, ContactKind, Options, Output};
 
 /// The most velocity coordinates the generator emits straight-line code for.
 pub const MAX_NV: usize = 160;
@@ -141,8 +141,20 @@ fn constraints(model: &Model, options: &Options) -> Vec<Problem> {
                 About::LoopFrame(k, 1),
                 format!(
                     "loop `{}` holds frame `{}` on itself: expected two different frames, \
-                     `point(a, b)` holding `a`'s origin on `b`'s",
-                    l.name, l.a
+                     `{}(a, b)` holding `a`{} on `b`{}",
+                    l.name,
+                    l.a,
+                    l.kind.name(),
+                    if l.kind == ContactKind::Point {
+                        "'s origin"
+                    } else {
+                        ""
+                    },
+                    if l.kind == ContactKind::Point {
+                        "'s"
+                    } else {
+                        ""
+                    },
                 ),
             ));
         } else if let (Some(a), Some(b)) = (rigid_body(model, &l.a), rigid_body(model, &l.b)) {
@@ -173,7 +185,7 @@ fn constraints(model: &Model, options: &Options) -> Vec<Problem> {
             .contacts
             .iter()
             .map(|c| c.kind.rows())
-            .chain(options.loops.iter().map(|_| crate::options::Loop::ROWS));
+            .chain(options.loops.iter().map(crate::options::Loop::rows));
         let mut total = 0;
         let past = sizes
             .enumerate()

@@ -12,7 +12,7 @@ use syn::{DeriveInput, Ident, LitStr, Token};
 
 use super::path::Key;
 use crate::load::FloatingBase;
-use crate::lower::constraints::{contacts_of, loops_of};
+use crate::lower::constraints::{contacts_of, loops_of, LoopTokens};
 use crate::options::{
     unknown_accuracy, unknown_output, unknown_scalar, Accuracy, ContactKind, Output, ScalarKind,
 };
@@ -53,8 +53,8 @@ pub(crate) struct Attr {
     pub frames: Option<Vec<Ident>>,
     /// `contacts = [frame: kind, …]`, if given: each frame's token and the kind.
     pub contacts: Option<Vec<(Ident, ContactKind)>>,
-    /// `loops = [name: point(a, b), …]`, if given: each loop's name and frames.
-    pub loops: Option<Vec<(Ident, [Ident; 2])>>,
+    /// `loops = [name: point(a, b) | six_d(a, b), …]`, if given: each loop's name and frames.
+    pub loops: Option<Vec<LoopTokens>>,
     /// `quasi_static`.
     pub quasi_static: bool,
     /// `strict`: a warning of the loader refuses the file.
@@ -68,7 +68,7 @@ const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, \
                     `scalar = f64 | f32 | generic`, `outputs = [mass_matrix, …]`, \
                     `accuracy = fastest | robust`, `lock = [joint(q, …), …]`, \
                     `keep = [body, …]`, `frames = [frame, …]`, \
-                    `contacts = [frame: six_d | point, …]`, `loops = [name: point(a, b), …]`, \
+                    `contacts = [frame: six_d | point, …]`, `loops = [name: point(a, b) | six_d(a, b), …]`, \
                     `quasi_static`, `strict` or `balance_inertia`";
 
 /// Reads every `#[chain(…)]` on `input`.

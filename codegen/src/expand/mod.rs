@@ -207,8 +207,9 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
     if let Some(loops) = &attr.loops {
         chain.options.loops = loops
             .iter()
-            .map(|(name, [a, b])| Loop {
+            .map(|(name, kind, [a, b])| Loop {
                 name: name.to_string(),
+                kind: *kind,
                 a: a.to_string(),
                 b: b.to_string(),
             })
@@ -258,12 +259,16 @@ fn attr_span(attr: &attr::Attr, about: &About) -> Option<proc_macro2::Span> {
             .as_ref()
             .and_then(|c| c.get(*k))
             .map(|(f, _)| f),
-        About::Loop(k) => attr.loops.as_ref().and_then(|l| l.get(*k)).map(|(n, _)| n),
+        About::Loop(k) => attr
+            .loops
+            .as_ref()
+            .and_then(|l| l.get(*k))
+            .map(|(n, _, _)| n),
         About::LoopFrame(k, side) => attr
             .loops
             .as_ref()
             .and_then(|l| l.get(*k))
-            .and_then(|(_, frames)| frames.get(*side)),
+            .and_then(|(_, _, frames)| frames.get(*side)),
         _ => None,
     }
     .map(Ident::span)

@@ -12,7 +12,7 @@ use quote::quote;
 use super::function::{self, Used};
 use super::{docs, Context};
 use crate::emit;
-use crate::options::{ContactKind, Loop, ScalarKind};
+use crate::options::{ContactKind, ScalarKind};
 use crate::sym::{Node, OpCounts, Sym};
 use crate::trace::constrained::{self, ConstrainedTraced, Constraint};
 
@@ -51,7 +51,17 @@ pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Option<OpCounts>)
     });
     let loops = options.loops.iter().map(|l| {
         let (a, b) = (lit(index(&l.a)), lit(index(&l.b)));
-        quote!(::articulated::constraint::Loop { a: #a, b: #b })
+        let kind = match l.kind {
+            ContactKind::Point => quote!(Point),
+            ContactKind::SixD => quote!(SixD),
+        };
+        quote! {
+            ::articulated::constraint::Loop {
+                a: #a,
+                b: #b,
+                kind: ::articulated::constraint::Kind::#kind,
+            }
+        }
     });
     let constraints: Vec<Constraint> = options
         .contacts
@@ -60,12 +70,10 @@ pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Option<OpCounts>)
             ContactKind::Point => Constraint::Point(index(&c.frame)),
             ContactKind::SixD => Constraint::SixD(index(&c.frame)),
         })
-        .chain(
-            options
-                .loops
-                .iter()
-                .map(|l| Constraint::Loop(index(&l.a), index(&l.b))),
-        )
+        .chain(options.loops.iter().map(|l| match l.kind {
+            ContactKind::Point => Constraint::Loop(index(&l.a), index(&l.b)),
+            ContactKind::SixD => Constraint::LoopSixD(index(&l.a), index(&l.b)),
+        }))
         .collect();
     let traced = constrained::trace(cx.model, &cx.frames(), &constraints);
     let ops = traced.ops();
@@ -285,15 +293,23 @@ fn rows_of(cx: &Context) -> Vec<String> {
         ));
     }
     for l in &cx.options.loops {
+        let what = match l.kind {
+            ContactKind::Point => format!(
+                "the force on `{}`'s origin (its opposite on `{}`'s), world axes",
+                l.a, l.b
+            ),
+            ContactKind::SixD => format!(
+                "the wrench `[n; f]` on `{}` about its origin, in its axes (its opposite on `{}`)",
+                l.a, l.b
+            ),
+        };
         lines.push(format!(
-            "{}: loop `{}` (`{}` on `{}`), the force on `{}`'s origin (its opposite on `{}`'s), \
-             world axes;",
-            range(Loop::ROWS),
+            "{}: loop `{}` (`{}`: `{}` on `{}`), {what};",
+            range(l.rows()),
             l.name,
+            l.kind.name(),
             l.a,
             l.b,
-            l.a,
-            l.b
         ));
     }
     if let Some(last) = lines.last_mut() {
@@ -326,7 +342,7 @@ fn loops_doc(cx: &Context) -> Vec<String> {
         .options
         .loops
         .iter()
-        .map(|l| format!("`{}` (`{}` on `{}`)", l.name, l.a, l.b))
+        .map(|l| format!("`{}` (`{}`: `{}` on `{}`)", l.name, l.kind.name(), l.a, l.b))
         .collect();
     let which = if listed.is_empty() {
         "none".to_string()
@@ -335,7 +351,8 @@ fn loops_doc(cx: &Context) -> Vec<String> {
     };
     vec![format!(
         "The loop closures the description declares, in its order: {which}. Each holds frame \
-         `a`'s origin on frame `b`'s, by their indices in `Chain::FRAMES`."
+         `a`'s origin (`point`) or frame `a` (`six_d`) on frame `b`, by their indices in \
+         `Chain::FRAMES`."
     )]
 }
 

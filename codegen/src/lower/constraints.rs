@@ -52,10 +52,13 @@ pub(crate) fn contacts_of(v: &Expr) -> (Vec<(Ident, ContactKind)>, Vec<syn::Erro
     (contacts, errors)
 }
 
-/// The loops of `[name: point(a, b), …]`, each with its name's and frames' tokens, and the
-/// errors: a value that is not a list, an item that is not `name: kind(a, b)`, an unknown kind,
-/// other than two frame names.
-pub(crate) fn loops_of(v: &Expr) -> (Vec<(Ident, [Ident; 2])>, Vec<syn::Error>) {
+/// A loop's name token, its kind and its frames' tokens.
+pub(crate) type LoopTokens = (Ident, ContactKind, [Ident; 2]);
+
+/// The loops of `[name: point(a, b), name: six_d(a, b), …]`, each with its name's token, its
+/// kind and its frames' tokens, and the errors: a value that is not a list, an item that is not
+/// `name: kind(a, b)`, an unknown kind, other than two frame names.
+pub(crate) fn loops_of(v: &Expr) -> (Vec<LoopTokens>, Vec<syn::Error>) {
     let mut loops = Vec::new();
     let mut errors = Vec::new();
     let mut error = |at: &dyn ToTokens, message: String| {
@@ -90,17 +93,27 @@ pub(crate) fn loops_of(v: &Expr) -> (Vec<(Ident, [Ident; 2])>, Vec<syn::Error>) 
                 continue;
             }
         };
-        if kind != "point" {
+        let Some(kind_of) = ContactKind::from_name(&kind.to_string()) else {
             error(kind, unknown_loop_kind(&kind.to_string()));
             continue;
-        }
+        };
         let count = args.map_or(0, Punctuated::len);
         if count != 2 {
             error(
                 value,
                 format!(
-                    "expected the loop's two frames, `point(a, b)` (frame `a`'s origin held on \
-                     frame `b`'s), found {count} in `{value}`"
+                    "expected the loop's two frames, `{kind}(a, b)` (frame `a`{held} held on \
+                     frame `b`{s}), found {count} in `{value}`",
+                    held = if kind_of == ContactKind::Point {
+                        "'s origin"
+                    } else {
+                        ""
+                    },
+                    s = if kind_of == ContactKind::Point {
+                        "'s"
+                    } else {
+                        ""
+                    },
                 ),
             );
             continue;
@@ -113,7 +126,7 @@ pub(crate) fn loops_of(v: &Expr) -> (Vec<(Ident, [Ident; 2])>, Vec<syn::Error>) 
             }
         }
         if let Ok(frames) = <[Ident; 2]>::try_from(frames) {
-            loops.push((name.clone(), frames));
+            loops.push((name.clone(), kind_of, frames));
         }
     }
     (loops, errors)

@@ -377,13 +377,14 @@ impl Lower {
         }
     }
 
-    /// `loops: [name: point(a, b), …]` ([`loops_of`]).
+    /// `loops: [name: point(a, b), name: six_d(a, b), …]` ([`loops_of`]).
     fn loop_list(&mut self, v: &Expr, options: &mut Options) {
         let (loops, errors) = loops_of(v);
         self.cx.errors(errors);
-        for (name, [a, b]) in loops {
+        for (name, kind, [a, b]) in loops {
             options.loops.push(Loop {
                 name: name.to_string(),
+                kind,
                 a: a.to_string(),
                 b: b.to_string(),
             });

@@ -36,7 +36,7 @@ use articulated_dynamics::reference::Ltdl;
 use articulated_dynamics::spatial::Vec3;
 use articulated_dynamics::Scalar;
 
-use super::frames::{FrameAt, In, Kinematics};
+use super::frames::{Frame, FrameAt, In, Kinematics};
 use super::{fewest, inputs, mass_matrix, model_inputs, rnea, symbolic_tree};
 use super::{Formulation, Variant};
 use crate::optimize::{reassociate, reciprocals};
@@ -51,13 +51,15 @@ pub enum Constraint {
     SixD(usize),
     /// A point loop holding frame `a`'s origin on frame `b`'s: 3 rows.
     Loop(usize, usize),
+    /// A six-dimensional loop holding frame `a` on frame `b`: 6 rows.
+    LoopSixD(usize, usize),
 }
 
 impl Constraint {
     /// Its rows.
     pub fn rows(self) -> usize {
         match self {
-            Constraint::SixD(_) => 6,
+            Constraint::SixD(_) | Constraint::LoopSixD(..) => 6,
             Constraint::Point(_) | Constraint::Loop(..) => 3,
         }
     }
@@ -195,6 +197,46 @@ fn trace_variant(
                     }
                     drift.extend((Vec3(da) - Vec3(db)).0);
                 }
+                Constraint::LoopSixD(a, b) => {
+                    // In world axes at `a`'s origin (module docs): `b`'s motion moved to
+                    // `p_a` (`r = p_a − p_b`) subtracted from `a`'s.
+                    let (fa, fb) = (&placed[a], &placed[b]);
+                    let ja = c.reduce_columns(&k.jacobian(fa, In::LocalWorldAligned), 6);
+                    let jb = c.reduce_columns(&k.jacobian(fb, In::LocalWorldAligned), 6);
+                    let r = fa.origin - fb.origin;
+                    let at = |j: &[Sym], row: usize, col: usize| j[row * nv + col];
+                    let moved: Vec<Vec3<Sym>> = (0..nv)
+                        .map(|col| {
+                            r.cross(Vec3([at(&jb, 0, col), at(&jb, 1, col), at(&jb, 2, col)]))
+                        })
+                        .collect();
+                    let block = (0..6).map(|i| {
+                        (0..nv)
+                            .map(|col| {
+                                let d = at(&ja, i, col) - at(&jb, i, col);
+                                if i < 3 {
+                                    d
+                                } else {
+                                    d + moved[col].0[i - 3]
+                                }
+                            })
+                            .collect::<Vec<Sym>>()
+                    });
+                    rows.extend(block);
+                    let spatial = |f: &Frame<Sym>| {
+                        let (dw, ddp) = k.classical_acceleration(f, &zero);
+                        let (w, dp) = k.aligned_velocity(f);
+                        (dw, ddp - w.cross(dp), w, dp)
+                    };
+                    let (dwa, dva, wa, pa) = spatial(fa);
+                    let (dwb, dvb, wb, pb) = spatial(fb);
+                    // `b`'s velocity and drift at `p_a`; the drift is `W_a·(γ_a − ᵃX_b·γ_b +
+                    // v_a × ᵃX_b·v_b)`, the runtime's turned into world axes.
+                    let pb = pb + wb.cross(r);
+                    let dvb = dvb + dwb.cross(r);
+                    drift.extend((dwa - dwb + wa.cross(wb)).0);
+                    drift.extend((dva - dvb + wa.cross(pb) + pa.cross(wb)).0);
+                }
             }
         }
         for (r, row) in rows.iter_mut().enumerate() {
@@ -207,7 +249,7 @@ fn trace_variant(
         // Each six-dimensional contact's wrench from world axes into its frame's.
         let mut at = nv;
         for &constraint in constraints {
-            if let Constraint::SixD(i) = constraint {
+            if let Constraint::SixD(i) | Constraint::LoopSixD(i, _) = constraint {
                 let w = placed[i].rotation;
                 for part in 0..2 {
                     let s = at + 3 * part;

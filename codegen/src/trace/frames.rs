@@ -244,7 +244,7 @@ pub(super) struct Frame<T> {
     /// `world_R_frame`.
     pub(super) rotation: Mat3<T>,
     /// Its origin in the world.
-    origin: Vec3<T>,
+    pub(super) origin: Vec3<T>,
 }
 
 /// The tree's kinematics at `(q, v)`: each node's transforms and spatial velocity.

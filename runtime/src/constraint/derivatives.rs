@@ -25,7 +25,12 @@
 //!   at the solution, `∂c = Wᵀ·∂c_w`: the classical acceleration's derivatives less those of
 //!   `ω × ṗ`, from `frame_velocity_derivatives` turned into world axes
 //!   (`∂(W·u)/∂δ_k = ω_k × (W·u) + W·∂u/∂δ_k`, `ω_k` the LOCAL_WORLD_ALIGNED Jacobian's angular
-//!   column `k`).
+//!   column `k`);
+//! - a six-dimensional loop, `J = J_a − ᵃX_b·J_b` and `c = a_a − ᵃX_b·a_b + v_a × ᵃX_b·v_b`
+//!   (LOCAL; `a_a`, `a_b` do not vanish on their own): the same pieces for each frame, the
+//!   spatial accelerations' derivatives in full (`∂(Wᵀ·u)/∂δ_k = Wᵀ·∂u/∂δ_k − ω_k × Wᵀ·u`, `ω_k`
+//!   the LOCAL Jacobian's angular column), and the transform's
+//!   `∂ᵃX_b/∂δ_k = ᵃX_b·(s_b×) − (s_a×)·ᵃX_b`, `s` the LOCAL Jacobians' columns `k`.
 //!
 //! `∂/∂q` is along the configuration's tangent, as every derivative output's
 //! ([`crate::generated`]). Exact solves only ([`Settings::default`]): redundant constraints have
@@ -33,6 +38,7 @@
 
 use nalgebra::{SMatrix, SVector, Vector3};
 
+use super::{cross_motion, Transform};
 use super::{forward_dynamics, ConstraintError, ConstraintOutputs, Contact, Frames, Kind, Loop};
 use super::{Settings, Solution};
 use crate::{
@@ -177,8 +183,11 @@ fn force_term<C, const NQ: usize, const NV: usize, const NF: usize, const R: usi
 where
     C: DerivativeOutputs<NQ, NV, NF>,
 {
-    let points = contacts.iter().any(|c| c.kind == Kind::Point) || !loops.is_empty();
-    let six_d = contacts.iter().any(|c| c.kind == Kind::SixD);
+    let points = contacts.iter().any(|c| c.kind == Kind::Point)
+        || loops.iter().any(|l| l.kind == Kind::Point);
+    let six_d =
+        contacts.iter().any(|c| c.kind == Kind::SixD) || loops.iter().any(|l| l.kind == Kind::SixD);
+    let frames = six_d.then(|| (C::frame_placements(q), C::frame_jacobians_local(q)));
     let mut djtf_dq = SMatrix::<f64, NV, NV>::zeros();
     for k in 0..NV {
         let e = SVector::<f64, NV>::from_fn(|i, _| if i == k { 1.0 } else { 0.0 });
@@ -200,12 +209,24 @@ where
             }
             row += c.kind.rows();
         }
-        if let Some(aligned) = &aligned {
-            for l in loops {
-                let d = aligned[l.a].fixed_rows::<3>(3) - aligned[l.b].fixed_rows::<3>(3);
-                column += d.tr_mul(&f.fixed_rows::<3>(row));
-                row += 3;
+        for l in loops {
+            match (l.kind, &local, &aligned, &frames) {
+                (Kind::Point, _, Some(aligned), _) => {
+                    let d = aligned[l.a].fixed_rows::<3>(3) - aligned[l.b].fixed_rows::<3>(3);
+                    column += d.tr_mul(&f.fixed_rows::<3>(row));
+                }
+                (Kind::SixD, Some(local), _, Some((placements, jacobians))) => {
+                    column += six_d_loop_force(
+                        &Transform::between(&placements[l.a], &placements[l.b]),
+                        (&jacobians[l.a], &jacobians[l.b]),
+                        (&local[l.a], &local[l.b]),
+                        k,
+                        &f.fixed_rows::<6>(row).into(),
+                    );
+                }
+                _ => {}
             }
+            row += l.kind.rows();
         }
         djtf_dq.set_column(k, &column);
     }
@@ -249,17 +270,171 @@ where
         }
         row += c.kind.rows();
     }
+    let classical = loops
+        .iter()
+        .any(|l| l.kind == Kind::SixD)
+        .then(|| C::frame_accelerations(q, v, qdd));
     for l in loops {
         let ((a_dq, a_dv, _), (b_dq, b_dv, _)) = (&acc[l.a], &acc[l.b]);
-        r2_dq
-            .fixed_rows_mut::<3>(row)
-            .copy_from(&(a_dq.fixed_rows::<3>(3) - b_dq.fixed_rows::<3>(3)));
-        r2_dv
-            .fixed_rows_mut::<3>(row)
-            .copy_from(&(a_dv.fixed_rows::<3>(3) - b_dv.fixed_rows::<3>(3)));
-        row += 3;
+        match (l.kind, &classical) {
+            (Kind::SixD, Some(classical)) => {
+                let local =
+                    |i: usize| LocalAcceleration::of(frames, i, &classical[i], &acc[i], &vel[i]);
+                let (dq, dv) = six_d_loop_rows(
+                    &Transform::between(&frames.placements[l.a], &frames.placements[l.b]),
+                    (&frames.jacobians[l.a], &frames.jacobians[l.b]),
+                    (&local(l.a), &local(l.b)),
+                );
+                r2_dq.fixed_rows_mut::<6>(row).copy_from(&dq);
+                r2_dv.fixed_rows_mut::<6>(row).copy_from(&dv);
+            }
+            _ => {
+                r2_dq
+                    .fixed_rows_mut::<3>(row)
+                    .copy_from(&(a_dq.fixed_rows::<3>(3) - b_dq.fixed_rows::<3>(3)));
+                r2_dv
+                    .fixed_rows_mut::<3>(row)
+                    .copy_from(&(a_dv.fixed_rows::<3>(3) - b_dv.fixed_rows::<3>(3)));
+            }
+        }
+        row += l.kind.rows();
     }
     (r2_dq, r2_dv)
+}
+
+/// A frame's LOCAL velocity and spatial acceleration at `(q, v, q̈)` and their derivatives.
+struct LocalAcceleration<const NV: usize> {
+    /// `v_l = [ω_l; v_l]`, LOCAL.
+    velocity: SVector<f64, 6>,
+    /// `∂v_l/∂δ`, `∂v_l/∂v`.
+    dvelocity: (SMatrix<f64, 6, NV>, SMatrix<f64, 6, NV>),
+    /// `a_l = [Wᵀ·ω̇; Wᵀ·p̈ − ω_l × v_l]`, the spatial acceleration in LOCAL.
+    acceleration: SVector<f64, 6>,
+    /// `∂a_l/∂δ`, `∂a_l/∂v`.
+    dacceleration: (SMatrix<f64, 6, NV>, SMatrix<f64, 6, NV>),
+}
+
+impl<const NV: usize> LocalAcceleration<NV> {
+    /// From the classical acceleration `[ω̇; p̈]` (world axes) and its derivatives, and the LOCAL
+    /// velocity's derivatives: `∂(Wᵀ·u)/∂δ_k = Wᵀ·∂u/∂δ_k − ω_k × Wᵀ·u`, `ω_k` the LOCAL
+    /// Jacobian's angular column `k` (`W` does not depend on `v`).
+    #[allow(clippy::type_complexity)]
+    fn of<const NF: usize>(
+        frames: &Frames<NV, NF>,
+        i: usize,
+        classical: &SVector<f64, 6>,
+        acc: &(
+            SMatrix<f64, 6, NV>,
+            SMatrix<f64, 6, NV>,
+            SMatrix<f64, 6, NV>,
+        ),
+        vel: &(SMatrix<f64, 6, NV>, SMatrix<f64, 6, NV>),
+    ) -> Self {
+        let w = frames.placements[i].rotation;
+        let j = &frames.jacobians[i];
+        let velocity = frames.velocities[i];
+        let (omega, lin) = (velocity.fixed_rows::<3>(0), velocity.fixed_rows::<3>(3));
+        let turned = to_local(&w, classical);
+        let mut acceleration = turned;
+        let lin_a = turned.fixed_rows::<3>(3) - omega.cross(&lin);
+        acceleration.fixed_rows_mut::<3>(3).copy_from(&lin_a);
+        let (da_dq, da_dv, _) = acc;
+        let (dvel_dq, dvel_dv) = vel;
+        let mut dq = SMatrix::<f64, 6, NV>::zeros();
+        let mut dv = SMatrix::<f64, 6, NV>::zeros();
+        for k in 0..NV {
+            let omega_k: Vector3<f64> = j.fixed_view::<3, 1>(0, k).into();
+            let mut c = to_local(&w, &da_dq.column(k).into());
+            let (ta, tl) = (turned.fixed_rows::<3>(0), turned.fixed_rows::<3>(3));
+            let (dw, dl) = (
+                dvel_dq.fixed_view::<3, 1>(0, k),
+                dvel_dq.fixed_view::<3, 1>(3, k),
+            );
+            let d_ang = c.fixed_rows::<3>(0) - omega_k.cross(&ta);
+            let d_lin =
+                c.fixed_rows::<3>(3) - omega_k.cross(&tl) - dw.cross(&lin) - omega.cross(&dl);
+            c.fixed_rows_mut::<3>(0).copy_from(&d_ang);
+            c.fixed_rows_mut::<3>(3).copy_from(&d_lin);
+            dq.set_column(k, &c);
+            let mut c = to_local(&w, &da_dv.column(k).into());
+            let (dw, dl) = (
+                dvel_dv.fixed_view::<3, 1>(0, k),
+                dvel_dv.fixed_view::<3, 1>(3, k),
+            );
+            let d_lin = c.fixed_rows::<3>(3) - dw.cross(&lin) - omega.cross(&dl);
+            c.fixed_rows_mut::<3>(3).copy_from(&d_lin);
+            dv.set_column(k, &c);
+        }
+        LocalAcceleration {
+            velocity,
+            dvelocity: (*dvel_dq, *dvel_dv),
+            acceleration,
+            dacceleration: (dq, dv),
+        }
+    }
+}
+
+/// `∂ᵃX_b/∂δ_k` applied to `m`: `ᵃX_b·(s_b × m) − s_a × ᵃX_b·m`, `s_a`, `s_b` the LOCAL
+/// Jacobians' columns `k` (`d(ᵃX_b)/dt = ᵃX_b·(v_b×) − (v_a×)·ᵃX_b`).
+fn transform_rate(
+    x: &Transform,
+    s: (&SVector<f64, 6>, &SVector<f64, 6>),
+    m: &SVector<f64, 6>,
+) -> SVector<f64, 6> {
+    x.motion(&cross_motion(s.1, m)) - cross_motion(s.0, &x.motion(m))
+}
+
+/// Column `k` of `∂(Jᵀ·f)/∂q` for a six-dimensional loop, `J = J_a − ᵃX_b·J_b` (LOCAL): column
+/// `c` of `∂J/∂δ_k` is `J̇_a(e_k)_c − ∂ᵃX_b/∂δ_k·(J_b)_c − ᵃX_b·J̇_b(e_k)_c`, dotted with `f`.
+fn six_d_loop_force<const NV: usize>(
+    x: &Transform,
+    jacobians: (&SMatrix<f64, 6, NV>, &SMatrix<f64, 6, NV>),
+    rates: (&SMatrix<f64, 6, NV>, &SMatrix<f64, 6, NV>),
+    k: usize,
+    f: &SVector<f64, 6>,
+) -> SVector<f64, NV> {
+    let (ja, jb) = jacobians;
+    let s: (SVector<f64, 6>, SVector<f64, 6>) = (ja.column(k).into(), jb.column(k).into());
+    SVector::<f64, NV>::from_fn(|c, _| {
+        let u: SVector<f64, 6> = jb.column(c).into();
+        let rate_b: SVector<f64, 6> = rates.1.column(c).into();
+        let column = SVector::<f64, 6>::from(rates.0.column(c))
+            - transform_rate(x, (&s.0, &s.1), &u)
+            - x.motion(&rate_b);
+        column.dot(f)
+    })
+}
+
+/// `(∂c/∂q, ∂c/∂v)` of a six-dimensional loop's acceleration `c = a_a − ᵃX_b·a_b + v_a ×
+/// ᵃX_b·v_b` (LOCAL, at fixed `q̈`).
+fn six_d_loop_rows<const NV: usize>(
+    x: &Transform,
+    jacobians: (&SMatrix<f64, 6, NV>, &SMatrix<f64, 6, NV>),
+    frames: (&LocalAcceleration<NV>, &LocalAcceleration<NV>),
+) -> (SMatrix<f64, 6, NV>, SMatrix<f64, 6, NV>) {
+    let (a, b) = frames;
+    let moved_vb = x.motion(&b.velocity);
+    let mut dq = SMatrix::<f64, 6, NV>::zeros();
+    let mut dv = SMatrix::<f64, 6, NV>::zeros();
+    for k in 0..NV {
+        let s: (SVector<f64, 6>, SVector<f64, 6>) =
+            (jacobians.0.column(k).into(), jacobians.1.column(k).into());
+        let rate = |m: &SVector<f64, 6>| transform_rate(x, (&s.0, &s.1), m);
+        let col = |m: &SMatrix<f64, 6, NV>| -> SVector<f64, 6> { m.column(k).into() };
+        let c =
+            col(&a.dacceleration.0) - rate(&b.acceleration) - x.motion(&col(&b.dacceleration.0))
+                + cross_motion(&col(&a.dvelocity.0), &moved_vb)
+                + cross_motion(
+                    &a.velocity,
+                    &(rate(&b.velocity) + x.motion(&col(&b.dvelocity.0))),
+                );
+        dq.set_column(k, &c);
+        let c = col(&a.dacceleration.1) - x.motion(&col(&b.dacceleration.1))
+            + cross_motion(&col(&a.dvelocity.1), &moved_vb)
+            + cross_motion(&a.velocity, &x.motion(&col(&b.dvelocity.1)));
+        dv.set_column(k, &c);
+    }
+    (dq, dv)
 }
 
 /// A six-dimensional contact's `(∂c/∂q, ∂c/∂v)` (module docs) from the classical

@@ -1,0 +1,304 @@
+//! Loop closures (`articulated::constraint::Loop`, `loops: [name: point(a, b) | six_d(a, b)]`)
+//! against Pinocchio 4.1's `constraintDynamics` with two-joint constraints
+//! (`tests/data/pinocchio_loops/`, values and script committed): the humanoid on its free flyer
+//! with its hands holding a rigid bar (a six-dimensional loop) while its left foot stands flat,
+//! its hands' origins clasped (a point loop), and each loop alone with Baumgarte terms; the
+//! runtime's solve for any set and the generated `constrained_forward_dynamics` of a declared
+//! one. And a closed form: a body welded to the world by a six-dimensional loop stays at rest,
+//! holding its weight.
+//!
+//! `cargo test -p articulated-tests --test loops -- --nocapture` prints the errors.
+
+mod common;
+
+use articulated::constraint::{
+    self, Baumgarte, ConstraintError, Contact, Kind, Loop, Settings, Solution, System,
+};
+use articulated::nalgebra::{Matrix3, SVector, Vector3};
+use articulated::prelude::*;
+use articulated::FramePlacement;
+use common::{read_json, rel_err, vec_of};
+use serde_json::Value as Json;
+
+/// Forces relative to `m·‖g‖`, accelerations relative to their largest entry.
+const TOL: f64 = 1e-9;
+
+/// The rows' capacity: a flat foot and a bar.
+const R: usize = 12;
+
+#[derive(Chain)]
+#[chain(
+    urdf = "../models/humanoid.urdf",
+    floating = quaternion,
+    outputs = [
+        mass_matrix_and_nonlinear_effects,
+        frame_placements,
+        frame_jacobians_local,
+        frame_velocities,
+        frame_accelerations
+    ],
+    frames = [left_foot, left_hand, right_hand]
+)]
+struct Humanoid;
+
+#[derive(Chain)]
+#[chain(
+    urdf = "../models/humanoid.urdf",
+    floating = quaternion,
+    outputs = [],
+    contacts = [left_foot: six_d],
+    loops = [bar: six_d(left_hand, right_hand)]
+)]
+struct HumanoidBar;
+
+#[derive(Chain)]
+#[chain(
+    urdf = "../models/humanoid.urdf",
+    floating = quaternion,
+    outputs = [],
+    loops = [clasp: point(left_hand, right_hand)]
+)]
+struct HumanoidClasp;
+
+fn data() -> Json {
+    read_json("data/pinocchio_loops/pinocchio-loops.json")
+}
+
+fn kind(name: &str) -> Kind {
+    match name {
+        "six_d" => Kind::SixD,
+        "point" => Kind::Point,
+        other => panic!("kind {other}"),
+    }
+}
+
+/// The frame `name`'s index in `names`.
+fn index(names: &[&str], name: &str) -> usize {
+    names
+        .iter()
+        .position(|n| *n == name)
+        .unwrap_or_else(|| panic!("frame {name} not generated"))
+}
+
+/// A case's contacts and loops on the frames `names`.
+fn constraints_of(case: &Json, names: &[&str]) -> (Vec<Contact>, Vec<Loop>) {
+    let contacts = case["contacts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| Contact {
+            frame: index(names, c["frame"].as_str().unwrap()),
+            kind: kind(c["kind"].as_str().unwrap()),
+        })
+        .collect();
+    let loops = case["loops"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| Loop {
+            a: index(names, l["a"].as_str().unwrap()),
+            b: index(names, l["b"].as_str().unwrap()),
+            kind: kind(l["kind"].as_str().unwrap()),
+        })
+        .collect();
+    (contacts, loops)
+}
+
+fn weight(data: &Json, case: &Json) -> f64 {
+    data["models"][case["model"].as_str().unwrap()]["mass"]
+        .as_f64()
+        .unwrap()
+        * 9.81
+}
+
+/// The state's `(q, v, τ)`.
+fn state_of(state: &Json) -> (SVector<f64, 38>, SVector<f64, 37>, SVector<f64, 37>) {
+    (
+        SVector::from_column_slice(&vec_of(&state["q"])),
+        SVector::from_column_slice(&vec_of(&state["v"])),
+        SVector::from_column_slice(&vec_of(&state["tau"])),
+    )
+}
+
+/// The runtime's solve of every case, with its Baumgarte terms where it has them, against
+/// Pinocchio's `q̈` and forces; the loops' position errors against Pinocchio's.
+#[test]
+fn loops_agree_with_pinocchio() {
+    let data = data();
+    let names = Humanoid::FRAMES;
+    // The loops' errors come from their frames, not from references (which only contacts use).
+    let unused = [FramePlacement {
+        rotation: Matrix3::identity(),
+        translation: Vector3::zeros(),
+    }; 3];
+    for (name, case) in data["cases"].as_object().unwrap() {
+        let (contacts, loops) = constraints_of(case, names);
+        let gains = (!case["baumgarte"].is_null()).then(|| Baumgarte {
+            kp: case["baumgarte"]["kp"].as_f64().unwrap(),
+            kd: case["baumgarte"]["kd"].as_f64().unwrap(),
+        });
+        let weight = weight(&data, case);
+        for (k, state) in case["states"].as_array().unwrap().iter().enumerate() {
+            let (q, v, tau) = state_of(state);
+            let s: Solution<37, R> = constraint::forward_dynamics_of::<Humanoid, 38, 37, 3, R>(
+                &q,
+                &v,
+                &tau,
+                &contacts,
+                &loops,
+                gains.map(|g| (g, &unused)),
+                &Settings::default(),
+            )
+            .unwrap_or_else(|e| panic!("{name} state {k}: {e}"));
+            let e_qdd = rel_err(s.acceleration.as_slice(), &vec_of(&state["qdd"]));
+            let e_f =
+                common::abs_err(&s.forces.as_slice()[..s.rows], &vec_of(&state["forces"])) / weight;
+            println!("{name:24} state {k}: q̈ {e_qdd:.1e}, forces {e_f:.1e} (of m·|g|)");
+            assert!(
+                e_qdd < TOL && e_f < TOL,
+                "{name} state {k}: q̈ {e_qdd:.1e}, forces {e_f:.1e} off Pinocchio's"
+            );
+            assert!(s.residual < 1e-9, "{name} state {k}: {:e}", s.residual);
+            if gains.is_some() {
+                let frames = constraint::Frames::<37, 3>::of::<Humanoid, 38>(&q, &v);
+                let system: System<37, R> = frames.system(&contacts, &loops, None).unwrap();
+                let e_e = rel_err(
+                    &system.error.as_slice()[..system.rows],
+                    &vec_of(&state["error"]),
+                );
+                assert!(e_e < TOL, "{name} state {k}: position error {e_e:.1e}");
+            }
+        }
+    }
+}
+
+/// The generated `constrained_forward_dynamics` of a declared set.
+type Generated<const RR: usize> =
+    fn(
+        &SVector<f64, 38>,
+        &SVector<f64, 37>,
+        &SVector<f64, 37>,
+    ) -> Result<(SVector<f64, 37>, SVector<f64, RR>), ConstraintError>;
+
+/// A declared set's generated solve against Pinocchio's (to [`TOL`]) and the runtime's (1e-11).
+fn check_generated<const RR: usize>(case: &str, solve: Generated<RR>) {
+    let data = data();
+    let c = &data["cases"][case];
+    let (contacts, loops) = constraints_of(c, Humanoid::FRAMES);
+    let weight = weight(&data, c);
+    for (k, state) in c["states"].as_array().unwrap().iter().enumerate() {
+        let (q, v, tau) = state_of(state);
+        let (qdd, forces) = solve(&q, &v, &tau).unwrap_or_else(|e| panic!("{case} {k}: {e}"));
+        let e_qdd = rel_err(qdd.as_slice(), &vec_of(&state["qdd"]));
+        let e_f = common::abs_err(forces.as_slice(), &vec_of(&state["forces"])) / weight;
+        let runtime: Solution<37, RR> = constraint::forward_dynamics_of::<Humanoid, 38, 37, 3, RR>(
+            &q,
+            &v,
+            &tau,
+            &contacts,
+            &loops,
+            None,
+            &Settings::default(),
+        )
+        .unwrap();
+        let r_qdd = rel_err(qdd.as_slice(), runtime.acceleration.as_slice());
+        let r_f = common::abs_err(forces.as_slice(), runtime.forces.as_slice()) / weight;
+        println!(
+            "generated {case} state {k}: against Pinocchio q̈ {e_qdd:.1e}, forces {e_f:.1e}; \
+             against the runtime q̈ {r_qdd:.1e}, forces {r_f:.1e}"
+        );
+        assert!(
+            e_qdd < TOL && e_f < TOL,
+            "{case} state {k}: off Pinocchio's"
+        );
+        assert!(
+            r_qdd < 1e-11 && r_f < 1e-11,
+            "{case} state {k}: off the runtime's"
+        );
+    }
+}
+
+#[test]
+fn declared_loops_agree_with_pinocchio_and_the_runtime() {
+    assert_eq!(HumanoidBar::LOOPS, [Loop::six_d(1, 2)]);
+    assert_eq!(HumanoidBar::CONSTRAINT_ROWS, 12);
+    check_generated::<12>("hands_six_d", HumanoidBar::constrained_forward_dynamics);
+    assert_eq!(HumanoidClasp::LOOPS, [Loop::point(0, 1)]);
+    check_generated::<3>("hands_point", HumanoidClasp::constrained_forward_dynamics);
+}
+
+articulated::chain! {
+    /// A free body (3 kg, its centre of mass 0.2 m along x from its origin) with a frame
+    /// `grip` on it and one, `post`, on the world where the body starts.
+    chain Welded {
+        gravity: [0.0, 0.0, -9.81];
+        outputs: [mass_matrix_and_nonlinear_effects, frame_placements, frame_jacobians_local,
+                  frame_velocities, frame_accelerations];
+        frames: [grip, post];
+        loops: [weld: six_d(grip, post)];
+        body block { mass: 3.0, com: [0.2, 0.0, 0.0], inertia: diag(0.02, 0.03, 0.04) }
+        joint base: free(quaternion) { parent: world, child: block }
+        frame grip { parent: block, xyz: [0.1, -0.05, 0.3], rpy: [0.3, -0.2, 0.5] }
+        frame post { parent: world, xyz: [0.0, 0.0, 0.0] }
+    }
+}
+
+/// A closed form: a free body at rest, welded to the world by a six-dimensional loop, does not
+/// move (`q̈ = 0`) and the loop holds its weight: in world axes the force on the body is
+/// `−m·g` and its moment about the grip's origin `−(c − p)×(m·g)`; the wrench returned is
+/// those in the grip's axes. The same from the generated function; and the loop is the
+/// six-dimensional contact on the grip when its other frame is the world's.
+#[test]
+fn a_body_welded_by_a_loop_holds_its_weight() {
+    // A pose away from the post: the loop holds the relative placement it has.
+    let axis = Vector3::new(0.3, -0.5, 0.8).normalize() * 0.7;
+    let quat = articulated::nalgebra::UnitQuaternion::from_scaled_axis(axis);
+    let q = SVector::<f64, 7>::from_column_slice(&[0.4, -0.2, 1.1, quat.w, quat.i, quat.j, quat.k]);
+    let v = SVector::<f64, 6>::zeros();
+    let tau = SVector::<f64, 6>::zeros();
+    let [grip, _] = Welded::frame_placements(&q);
+    let (m, g) = (3.0, Vector3::new(0.0, 0.0, -9.81));
+    let r = quat.to_rotation_matrix();
+    let com = Vector3::new(q[0], q[1], q[2]) + r * Vector3::new(0.2, 0.0, 0.0);
+    let f_world = -m * g;
+    let n_world = -(com - grip.translation).cross(&(m * g));
+    let n = grip.rotation.tr_mul(&n_world);
+    let f = grip.rotation.tr_mul(&f_world);
+    let expected = [n[0], n[1], n[2], f[0], f[1], f[2]];
+
+    let loops = [Loop::six_d(0, 1)];
+    let s: Solution<6, 6> = constraint::forward_dynamics_of::<Welded, 7, 6, 2, 6>(
+        &q,
+        &v,
+        &tau,
+        &[],
+        &loops,
+        None,
+        &Settings::default(),
+    )
+    .unwrap();
+    let (qdd, forces) = Welded::constrained_forward_dynamics(&q, &v, &tau).unwrap();
+    let contact: Solution<6, 6> = constraint::forward_dynamics_of::<Welded, 7, 6, 2, 6>(
+        &q,
+        &v,
+        &tau,
+        &[Contact::six_d(0)],
+        &[],
+        None,
+        &Settings::default(),
+    )
+    .unwrap();
+    for (what, a, w) in [
+        ("runtime", s.acceleration, s.forces),
+        ("generated", qdd, forces),
+        ("contact", contact.acceleration, contact.forces),
+    ] {
+        let e_w = common::abs_err(w.as_slice(), &expected) / (m * 9.81);
+        println!(
+            "{what}: |q̈| {:.1e}, wrench off by {e_w:.1e} of m·g",
+            a.amax()
+        );
+        assert!(a.amax() < 1e-12, "{what}: q̈ = {a:?}");
+        assert!(e_w < 1e-13, "{what}: {w:?}, expected {expected:?}");
+    }
+}
