@@ -1145,8 +1145,6 @@ fn check_generated<C, const NQ: usize, const NV: usize, const NF: usize, const R
         let v = SVector::<f64, NV>::from_column_slice(&vec_of(&state["v"]));
         let tau = SVector::<f64, NV>::from_column_slice(&vec_of(&state["tau"]));
         let (qdd, forces) = solve(&q, &v, &tau).unwrap_or_else(|e| panic!("{case} {k}: {e}"));
-        let e_qdd = rel_err(qdd.as_slice(), &vec_of(&state["qdd"]));
-        let e_f = common::abs_err(forces.as_slice(), &forces_of(c, &state["forces"])) / weight;
         let runtime: Solution<NV, RR> =
             constraint::constrained_forward_dynamics::<C, NQ, NV, NF, RR>(
                 &q,
@@ -1157,19 +1155,13 @@ fn check_generated<C, const NQ: usize, const NV: usize, const NF: usize, const R
                 &Settings::default(),
             )
             .unwrap();
-        let r_qdd = rel_err(qdd.as_slice(), runtime.acceleration.as_slice());
-        let r_f = common::abs_err(forces.as_slice(), runtime.forces.as_slice()) / weight;
-        println!(
-            "{case} state {k}: against Pinocchio q̈ {e_qdd:.1e}, forces {e_f:.1e}; against the \
-             runtime q̈ {r_qdd:.1e}, forces {r_f:.1e}"
-        );
-        assert!(
-            e_qdd < TOL && e_f < TOL,
-            "{case} state {k}: q̈ {e_qdd:.1e}, forces {e_f:.1e} off Pinocchio's"
-        );
-        assert!(
-            r_qdd < 1e-11 && r_f < 1e-11,
-            "{case} state {k}: q̈ {r_qdd:.1e}, forces {r_f:.1e} off the runtime's"
+        common::check_constrained(
+            &format!("{case} state {k}"),
+            (qdd.as_slice(), forces.as_slice()),
+            (&vec_of(&state["qdd"]), &forces_of(c, &state["forces"])),
+            (runtime.acceleration.as_slice(), runtime.forces.as_slice()),
+            weight,
+            TOL,
         );
     }
 }

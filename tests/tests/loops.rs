@@ -189,8 +189,6 @@ fn check_generated<const RR: usize>(case: &str, solve: Generated<RR>) {
     for (k, state) in c["states"].as_array().unwrap().iter().enumerate() {
         let (q, v, tau) = state_of(state);
         let (qdd, forces) = solve(&q, &v, &tau).unwrap_or_else(|e| panic!("{case} {k}: {e}"));
-        let e_qdd = rel_err(qdd.as_slice(), &vec_of(&state["qdd"]));
-        let e_f = common::abs_err(forces.as_slice(), &vec_of(&state["forces"])) / weight;
         let runtime: Solution<37, RR> = constraint::forward_dynamics_of::<Humanoid, 38, 37, 3, RR>(
             &q,
             &v,
@@ -201,19 +199,13 @@ fn check_generated<const RR: usize>(case: &str, solve: Generated<RR>) {
             &Settings::default(),
         )
         .unwrap();
-        let r_qdd = rel_err(qdd.as_slice(), runtime.acceleration.as_slice());
-        let r_f = common::abs_err(forces.as_slice(), runtime.forces.as_slice()) / weight;
-        println!(
-            "generated {case} state {k}: against Pinocchio q̈ {e_qdd:.1e}, forces {e_f:.1e}; \
-             against the runtime q̈ {r_qdd:.1e}, forces {r_f:.1e}"
-        );
-        assert!(
-            e_qdd < TOL && e_f < TOL,
-            "{case} state {k}: off Pinocchio's"
-        );
-        assert!(
-            r_qdd < 1e-11 && r_f < 1e-11,
-            "{case} state {k}: off the runtime's"
+        common::check_constrained(
+            &format!("generated {case} state {k}"),
+            (qdd.as_slice(), forces.as_slice()),
+            (&vec_of(&state["qdd"]), &vec_of(&state["forces"])),
+            (runtime.acceleration.as_slice(), runtime.forces.as_slice()),
+            weight,
+            TOL,
         );
     }
 }

@@ -39,7 +39,6 @@ is A_G a + dA_G v (`computeCentroidalMapTimeVariation`: `data.Ag`, `data.dAg`); 
 m times the centre of mass's acceleration (`centerOfMass(q, v, a)` -> `data.acom[0]`); h_G = A_G v;
 at v = 0, a = 0 it is zero.
 """
-import json
 import os
 import sys
 
@@ -51,7 +50,7 @@ ROOT = os.path.normpath(os.path.join(HERE, '..', '..', '..'))
 sys.path.insert(0, os.path.join(HERE, '..', 'pinocchio_frames'))
 sys.dont_write_bytecode = True  # no __pycache__ beside the frames script
 from make_pinocchio_frames import (  # noqa: E402
-    angular_first, compact, layout, links_and_order, load, rel)
+    angular_first, layout, links_and_order, load, rel, write_json)
 
 SEED = 20261220
 STATES = 4
@@ -123,11 +122,7 @@ def main():
             'mass': mass, 'gravity': model.gravity.linear.tolist(),
             'joints': ['root_joint'] + order, 'states': states}},
     }
-    target = os.path.join(HERE, 'pinocchio-centroidal-rate.json')
-    with open(target + '.tmp', 'w') as f:
-        f.write(compact(json.dumps(out, indent=1)) + '\n')
-    os.replace(target + '.tmp', target)
-    print(f'wrote {target} ({os.path.getsize(target) / 1e3:.1f} kB)')
+    write_json(os.path.join(HERE, 'pinocchio-centroidal-rate.json'), out)
 
 
 if __name__ == '__main__':

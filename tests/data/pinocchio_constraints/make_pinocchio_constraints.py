@@ -110,7 +110,6 @@ G⁻¹·(J·v⁻)` with `G = J·M⁻¹·Jᵀ` (1e-9 relative). G is nonsingular 
 rank J: the humanoid's 6-joint legs, the 7-joint arm); its largest condition number is printed
 and asserted below 1e10, and G⁻¹·(J·v⁻) is a plain solve.
 """
-import json
 import os
 import sys
 
@@ -122,7 +121,7 @@ ROOT = os.path.normpath(os.path.join(HERE, '..', '..', '..'))
 sys.path.insert(0, os.path.join(HERE, '..', 'pinocchio_frames'))
 sys.dont_write_bytecode = True  # no __pycache__ beside the frames script
 from make_pinocchio_frames import (  # noqa: E402
-    angular_first, compact, layout, links_and_order, load, rel)
+    angular_first, layout, links_and_order, load, rel, write_json)
 
 SEED = 20261211
 STATES = 3
@@ -423,11 +422,7 @@ def main():
     print('largest residual {residual:.1e}, equation of motion {eom:.1e}, impulses {impulse:.1e}, '
           'cond(G) {cond:.1e}, derivatives against central differences {derivatives:.1e}'
           .format(**worst))
-    target = os.path.join(HERE, 'pinocchio-constraints.json')
-    with open(target + '.tmp', 'w') as f:
-        f.write(compact(json.dumps(out, indent=1)) + '\n')
-    os.replace(target + '.tmp', target)
-    print(f'wrote {target} ({os.path.getsize(target) / 1e3:.0f} kB)')
+    write_json(os.path.join(HERE, 'pinocchio-constraints.json'), out)
 
 
 if __name__ == '__main__':

@@ -336,6 +336,14 @@ def compact(text):
                   text)
 
 
+def write_json(target, out):
+    """`out` as compact JSON to `target`, whole or not at all (a temporary file, a rename)."""
+    with open(target + '.tmp', 'w') as f:
+        f.write(compact(json.dumps(out, indent=1)) + '\n')
+    os.replace(target + '.tmp', target)
+    print(f'wrote {target} ({os.path.getsize(target) / 1e3:.0f} kB)')
+
+
 def main():
     rng = np.random.default_rng(SEED)
     out = {
@@ -346,11 +354,7 @@ def main():
         'models': {name: model_values(rng, name, path, base, declared)
                    for name, path, base, declared in MODELS},
     }
-    target = os.path.join(HERE, 'pinocchio-frames.json')
-    with open(target + '.tmp', 'w') as f:
-        f.write(compact(json.dumps(out, indent=1)) + '\n')
-    os.replace(target + '.tmp', target)
-    print(f'wrote {target} ({os.path.getsize(target) / 1e6:.1f} MB)')
+    write_json(os.path.join(HERE, 'pinocchio-frames.json'), out)
 
 
 if __name__ == '__main__':

@@ -44,7 +44,6 @@ Checks before writing: `M·q̈ + nle = τ + Jᵀ·f` (1e-9 relative); the residu
 relative to the largest of |J·q̈|, |γ| and 1; the errors against `contact_placement_error`
 (1e-10).
 """
-import json
 import os
 import sys
 
@@ -55,7 +54,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', 'pinocchio_constraints'))
 sys.path.insert(0, os.path.join(HERE, '..', 'pinocchio_frames'))
 sys.dont_write_bytecode = True
-from make_pinocchio_frames import angular_first, compact, rel  # noqa: E402
+from make_pinocchio_frames import angular_first, rel, write_json  # noqa: E402
 from make_pinocchio_constraints import (  # noqa: E402
     KIND, Setup, draw_state, mass_and_nle, ours, rows)
 
@@ -192,11 +191,7 @@ def main():
     }
     print('largest residual {residual:.1e}, equation of motion {eom:.1e}; the six_d drift '
           'without the cross product misses by up to {other:.1e} (relative)'.format(**worst))
-    target = os.path.join(HERE, 'pinocchio-loops.json')
-    with open(target + '.tmp', 'w') as f:
-        f.write(compact(json.dumps(out, indent=1)) + '\n')
-    os.replace(target + '.tmp', target)
-    print(f'wrote {target} ({os.path.getsize(target) / 1e3:.0f} kB)')
+    write_json(os.path.join(HERE, 'pinocchio-loops.json'), out)
 
 
 if __name__ == '__main__':

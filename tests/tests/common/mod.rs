@@ -68,6 +68,36 @@ pub fn abs_err(ours: &[f64], theirs: &[f64]) -> f64 {
     })
 }
 
+/// A generated `constrained_forward_dynamics`'s `(q̈, forces)` against Pinocchio's (to `tol`,
+/// `q̈` relative to its largest entry, the forces of `weight = m·‖g‖`) and against the
+/// runtime's solution of the same constraints (to 1e-11): prints both, panics past either.
+#[allow(dead_code)]
+pub fn check_constrained(
+    label: &str,
+    ours: (&[f64], &[f64]),
+    pinocchio: (&[f64], &[f64]),
+    runtime: (&[f64], &[f64]),
+    weight: f64,
+    tol: f64,
+) {
+    let e_qdd = rel_err(ours.0, pinocchio.0);
+    let e_f = abs_err(ours.1, pinocchio.1) / weight;
+    let r_qdd = rel_err(ours.0, runtime.0);
+    let r_f = abs_err(ours.1, runtime.1) / weight;
+    println!(
+        "{label}: against Pinocchio q̈ {e_qdd:.1e}, forces {e_f:.1e}; against the runtime q̈ \
+         {r_qdd:.1e}, forces {r_f:.1e}"
+    );
+    assert!(
+        e_qdd < tol && e_f < tol,
+        "{label}: q̈ {e_qdd:.1e}, forces {e_f:.1e} off Pinocchio's"
+    );
+    assert!(
+        r_qdd < 1e-11 && r_f < 1e-11,
+        "{label}: q̈ {r_qdd:.1e}, forces {r_f:.1e} off the runtime's"
+    );
+}
+
 /// The largest |x| (infinite if any entry is NaN).
 pub fn max_abs(x: &[f64]) -> f64 {
     x.iter().fold(0.0f64, |s, v| {
