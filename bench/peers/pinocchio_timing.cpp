@@ -75,6 +75,14 @@
 //                                      solution (the defaults but for the accuracy, which one
 //                                      iteration never reaches: it reads the iterate's change)
 //
+//   constrained_forward_dynamics_derivatives
+//                                      constraintDynamics as above, then
+//                                      computeConstraintDynamicsDerivatives(model, data,
+//                                      contact_models, contact_datas, settings): q̈ and the
+//                                      forces, and their derivatives with respect to q, v and tau
+//                                      (data.ddq_dq, ddq_dv, ddq_dtau, dlambda_dq, dlambda_dv,
+//                                      dlambda_dtau), which need the solution of the first call
+//
 // The contact models are built once, as make_pinocchio_constraints.py builds them:
 // RigidConstraintModel(CONTACT_6D, model, frame.parentJoint, frame.placement, 0, identity,
 // LOCAL) (joint 2 the universe; its placement, the reference, plays no part without Baumgarte
@@ -112,6 +120,7 @@
 #include <pinocchio/algorithm/aba-derivatives.hpp>
 #include <pinocchio/algorithm/center-of-mass.hpp>
 #include <pinocchio/algorithm/centroidal.hpp>
+#include <pinocchio/algorithm/constrained-dynamics-derivatives.hpp>
 #include <pinocchio/algorithm/constrained-dynamics.hpp>
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/energy.hpp>
@@ -324,6 +333,15 @@ void each_output(const pinocchio::Model &model, pinocchio::Data &data, Frames &f
       const State &s = states[i & mask];
       pinocchio::constraintDynamics(model, data, s.q, s.v, s.tau, contacts.models, contacts.datas,
                                     contacts.settings);
+    });
+    // The derivatives need the solution at the state: constraintDynamics first, as a user calls
+    // them (the file header).
+    run("constrained_forward_dynamics_derivatives", [&](long i) {
+      const State &s = states[i & mask];
+      pinocchio::constraintDynamics(model, data, s.q, s.v, s.tau, contacts.models, contacts.datas,
+                                    contacts.settings);
+      pinocchio::computeConstraintDynamicsDerivatives(model, data, contacts.models,
+                                                      contacts.datas, contacts.settings);
     });
   }
   if (frames.ids.empty()) return;

@@ -128,6 +128,7 @@ FRAME_TOL = 1e-10
 # contacts. MuJoCo's program times neither.
 CONSTRAINED = "constrained_forward_dynamics"
 CONSTRAINED_RUNTIME = "constrained_forward_dynamics_runtime"
+CONSTRAINED_DERIVATIVES = "constrained_forward_dynamics_derivatives"
 # q̈ relative to its largest entry, the wrenches relative to their largest entry.
 CONSTRAINED_TOL = 1e-9
 # Central differences (step 1e-6) against the analytical values: a sanity check of the kernel.
@@ -1001,6 +1002,17 @@ def whole_report(w, models, ops, results, instr):
                 f"{fmt_ratio(p3 / od)} | {instr_cell} |"
             )
         w("")
+        if CONSTRAINED_DERIVATIVES in res["ours_v3"] and CONSTRAINED_DERIVATIVES in res["pin_v3"]:
+            d3, dd = res["ours_v3"][CONSTRAINED_DERIVATIVES][0], res["ours_default"][CONSTRAINED_DERIVATIVES][0]
+            q3, qw = res["pin_v3"][CONSTRAINED_DERIVATIVES][0], res["pin_wheel"][CONSTRAINED_DERIVATIVES][0]
+            i_d = ins.get("ours_v3", {}).get(CONSTRAINED_DERIVATIVES)
+            i_q = ins.get("pin_v3", {}).get(CONSTRAINED_DERIVATIVES)
+            w(
+                f"- the derivatives (`{CONSTRAINED_DERIVATIVES}`, ours the runtime's): ours v3 {fmt_ns(d3)} ns, "
+                f"default {fmt_ns(dd)} ns; Pinocchio v3 {fmt_ns(q3)} ns, wheel {fmt_ns(qw)} ns; Pinocchio / ours "
+                f"{fmt_ratio(q3 / d3)} (v3), {fmt_ratio(q3 / dd)} (default)"
+                + (f"; instructions ours v3 / Pinocchio v3 {i_d:.0f} / {i_q:.0f}" if i_d and i_q else "")
+            )
         med = lambda k, o: fmt_ns(res[k][o][1])
         w(
             "- medians (ns; ours v3 / ours default / Pinocchio v3 / Pinocchio wheel): "
@@ -1226,6 +1238,20 @@ def constrained_report(w, models, ops, results, instr, checks):
     w("`frame_velocities`, `frame_accelerations`) then a dense solve (`runtime/src/constraint.rs`:")
     w("Cholesky of `M`, `W = L⁻¹·Jᵀ`, `G = Wᵀ·W`, its Cholesky, the residual `max |J·q̈ + γ|`). *ops*")
     w("counts the generated function; for the runtime's, the five functions' (its solve not counted).")
+    w("")
+    w(f"`{CONSTRAINED_DERIVATIVES}` (the models generated with derivatives): **Pinocchio**")
+    w("`constraintDynamics` as above, then `computeConstraintDynamicsDerivatives(model, data,")
+    w("contact_models, contact_datas, settings)` (it needs the solution: a user calls both): `q̈`, the")
+    w("forces and their derivatives with respect to `q`, `v` and `τ`. **ours**: the runtime's")
+    w("`constraint::derivatives::forward_dynamics_derivatives_of::<C, NQ, NV, NF, R>(&q, &v, &τ,")
+    w("&contacts, &[])` on the same contacts (`runtime/src/constraint/derivatives.rs`): the solve")
+    w("above, then the KKT system differentiated at the solution from generated outputs of `C`")
+    w("(`inverse_dynamics_derivatives` at `q̈`, one `frame_jacobian_time_variations_local` per")
+    w("velocity coordinate for `∂(Jᵀ·f)/∂q`, `frame_acceleration_derivatives`,")
+    w("`frame_velocity_derivatives`) and dense solves with the Cholesky factors of `M` and `G`; not")
+    w("generated as one function (the unconstrained `forward_dynamics_derivatives` of the humanoid is")
+    w("already 131,000 operations). Their values are checked against Pinocchio's and central")
+    w("differences in `tests/tests/constraint_derivatives.rs`, not here.")
     w("")
     w(CONSTRAINED_MUJOCO)
     w("")
@@ -1587,6 +1613,9 @@ def main():
             if ops[name]["contacts"]:
                 ours += [CONSTRAINED, CONSTRAINED_RUNTIME]
                 pin += [CONSTRAINED]
+                if ops[name]["derivatives"]:
+                    ours += [CONSTRAINED_DERIVATIVES]
+                    pin += [CONSTRAINED_DERIVATIVES]
             return {"ours_v3": ours, "ours_default": ours, "pin_v3": pin, "mujoco": [r[2] for r in ROWS]}
 
         instr = instructions(MODELS, progs, which)

@@ -65,13 +65,20 @@
 //! `frame_velocities`, `frame_accelerations`, for exactly the contact frames: the model's own
 //! type has the hands too, for the frame outputs). Its `mass_matrix_and_nonlinear_effects` is a
 //! second copy of the model's, which made no measurable difference to this binary's
-//! test-profile build.
+//! test-profile build. For a model marked `derivatives` the contacts' type also has the outputs
+//! the runtime's constrained derivatives read (`inverse_dynamics_derivatives`, the frames'
+//! Jacobian rates, acceleration and velocity derivatives), and
+//! [`forward_dynamics_derivatives_of`] is timed ([`CONSTRAINED_DERIVATIVES`]): for the humanoid,
+//! under the same feature `humanoid-derivatives`.
 
 use std::hint::black_box;
 use std::path::Path;
 use std::process::ExitCode;
 use std::time::Duration;
 
+use articulated::constraint::derivatives::{
+    forward_dynamics_derivatives_of, DerivativeOutputs as ConstraintDerivativeOutputs,
+};
 use articulated::constraint::{self, Contact, Settings};
 use articulated::control::tangent::retract;
 use articulated::model::JointKind;
@@ -123,6 +130,11 @@ const CONSTRAINED: &str = "constrained_forward_dynamics";
 /// (what a run-time choice of contacts costs): the five generated functions it reads, then its
 /// dense solve.
 const CONSTRAINED_RUNTIME: &str = "constrained_forward_dynamics_runtime";
+
+/// The timing of the runtime's [`forward_dynamics_derivatives_of`] on the same contacts, for a
+/// model marked `derivatives`: the constrained solve with `∂q̈` and `∂f` with respect to `q`, `v`
+/// and `τ`, from generated outputs and dense solves.
+const CONSTRAINED_DERIVATIVES: &str = "constrained_forward_dynamics_derivatives";
 
 /// The timing of `C::mass_matrix_update(&q, &mut kept)`: `M` into a [`KeptMassMatrix`], only the
 /// entries that can be non-zero written (reported beside `mass_matrix`).
@@ -237,10 +249,30 @@ impl<C, const NQ: usize, const NV: usize, const NF: usize> ConstrainedPeer<NQ, N
 }
 
 /// The type of a model's contacts (for `models!`): the same `.chain` file, the outputs of
-/// [`ConstrainedPeer`] for exactly the contact frames.
+/// [`ConstrainedPeer`] for exactly the contact frames, and after `derivatives` those of
+/// [`ConstraintDerivativeOutputs`] for
+/// [`CONSTRAINED_DERIVATIVES`].
 macro_rules! contact_type {
-    ([] [] $(#[$attr:meta])* $file:literal) => {};
-    ([$cty:ident] [$($contact:ident),+] $(#[$attr:meta])* $file:literal) => {
+    ($kind:ident [] [] $(#[$attr:meta])* $file:literal) => {};
+    (plain [$cty:ident] [$($contact:ident),+] $(#[$attr:meta])* $file:literal) => {
+        contact_type!(@outputs [] [$cty] [$($contact),+] $(#[$attr])* $file);
+    };
+    (derivatives [$cty:ident] [$($contact:ident),+] $(#[$attr:meta])* $file:literal) => {
+        contact_type!(
+            @outputs [
+                inverse_dynamics_derivatives,
+                frame_jacobian_time_variations_local,
+                frame_jacobian_time_variations_local_world_aligned,
+                frame_acceleration_derivatives,
+                frame_velocity_derivatives
+            ]
+            [$cty] [$($contact),+] $(#[$attr])* $file
+        );
+    };
+    (
+        @outputs [$($extra:ident),*] [$cty:ident] [$($contact:ident),+]
+        $(#[$attr:meta])* $file:literal
+    ) => {
         $(#[$attr])*
         #[doc = concat!("The generated `", $file, "` with its contact frames, for [`CONSTRAINED`].")]
         #[derive(articulated::Chain)]
@@ -252,6 +284,7 @@ macro_rules! contact_type {
                 frame_jacobians_local,
                 frame_velocities,
                 frame_accelerations
+                $(, $extra)*
             ],
             frames = [$($contact),+],
             contacts = [$($contact: six_d),+]
@@ -263,8 +296,8 @@ macro_rules! contact_type {
 /// The members of a `Peer` impl that a model given contacts overrides (for `models!`): `R`, the
 /// rows, is six per contact.
 macro_rules! contact_members {
-    ([] $ty:ident) => {};
-    ([$cty:ident] $ty:ident) => {
+    ($kind:ident [] $ty:ident) => {};
+    ($kind:ident [$cty:ident] $ty:ident) => {
         const CONTACTS: &'static [&'static str] = <$cty as Chain<f64>>::FRAMES;
         fn constrained_ops() -> (usize, usize) {
             let runtime = [
@@ -285,6 +318,9 @@ macro_rules! contact_members {
                 $cty::constrained_forward_dynamics,
                 visitor,
             );
+            constrained_derivatives!(
+                $kind $cty, V, { $ty::NQ }, { $ty::NV }, { $cty::NF }, { 6 * $cty::NF }, states, visitor
+            );
         }
         fn constrained_values(
             states: &[State<{ $ty::NQ }, { $ty::NV }>],
@@ -298,6 +334,15 @@ macro_rules! contact_members {
             >(states, $cty::constrained_forward_dynamics))
         }
     };
+}
+
+/// [`CONSTRAINED_DERIVATIVES`] on `states` for the contacts' type of a model marked
+/// `derivatives` (for `models!`); nothing for a `plain` one.
+macro_rules! constrained_derivatives {
+    (derivatives $cty:ident, $v:ident, $nq:expr, $nv:expr, $nf:expr, $r:expr, $states:ident, $visitor:ident) => {
+        each_constrained_derivative::<$cty, $v, $nq, $nv, $nf, $r>($states, $visitor)
+    };
+    (plain $($rest:tt)*) => {};
 }
 
 /// The generated type of one model (for `models!`): the outputs of the comparison, the
@@ -423,7 +468,7 @@ macro_rules! models {
     )*) => {
         $(
             peer_type!($kind [$($frame),*] $(#[$attr])* $ty, $file);
-            contact_type!([$($cty)?] [$($contact),*] $(#[$attr])* $file);
+            contact_type!($kind [$($cty)?] [$($contact),*] $(#[$attr])* $file);
 
             $(#[$attr])*
             impl Peer<{ $ty::NQ }, { $ty::NV }> for $ty {
@@ -454,7 +499,7 @@ macro_rules! models {
                 }
                 derivative_members!($kind $ty);
                 frame_members!([$($frame),*] $ty);
-                contact_members!([$($cty)?] $ty);
+                contact_members!($kind [$($cty)?] $ty);
             }
         )*
 
@@ -525,7 +570,7 @@ struct Cli {
     /// With --calls: the output or kernel to call (an output's name, frame outputs included,
     /// mass_matrix_update, mass_matrix_lower, inverse_dynamics_differences,
     /// forward_dynamics_differences, constrained_forward_dynamics,
-    /// constrained_forward_dynamics_generated).
+    /// constrained_forward_dynamics_runtime, constrained_forward_dynamics_derivatives).
     #[arg(requires = "calls")]
     output: Option<String>,
 }
@@ -864,6 +909,36 @@ fn each_constrained<K, V, const NQ: usize, const NV: usize, const NF: usize, con
                 &settings,
             ),
         );
+    });
+}
+
+/// Hands `visitor` the closure of [`CONSTRAINED_DERIVATIVES`] on `states`, with `K` the type of
+/// the model's contacts (`NF` frames, `R = 6·NF` rows), generated with the derivative outputs.
+fn each_constrained_derivative<
+    K,
+    V,
+    const NQ: usize,
+    const NV: usize,
+    const NF: usize,
+    const R: usize,
+>(
+    states: &[State<NQ, NV>],
+    visitor: &mut V,
+) where
+    K: ConstraintDerivativeOutputs<NQ, NV, NF>,
+    V: Visit,
+{
+    let mask = states.len() - 1;
+    let contacts = six_d_contacts::<NF>();
+    visitor.visit(CONSTRAINED_DERIVATIVES, |i| {
+        let x = &states[i & mask];
+        let _ = black_box(forward_dynamics_derivatives_of::<K, NQ, NV, NF, R>(
+            black_box(&x.q),
+            black_box(&x.v),
+            black_box(&x.tau),
+            black_box(&contacts),
+            &[],
+        ));
     });
 }
 

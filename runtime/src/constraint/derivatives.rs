@@ -133,23 +133,36 @@ where
     let chol_m = m
         .cholesky()
         .ok_or(ConstraintError::MassMatrix { velocity: 0 })?;
-    let minv_jt: SMatrix<f64, NV, R> = chol_m.solve(&j.transpose());
-    let mut g: SMatrix<f64, R, R> = j * minv_jt;
+    // The blocks of the KKT matrix's inverse, once: `A = M⁻¹·Jᵀ`, `B = G⁻¹·Aᵀ` and
+    // `P = M⁻¹ − A·B`; then `∂q̈ = −P·∂r₁ − Bᵀ·∂r₂` and `∂f = B·∂r₁ − G⁻¹·∂r₂` (module docs,
+    // with `A·G⁻¹ = Bᵀ`), which for `τ` (`∂r₁ = −I`, `∂r₂ = 0`) are `P` and `−B`. Products of
+    // these, rather than a solve per right side: the solves' triangular sweeps and the copies of
+    // their results were most of the time.
+    let minv = chol_m.inverse();
+    let a: SMatrix<f64, NV, R> = minv * j.transpose();
+    let mut g: SMatrix<f64, R, R> = j * a;
     for r in rows..R {
         g[(r, r)] = 1.0;
     }
     let chol_g = g
         .cholesky()
         .ok_or(ConstraintError::Redundant { contact: 0, row: 0 })?;
+    let b: SMatrix<f64, R, NV> = chol_g.solve(&a.transpose());
+    let g_inv = chol_g.inverse();
+    let mut p = minv;
+    p.gemm(-1.0, &a, &b, 1.0);
     let derivative = |r1: &SMatrix<f64, NV, NV>, r2: &SMatrix<f64, R, NV>| {
-        let y: SMatrix<f64, NV, NV> = chol_m.solve(r1);
-        let df: SMatrix<f64, R, NV> = chol_g.solve(&(j * y - r2));
-        (minv_jt * df - y, df)
+        let mut dqdd = SMatrix::<f64, NV, NV>::zeros();
+        dqdd.gemm(-1.0, &p, r1, 0.0);
+        dqdd.gemm_tr(-1.0, &b, r2, 1.0);
+        let mut df = SMatrix::<f64, R, NV>::zeros();
+        df.gemm(1.0, &b, r1, 0.0);
+        df.gemm(-1.0, &g_inv, r2, 1.0);
+        (dqdd, df)
     };
     let (dqdd_dq, dforces_dq) = derivative(&r1_dq, &r2_dq);
     let (dqdd_dv, dforces_dv) = derivative(&r1_dv, &r2_dv);
-    let (dqdd_dtau, dforces_dtau) =
-        derivative(&-SMatrix::<f64, NV, NV>::identity(), &SMatrix::zeros());
+    let (dqdd_dtau, dforces_dtau) = (p, -b);
     let all = [&dqdd_dq, &dqdd_dv, &dqdd_dtau]
         .into_iter()
         .flat_map(|x| x.iter())
