@@ -1002,17 +1002,6 @@ def whole_report(w, models, ops, results, instr):
                 f"{fmt_ratio(p3 / od)} | {instr_cell} |"
             )
         w("")
-        if CONSTRAINED_DERIVATIVES in res["ours_v3"] and CONSTRAINED_DERIVATIVES in res["pin_v3"]:
-            d3, dd = res["ours_v3"][CONSTRAINED_DERIVATIVES][0], res["ours_default"][CONSTRAINED_DERIVATIVES][0]
-            q3, qw = res["pin_v3"][CONSTRAINED_DERIVATIVES][0], res["pin_wheel"][CONSTRAINED_DERIVATIVES][0]
-            i_d = ins.get("ours_v3", {}).get(CONSTRAINED_DERIVATIVES)
-            i_q = ins.get("pin_v3", {}).get(CONSTRAINED_DERIVATIVES)
-            w(
-                f"- the derivatives (`{CONSTRAINED_DERIVATIVES}`, ours the runtime's): ours v3 {fmt_ns(d3)} ns, "
-                f"default {fmt_ns(dd)} ns; Pinocchio v3 {fmt_ns(q3)} ns, wheel {fmt_ns(qw)} ns; Pinocchio / ours "
-                f"{fmt_ratio(q3 / d3)} (v3), {fmt_ratio(q3 / dd)} (default)"
-                + (f"; instructions ours v3 / Pinocchio v3 {i_d:.0f} / {i_q:.0f}" if i_d and i_q else "")
-            )
         med = lambda k, o: fmt_ns(res[k][o][1])
         w(
             "- medians (ns; ours v3 / ours default / Pinocchio v3 / Pinocchio wheel): "
@@ -1248,7 +1237,8 @@ def constrained_report(w, models, ops, results, instr, checks):
     w("above, then the KKT system differentiated at the solution from generated outputs of `C`")
     w("(`inverse_dynamics_derivatives` at `q̈`, one `frame_jacobian_time_variations_local` per")
     w("velocity coordinate for `∂(Jᵀ·f)/∂q`, `frame_acceleration_derivatives`,")
-    w("`frame_velocity_derivatives`) and dense solves with the Cholesky factors of `M` and `G`; not")
+    w("`frame_velocity_derivatives`) and dense products with the blocks of the KKT matrix's inverse")
+    w("(`M⁻¹ − A·G⁻¹·Aᵀ` and `G⁻¹·Aᵀ`, `A = M⁻¹·Jᵀ`, from the Cholesky factors of `M` and `G`); not")
     w("generated as one function (the unconstrained `forward_dynamics_derivatives` of the humanoid is")
     w("already 131,000 operations). Their values are checked against Pinocchio's and central")
     w("differences in `tests/tests/constraint_derivatives.rs`, not here.")
@@ -1264,6 +1254,11 @@ def constrained_report(w, models, ops, results, instr, checks):
             f"- **{name}** ({', '.join(ops[name]['contacts'])}), Pinocchio v3 / ours: "
             f"{fmt_ratio(p3 / res['ours_v3'][CONSTRAINED][0])} (v3), "
             f"{fmt_ratio(p3 / res['ours_default'][CONSTRAINED][0])} (default)"
+            + (
+                f"; the derivatives (ours the runtime's) {fmt_ratio(res['pin_v3'][CONSTRAINED_DERIVATIVES][0] / res['ours_v3'][CONSTRAINED_DERIVATIVES][0])} (v3)"
+                if CONSTRAINED_DERIVATIVES in res["ours_v3"] and CONSTRAINED_DERIVATIVES in res["pin_v3"]
+                else ""
+            )
         )
     for (name, chain, urdf, floating) in with_c:
         res, ins = results[name], instr.get(name, {})
@@ -1295,6 +1290,17 @@ def constrained_report(w, models, ops, results, instr, checks):
             f"({fmt_ratio(p3 / g3)} against Pinocchio v3), default {fmt_ns(gd)} ns"
             + (f"; {i_g:.0f} instructions per call (v3)" if i_g else "")
         )
+        if CONSTRAINED_DERIVATIVES in res["ours_v3"] and CONSTRAINED_DERIVATIVES in res["pin_v3"]:
+            d3, dd = res["ours_v3"][CONSTRAINED_DERIVATIVES][0], res["ours_default"][CONSTRAINED_DERIVATIVES][0]
+            q3, qw = res["pin_v3"][CONSTRAINED_DERIVATIVES][0], res["pin_wheel"][CONSTRAINED_DERIVATIVES][0]
+            i_d = ins.get("ours_v3", {}).get(CONSTRAINED_DERIVATIVES)
+            i_q = ins.get("pin_v3", {}).get(CONSTRAINED_DERIVATIVES)
+            w(
+                f"- the derivatives (`{CONSTRAINED_DERIVATIVES}`, ours the runtime's): ours v3 {fmt_ns(d3)} ns, "
+                f"default {fmt_ns(dd)} ns; Pinocchio v3 {fmt_ns(q3)} ns, wheel {fmt_ns(qw)} ns; Pinocchio / ours "
+                f"{fmt_ratio(q3 / d3)} (v3), {fmt_ratio(q3 / dd)} (default)"
+                + (f"; instructions ours v3 / Pinocchio v3 {i_d:.0f} / {i_q:.0f}" if i_d and i_q else "")
+            )
         med = lambda k, o: fmt_ns(res[k][o][1])
         w(
             "- medians (ns; ours v3 / ours default / Pinocchio v3 / Pinocchio wheel): "
