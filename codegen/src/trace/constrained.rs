@@ -31,7 +31,7 @@
 //! into the frame's at the end (`Wᵀ·n`, `Wᵀ·f`), what the runtime returns. `G` is the runtime's
 //! turned by `W` (the same rank); a redundancy names the contact and its row in world axes.
 
-use articulated_dynamics::model::Model;
+use articulated_dynamics::model::{Coupling, Model};
 use articulated_dynamics::reference::Ltdl;
 use articulated_dynamics::spatial::Vec3;
 use articulated_dynamics::Scalar;
@@ -164,81 +164,7 @@ fn trace_variant(
         let params = inputs(model.params.len(), Var::Param);
         let k = Kinematics::new(&tree, &q, &v);
         let placed: Vec<_> = frames.iter().map(|f| k.frame(f, &params)).collect();
-        let point = |i: usize| -> (Vec<Vec<Sym>>, [Sym; 3]) {
-            let j = c.reduce_columns(&k.jacobian(&placed[i], In::LocalWorldAligned), 6);
-            let rows = (3..6).map(|r| j[r * nv..(r + 1) * nv].to_vec()).collect();
-            let (_, ddp) = k.classical_acceleration(&placed[i], &zero);
-            (rows, ddp.0)
-        };
-        let mut rows: Vec<Vec<Sym>> = Vec::new();
-        let mut drift: Vec<Sym> = Vec::new();
-        for &constraint in constraints {
-            match constraint {
-                Constraint::Point(i) => {
-                    let (r, d) = point(i);
-                    rows.extend(r);
-                    drift.extend(d);
-                }
-                Constraint::SixD(i) => {
-                    // In world axes (module docs): the LOCAL_WORLD_ALIGNED Jacobian, the drift
-                    // `[ω̇; p̈ − ω × ṗ]`.
-                    let f = &placed[i];
-                    let j = c.reduce_columns(&k.jacobian(f, In::LocalWorldAligned), 6);
-                    rows.extend((0..6).map(|r| j[r * nv..(r + 1) * nv].to_vec()));
-                    let (dw, ddp) = k.classical_acceleration(f, &zero);
-                    let (w, dp) = k.aligned_velocity(f);
-                    drift.extend(dw.0);
-                    drift.extend((ddp - w.cross(dp)).0);
-                }
-                Constraint::Loop(a, b) => {
-                    let ((ra, da), (rb, db)) = (point(a), point(b));
-                    for (x, y) in ra.into_iter().zip(rb) {
-                        rows.push(x.iter().zip(&y).map(|(&x, &y)| x - y).collect());
-                    }
-                    drift.extend((Vec3(da) - Vec3(db)).0);
-                }
-                Constraint::LoopSixD(a, b) => {
-                    // In world axes at `a`'s origin (module docs): `b`'s motion moved to
-                    // `p_a` (`r = p_a − p_b`) subtracted from `a`'s.
-                    let (fa, fb) = (&placed[a], &placed[b]);
-                    let ja = c.reduce_columns(&k.jacobian(fa, In::LocalWorldAligned), 6);
-                    let jb = c.reduce_columns(&k.jacobian(fb, In::LocalWorldAligned), 6);
-                    let r = fa.origin - fb.origin;
-                    let at = |j: &[Sym], row: usize, col: usize| j[row * nv + col];
-                    let moved: Vec<Vec3<Sym>> = (0..nv)
-                        .map(|col| {
-                            r.cross(Vec3([at(&jb, 0, col), at(&jb, 1, col), at(&jb, 2, col)]))
-                        })
-                        .collect();
-                    let block = (0..6).map(|i| {
-                        (0..nv)
-                            .map(|col| {
-                                let d = at(&ja, i, col) - at(&jb, i, col);
-                                if i < 3 {
-                                    d
-                                } else {
-                                    d + moved[col].0[i - 3]
-                                }
-                            })
-                            .collect::<Vec<Sym>>()
-                    });
-                    rows.extend(block);
-                    let spatial = |f: &Frame<Sym>| {
-                        let (dw, ddp) = k.classical_acceleration(f, &zero);
-                        let (w, dp) = k.aligned_velocity(f);
-                        (dw, ddp - w.cross(dp), w, dp)
-                    };
-                    let (dwa, dva, wa, pa) = spatial(fa);
-                    let (dwb, dvb, wb, pb) = spatial(fb);
-                    // `b`'s velocity and drift at `p_a`; the drift is `W_a·(γ_a − ᵃX_b·γ_b +
-                    // v_a × ᵃX_b·v_b)`, the runtime's turned into world axes.
-                    let pb = pb + wb.cross(r);
-                    let dvb = dvb + dwb.cross(r);
-                    drift.extend((dwa - dwb + wa.cross(wb)).0);
-                    drift.extend((dva - dvb + wa.cross(pb) + pa.cross(wb)).0);
-                }
-            }
-        }
+        let (mut rows, mut drift) = rows_and_drift(&k, &c, &placed, constraints, &zero, nv);
         for (r, row) in rows.iter_mut().enumerate() {
             for (col, x) in row.iter_mut().enumerate() {
                 *x = x.label(format_args!("j_{r}_{col}"));
@@ -271,6 +197,92 @@ fn trace_variant(
         variant,
         candidates: Vec::new(),
     }
+}
+
+/// The constraints' rows (`nv` columns each) and drifts, stacked in order (module docs), from
+/// the tree's kinematics with the frames placed on it; `zero` is `q̈ = 0` on the tree.
+fn rows_and_drift(
+    k: &Kinematics<'_, Sym>,
+    c: &Coupling,
+    placed: &[Frame<Sym>],
+    constraints: &[Constraint],
+    zero: &[Sym],
+    nv: usize,
+) -> (Vec<Vec<Sym>>, Vec<Sym>) {
+    let point = |i: usize| -> (Vec<Vec<Sym>>, [Sym; 3]) {
+        let j = c.reduce_columns(&k.jacobian(&placed[i], In::LocalWorldAligned), 6);
+        let rows = (3..6).map(|r| j[r * nv..(r + 1) * nv].to_vec()).collect();
+        let (_, ddp) = k.classical_acceleration(&placed[i], zero);
+        (rows, ddp.0)
+    };
+    let mut rows: Vec<Vec<Sym>> = Vec::new();
+    let mut drift: Vec<Sym> = Vec::new();
+    for &constraint in constraints {
+        match constraint {
+            Constraint::Point(i) => {
+                let (r, d) = point(i);
+                rows.extend(r);
+                drift.extend(d);
+            }
+            Constraint::SixD(i) => {
+                // In world axes (module docs): the LOCAL_WORLD_ALIGNED Jacobian, the drift
+                // `[ω̇; p̈ − ω × ṗ]`.
+                let f = &placed[i];
+                let j = c.reduce_columns(&k.jacobian(f, In::LocalWorldAligned), 6);
+                rows.extend((0..6).map(|r| j[r * nv..(r + 1) * nv].to_vec()));
+                let (dw, ddp) = k.classical_acceleration(f, zero);
+                let (w, dp) = k.aligned_velocity(f);
+                drift.extend(dw.0);
+                drift.extend((ddp - w.cross(dp)).0);
+            }
+            Constraint::Loop(a, b) => {
+                let ((ra, da), (rb, db)) = (point(a), point(b));
+                for (x, y) in ra.into_iter().zip(rb) {
+                    rows.push(x.iter().zip(&y).map(|(&x, &y)| x - y).collect());
+                }
+                drift.extend((Vec3(da) - Vec3(db)).0);
+            }
+            Constraint::LoopSixD(a, b) => {
+                // In world axes at `a`'s origin (module docs): `b`'s motion moved to
+                // `p_a` (`r = p_a − p_b`) subtracted from `a`'s.
+                let (fa, fb) = (&placed[a], &placed[b]);
+                let ja = c.reduce_columns(&k.jacobian(fa, In::LocalWorldAligned), 6);
+                let jb = c.reduce_columns(&k.jacobian(fb, In::LocalWorldAligned), 6);
+                let r = fa.origin - fb.origin;
+                let at = |j: &[Sym], row: usize, col: usize| j[row * nv + col];
+                let moved: Vec<Vec3<Sym>> = (0..nv)
+                    .map(|col| r.cross(Vec3([at(&jb, 0, col), at(&jb, 1, col), at(&jb, 2, col)])))
+                    .collect();
+                let block = (0..6).map(|i| {
+                    (0..nv)
+                        .map(|col| {
+                            let d = at(&ja, i, col) - at(&jb, i, col);
+                            if i < 3 {
+                                d
+                            } else {
+                                d + moved[col].0[i - 3]
+                            }
+                        })
+                        .collect::<Vec<Sym>>()
+                });
+                rows.extend(block);
+                let spatial = |f: &Frame<Sym>| {
+                    let (dw, ddp) = k.classical_acceleration(f, zero);
+                    let (w, dp) = k.aligned_velocity(f);
+                    (dw, ddp - w.cross(dp), w, dp)
+                };
+                let (dwa, dva, wa, pa) = spatial(fa);
+                let (dwb, dvb, wb, pb) = spatial(fb);
+                // `b`'s velocity and drift at `p_a`; the drift is `W_a·(γ_a − ᵃX_b·γ_b +
+                // v_a × ᵃX_b·v_b)`, the runtime's turned into world axes.
+                let pb = pb + wb.cross(r);
+                let dvb = dvb + dwb.cross(r);
+                drift.extend((dwa - dwb + wa.cross(wb)).0);
+                drift.extend((dva - dvb + wa.cross(pb) + pa.cross(wb)).0);
+            }
+        }
+    }
+    (rows, drift)
 }
 
 /// `(q̈ then f, M's pivots, G's pivots)` from `M` (row-major), `h`, `τ`, the rows and their

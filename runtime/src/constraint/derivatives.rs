@@ -123,7 +123,7 @@ where
 
     // ∂r₁/∂q = ∂ID/∂q − ∂(Jᵀ·f)/∂q, ∂r₁/∂v = ∂ID/∂v.
     let (did_dq, r1_dv) = C::inverse_dynamics_derivatives(q, v, qdd);
-    let r1_dq = did_dq - force_term::<C, NQ, NV, NF, R>(q, f, contacts, loops);
+    let r1_dq = did_dq - force_term::<C, NQ, NV, NF, R>(q, f, &frames, contacts, loops);
     let (r2_dq, r2_dv) = constraint_term::<C, NQ, NV, NF, R>(q, v, qdd, &frames, contacts, loops);
 
     // The block solve, with the rows past `rows` left out (identity in `G`, zero elsewhere).
@@ -190,6 +190,7 @@ where
 fn force_term<C, const NQ: usize, const NV: usize, const NF: usize, const R: usize>(
     q: &SVector<f64, NQ>,
     f: &SVector<f64, R>,
+    frames: &Frames<NV, NF>,
     contacts: &[Contact],
     loops: &[Loop],
 ) -> SMatrix<f64, NV, NV>
@@ -200,7 +201,6 @@ where
         || loops.iter().any(|l| l.kind == Kind::Point);
     let six_d =
         contacts.iter().any(|c| c.kind == Kind::SixD) || loops.iter().any(|l| l.kind == Kind::SixD);
-    let frames = six_d.then(|| (C::frame_placements(q), C::frame_jacobians_local(q)));
     let mut djtf_dq = SMatrix::<f64, NV, NV>::zeros();
     for k in 0..NV {
         let e = SVector::<f64, NV>::from_fn(|i, _| if i == k { 1.0 } else { 0.0 });
@@ -223,15 +223,15 @@ where
             row += c.kind.rows();
         }
         for l in loops {
-            match (l.kind, &local, &aligned, &frames) {
-                (Kind::Point, _, Some(aligned), _) => {
+            match (l.kind, &local, &aligned) {
+                (Kind::Point, _, Some(aligned)) => {
                     let d = aligned[l.a].fixed_rows::<3>(3) - aligned[l.b].fixed_rows::<3>(3);
                     column += d.tr_mul(&f.fixed_rows::<3>(row));
                 }
-                (Kind::SixD, Some(local), _, Some((placements, jacobians))) => {
+                (Kind::SixD, Some(local), _) => {
                     column += six_d_loop_force(
-                        &Transform::between(&placements[l.a], &placements[l.b]),
-                        (&jacobians[l.a], &jacobians[l.b]),
+                        &Transform::between(&frames.placements[l.a], &frames.placements[l.b]),
+                        (&frames.jacobians[l.a], &frames.jacobians[l.b]),
                         (&local[l.a], &local[l.b]),
                         k,
                         &f.fixed_rows::<6>(row).into(),
