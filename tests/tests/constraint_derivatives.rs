@@ -48,6 +48,67 @@ chain_with_derivatives!(
     floating
 );
 chain_with_derivatives!(Foot, file = "../models/two_link_foot.chain", [sole, trunk]);
+chain_with_derivatives!(Gripper, urdf = "data/gripper_mimic.urdf", [left_tip, thumb]);
+
+// The generated `constrained_forward_dynamics_derivatives` of declared constraints (with
+// `forward_dynamics_derivatives` asked for), on the frames of the chains above, in their order.
+
+#[derive(Chain)]
+#[chain(
+    urdf = "../models/arm7.urdf",
+    outputs = [forward_dynamics_derivatives],
+    frames = [link7],
+    contacts = [link7: six_d]
+)]
+struct Arm7Welded;
+
+#[derive(Chain)]
+#[chain(
+    urdf = "../models/arm7.urdf",
+    outputs = [forward_dynamics_derivatives],
+    frames = [link7],
+    contacts = [link7: point]
+)]
+struct Arm7AtPoint;
+
+#[derive(Chain)]
+#[chain(
+    urdf = "../models/arm7.urdf",
+    floating = quaternion,
+    outputs = [forward_dynamics_derivatives],
+    frames = [link7, link4, link1],
+    contacts = [link4: point],
+    loops = [hold: six_d(link7, link1)]
+)]
+struct Arm7Held;
+
+#[derive(Chain)]
+#[chain(
+    urdf = "../models/arm7.urdf",
+    floating = quaternion,
+    outputs = [forward_dynamics_derivatives],
+    frames = [link7, link4, link1],
+    loops = [rod: point(link7, link4)]
+)]
+struct Arm7Rod;
+
+#[derive(Chain)]
+#[chain(
+    file = "../models/two_link_foot.chain",
+    outputs = [forward_dynamics_derivatives],
+    frames = [sole, trunk],
+    contacts = [sole: six_d]
+)]
+struct FootStanding;
+
+#[derive(Chain)]
+#[chain(
+    urdf = "data/gripper_mimic.urdf",
+    outputs = [forward_dynamics_derivatives],
+    frames = [left_tip, thumb],
+    contacts = [left_tip: point]
+)]
+struct GripperHeld;
 
 /// A state: `q` from the neutral configuration moved by `δ` (deterministic, away from
 /// singularities), `v` and `τ` alike.
@@ -217,6 +278,89 @@ fn derivatives_match_central_differences() {
     }
 }
 
+/// The worst of the six derivatives of `ours` against `theirs`, each matrix relative to its
+/// largest entry (1 at least), and `q̈` and the forces alike.
+fn worst_of<const NV: usize, const R: usize>(
+    ours: &constraint::derivatives::Derivatives<NV, R>,
+    theirs: &constraint::derivatives::Derivatives<NV, R>,
+) -> f64 {
+    let err = |a: &[f64], b: &[f64]| common::abs_err(a, b) / max_abs(b).max(1.0);
+    let (o, t) = (&ours.solution, &theirs.solution);
+    [
+        err(o.acceleration.as_slice(), t.acceleration.as_slice()),
+        err(o.forces.as_slice(), t.forces.as_slice()),
+        err(ours.dqdd_dq.as_slice(), theirs.dqdd_dq.as_slice()),
+        err(ours.dqdd_dv.as_slice(), theirs.dqdd_dv.as_slice()),
+        err(ours.dqdd_dtau.as_slice(), theirs.dqdd_dtau.as_slice()),
+        err(ours.dforces_dq.as_slice(), theirs.dforces_dq.as_slice()),
+        err(ours.dforces_dv.as_slice(), theirs.dforces_dv.as_slice()),
+        err(ours.dforces_dtau.as_slice(), theirs.dforces_dtau.as_slice()),
+    ]
+    .into_iter()
+    .fold(0.0, f64::max)
+}
+
+/// The generated derivatives of declared constraints against the runtime's for the same
+/// constraints on the same frames (a different computation: the runtime's from
+/// `inverse_dynamics_derivatives` and the frames' derivative outputs, checked against central
+/// differences above), on the arm fixed and on a free base, Hemami's two-link on its foot
+/// (quaternions) and the gripper whose fingers mimic each other; each to 1e-10. The solutions'
+/// residuals are at rounding.
+#[test]
+fn generated_derivatives_match_the_runtime() {
+    macro_rules! case {
+        ($label:literal, $gen:ty, $run:ty, $nq:literal, $nv:literal, $nf:literal, $r:literal) => {
+            for seed in [0.0, 1.0, 2.0] {
+                let (q, v, tau) = state::<$gen, $nq, $nv>(seed);
+                let ours = <$gen>::constrained_forward_dynamics_derivatives(&q, &v, &tau)
+                    .unwrap_or_else(|e| panic!("{}: {e}", $label));
+                let theirs = forward_dynamics_derivatives_of::<$run, $nq, $nv, $nf, $r>(
+                    &q,
+                    &v,
+                    &tau,
+                    <$gen>::CONTACTS,
+                    <$gen>::LOOPS,
+                )
+                .unwrap();
+                let e = worst_of(&ours, &theirs);
+                println!("{} (seed {seed}): {e:.1e}", $label);
+                assert!(e < 1e-10, "{}: {e:.1e}", $label);
+                assert!(ours.solution.residual < 1e-10, "{}", $label);
+            }
+        };
+    }
+    case!("arm7, flange welded", Arm7Welded, Arm7, 7, 7, 2, 6);
+    case!("arm7, flange at a point", Arm7AtPoint, Arm7, 7, 7, 2, 3);
+    case!(
+        "arm7 on a free base, held",
+        Arm7Held,
+        Arm7Floating,
+        14,
+        13,
+        3,
+        9
+    );
+    case!(
+        "arm7 on a free base, rod",
+        Arm7Rod,
+        Arm7Floating,
+        14,
+        13,
+        3,
+        3
+    );
+    case!("two-link on its foot", FootStanding, Foot, 13, 12, 2, 6);
+    case!(
+        "gripper, a fingertip held",
+        GripperHeld,
+        Gripper,
+        5,
+        5,
+        2,
+        3
+    );
+}
+
 /// Against Pinocchio 4.1's `computeConstraintDynamicsDerivatives`
 /// (`tests/data/pinocchio_constraints/`, the arm's cases: flange welded, flange at a point), each
 /// matrix to 1e-9 of its largest entry.
@@ -236,36 +380,61 @@ fn derivatives_agree_with_pinocchio() {
         {
             let vec =
                 |key: &str| SVector::<f64, 7>::from_column_slice(&common::vec_of(&state[key]));
-            let d = forward_dynamics_derivatives_of::<Arm7, 7, 7, 2, 6>(
-                &vec("q"),
-                &vec("v"),
-                &vec("tau"),
-                &[contact],
-                &[],
-            )
-            .unwrap();
-            let theirs = &state["derivatives"];
-            let rows = d.solution.rows;
-            // Ours are column-major; the forces' rows past `rows` are zero.
-            let forces = |m: &SMatrix<f64, 6, 7>| -> Vec<f64> {
-                (0..rows)
-                    .flat_map(|r| (0..7).map(move |c| (r, c)))
-                    .map(|(r, c)| m[(r, c)])
-                    .collect()
+            let (q, v, tau) = (vec("q"), vec("v"), vec("tau"));
+            let runtime =
+                forward_dynamics_derivatives_of::<Arm7, 7, 7, 2, 6>(&q, &v, &tau, &[contact], &[])
+                    .unwrap();
+            // The generated function's rows are the contact's alone: pad to the runtime's 6.
+            let generated = if case == "arm7_welded" {
+                Arm7Welded::constrained_forward_dynamics_derivatives(&q, &v, &tau).unwrap()
+            } else {
+                let g =
+                    Arm7AtPoint::constrained_forward_dynamics_derivatives(&q, &v, &tau).unwrap();
+                let pad = |m: &SMatrix<f64, 3, 7>| {
+                    SMatrix::<f64, 6, 7>::from_fn(|r, c| if r < 3 { m[(r, c)] } else { 0.0 })
+                };
+                constraint::derivatives::Derivatives {
+                    solution: Solution {
+                        acceleration: g.solution.acceleration,
+                        forces: SVector::from_fn(
+                            |r, _| if r < 3 { g.solution.forces[r] } else { 0.0 },
+                        ),
+                        rows: 3,
+                        residual: g.solution.residual,
+                        iterations: 1,
+                    },
+                    dqdd_dq: g.dqdd_dq,
+                    dqdd_dv: g.dqdd_dv,
+                    dqdd_dtau: g.dqdd_dtau,
+                    dforces_dq: pad(&g.dforces_dq),
+                    dforces_dv: pad(&g.dforces_dv),
+                    dforces_dtau: pad(&g.dforces_dtau),
+                }
             };
-            let square = |m: &SMatrix<f64, 7, 7>| m.transpose().as_slice().to_vec();
-            for (name, ours) in [
-                ("dqdd_dq", square(&d.dqdd_dq)),
-                ("dqdd_dv", square(&d.dqdd_dv)),
-                ("dqdd_dtau", square(&d.dqdd_dtau)),
-                ("dforces_dq", forces(&d.dforces_dq)),
-                ("dforces_dv", forces(&d.dforces_dv)),
-                ("dforces_dtau", forces(&d.dforces_dtau)),
-            ] {
-                let pin = common::rows_of(&theirs[name]);
-                let e = common::abs_err(&ours, &pin) / max_abs(&pin).max(1.0);
-                assert!(e < 1e-9, "{case} state {k}: {name} off by {e:.1e}");
-                worst = worst.max(e);
+            let theirs = &state["derivatives"];
+            for (who, d) in [("runtime", &runtime), ("generated", &generated)] {
+                let rows = d.solution.rows;
+                // Ours are column-major; the forces' rows past `rows` are zero.
+                let forces = |m: &SMatrix<f64, 6, 7>| -> Vec<f64> {
+                    (0..rows)
+                        .flat_map(|r| (0..7).map(move |c| (r, c)))
+                        .map(|(r, c)| m[(r, c)])
+                        .collect()
+                };
+                let square = |m: &SMatrix<f64, 7, 7>| m.transpose().as_slice().to_vec();
+                for (name, ours) in [
+                    ("dqdd_dq", square(&d.dqdd_dq)),
+                    ("dqdd_dv", square(&d.dqdd_dv)),
+                    ("dqdd_dtau", square(&d.dqdd_dtau)),
+                    ("dforces_dq", forces(&d.dforces_dq)),
+                    ("dforces_dv", forces(&d.dforces_dv)),
+                    ("dforces_dtau", forces(&d.dforces_dtau)),
+                ] {
+                    let pin = common::rows_of(&theirs[name]);
+                    let e = common::abs_err(&ours, &pin) / max_abs(&pin).max(1.0);
+                    assert!(e < 1e-9, "{who}, {case} state {k}: {name} off by {e:.1e}");
+                    worst = worst.max(e);
+                }
             }
         }
     }

@@ -12,7 +12,7 @@ use quote::quote;
 use super::function::{self, Used};
 use super::{docs, Context};
 use crate::emit;
-use crate::options::{ContactKind, ScalarKind};
+use crate::options::{ContactKind, Output, ScalarKind};
 use crate::sym::{Node, OpCounts, Sym};
 use crate::trace::constrained::{self, ConstrainedTraced, Constraint};
 
@@ -28,10 +28,10 @@ const PIVOT_TOLERANCE_F32: f64 = crate::trace::PIVOT_TOL_F32;
 ///
 /// # Errors
 /// A constant that cannot be emitted (as every function's).
-pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Option<OpCounts>)> {
+pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Vec<(&'static str, OpCounts)>)> {
     let options = cx.options;
     if !options.constrained() {
-        return Ok((quote!(), None));
+        return Ok((quote!(), Vec::new()));
     }
     // The check stage made sure each frame exists; `resolved` put each in `frames`.
     let index = |name: &str| options.frames.iter().position(|f| f == name).unwrap_or(0);
@@ -78,6 +78,23 @@ pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Option<OpCounts>)
     let traced = constrained::trace(cx.model, &cx.frames(), &constraints);
     let ops = traced.ops();
     let function = function(cx, &traced, &constraints)?;
+    let mut all_ops = vec![(super::CONSTRAINED, ops)];
+    // With forward dynamics' derivatives asked for, the constrained ones (`f64` only: they
+    // return the runtime's `Derivatives`).
+    let derivatives = if options
+        .outputs
+        .contains(&Output::ForwardDynamicsDerivatives)
+        && options.scalar == ScalarKind::F64
+    {
+        let traced = constrained::trace_derivatives(cx.model, &cx.frames(), &constraints);
+        let ops = traced.ops();
+        all_ops.push((super::CONSTRAINED_DERIVATIVES, ops));
+        let ops_const = super::ops_const(super::CONSTRAINED_DERIVATIVES, &ops);
+        let function = derivatives_function(cx, &traced, &constraints)?;
+        quote!(#ops_const #function)
+    } else {
+        quote!()
+    };
     let rows = options.constraint_rows();
     let r = lit(rows);
     let doc = |lines: Vec<String>| lines.into_iter().map(|d| quote!(#[doc = #d]));
@@ -99,19 +116,20 @@ pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Option<OpCounts>)
             pub const CONSTRAINT_ROWS: usize = #r;
             #ops_const
             #function
+            #derivatives
         }
     };
-    Ok((tokens, Some(ops)))
+    Ok((tokens, all_ops))
 }
 
-/// `constrained_forward_dynamics(q, v, τ)`: the traced solve as straight-line code, the inputs
-/// checked finite first, each pivot of `M` and of `G` checked against its unreduced value
-/// ([`pivot_checks`]), the results checked finite last.
-fn function(
+/// The statements shared by the constrained functions: the inputs checked finite, bound, the
+/// traced graph, each pivot of `M` and of `G` checked against its unreduced value
+/// ([`pivot_checks`]); and the emitted values (`traced.values`), in order.
+fn body(
     cx: &Context,
     traced: &ConstrainedTraced,
     constraints: &[Constraint],
-) -> syn::Result<TokenStream> {
+) -> syn::Result<(TokenStream, Vec<TokenStream>)> {
     let outputs = traced.all_outputs();
     let emitted = emit::straight_line_into(
         &traced.graph,
@@ -121,7 +139,7 @@ fn function(
         None,
     )?;
     let (nq, nv) = (cx.nq, cx.nv);
-    let rows = traced.values.len() - nv;
+    let values = traced.values.len();
     let used = Used::in_graph(&traced.graph, &outputs, nq, nv, 0);
     let [bind_q, bind_v, bind_tau] = [("q", &used.q), ("v", &used.v), ("tau", &used.tau)]
         .map(|(name, used)| function::destructure(name, used));
@@ -131,18 +149,43 @@ fn function(
     } else {
         quote!()
     };
-    let checks = pivot_checks(cx, traced, constraints, &emitted.outputs[nv + rows..]);
-    let values = &emitted.outputs[..nv + rows];
+    let checks = pivot_checks(cx, traced, constraints, &emitted.outputs[values..]);
+    let declare_tolerance = declare_tolerance(cx);
+    let (uses, statements) = (&emitted.uses, &emitted.statements);
+    let body = quote! {
+        #declare_tolerance
+        if !q.iter().chain(v.iter()).chain(tau.iter()).all(|x| x.is_finite()) {
+            return Err(::articulated::constraint::ConstraintError::NonFinite);
+        }
+        #uses
+        #bind_q
+        #bind_v
+        #bind_tau
+        #bind_params
+        #statements
+        #(#checks)*
+    };
+    Ok((body, emitted.outputs[..values].to_vec()))
+}
+
+/// `constrained_forward_dynamics(q, v, τ)`: the traced solve as straight-line code ([`body`]),
+/// the results checked finite last.
+fn function(
+    cx: &Context,
+    traced: &ConstrainedTraced,
+    constraints: &[Constraint],
+) -> syn::Result<TokenStream> {
+    let (body, values) = body(cx, traced, constraints)?;
+    let nv = cx.nv;
+    let rows = traced.values.len() - nv;
     let qdd = function::vector(cx, &values[..nv]);
     let forces = function::vector(cx, &values[nv..]);
     let (q_ty, v_ty, r_ty) = (
-        vector_type(cx, nq),
+        vector_type(cx, cx.nq),
         vector_type(cx, nv),
         vector_type(cx, rows),
     );
-    let declare_tolerance = declare_tolerance(cx);
     let generics = &cx.impl_generics;
-    let (uses, statements) = (&emitted.uses, &emitted.statements);
     let function_doc = docs::lines(&function_doc(cx, traced))
         .into_iter()
         .map(|d| quote!(#[doc = #d]));
@@ -153,23 +196,79 @@ fn function(
             v: &#v_ty,
             tau: &#v_ty,
         ) -> ::core::result::Result<(#v_ty, #r_ty), ::articulated::constraint::ConstraintError> {
-            #declare_tolerance
-            if !q.iter().chain(v.iter()).chain(tau.iter()).all(|x| x.is_finite()) {
-                return Err(::articulated::constraint::ConstraintError::NonFinite);
-            }
-            #uses
-            #bind_q
-            #bind_v
-            #bind_tau
-            #bind_params
-            #statements
-            #(#checks)*
+            #body
             let qdd = #qdd;
             let forces = #forces;
             if !qdd.iter().chain(forces.iter()).all(|x| x.is_finite()) {
                 return Err(::articulated::constraint::ConstraintError::NonFinite);
             }
             Ok((qdd, forces))
+        }
+    })
+}
+
+/// `constrained_forward_dynamics_derivatives(q, v, τ)`: the traced solve and its derivatives
+/// ([`constrained::trace_derivatives`]) as straight-line code ([`body`]), returned as the
+/// runtime's `constraint::derivatives::Derivatives` (`f64` chains only), every value checked
+/// finite last.
+fn derivatives_function(
+    cx: &Context,
+    traced: &ConstrainedTraced,
+    constraints: &[Constraint],
+) -> syn::Result<TokenStream> {
+    let (body, values) = body(cx, traced, constraints)?;
+    let (nv, rows) = (cx.nv, cx.options.constraint_rows());
+    let (qdd, rest) = values.split_at(nv);
+    let (forces, rest) = rest.split_at(rows);
+    let (residual, rest) = rest.split_at(rows);
+    let (dqdd, dforces) = rest.split_at(3 * nv * nv);
+    let matrix = |values: &[TokenStream], rows: usize| {
+        function::columns(cx, &function::transposed(values, rows), rows)
+    };
+    let [dqdd_dq, dqdd_dv, dqdd_dtau] =
+        [0, 1, 2].map(|k| matrix(&dqdd[k * nv * nv..][..nv * nv], nv));
+    let [dforces_dq, dforces_dv, dforces_dtau] =
+        [0, 1, 2].map(|k| matrix(&dforces[k * rows * nv..][..rows * nv], rows));
+    let (qdd, forces) = (function::vector(cx, qdd), function::vector(cx, forces));
+    let (q_ty, v_ty) = (vector_type(cx, cx.nq), vector_type(cx, nv));
+    let (nv_lit, r_lit) = (
+        Literal::usize_unsuffixed(nv),
+        Literal::usize_unsuffixed(rows),
+    );
+    let function_doc = docs::lines(&derivatives_doc(traced))
+        .into_iter()
+        .map(|d| quote!(#[doc = #d]));
+    Ok(quote! {
+        #(#function_doc)*
+        pub fn constrained_forward_dynamics_derivatives(
+            q: &#q_ty,
+            v: &#v_ty,
+            tau: &#v_ty,
+        ) -> ::core::result::Result<
+            ::articulated::constraint::derivatives::Derivatives<#nv_lit, #r_lit>,
+            ::articulated::constraint::ConstraintError,
+        > {
+            #body
+            let residual = [#(#residual),*].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let derivatives = ::articulated::constraint::derivatives::Derivatives {
+                solution: ::articulated::constraint::Solution {
+                    acceleration: #qdd,
+                    forces: #forces,
+                    rows: #r_lit,
+                    residual,
+                    iterations: 1,
+                },
+                dqdd_dq: #dqdd_dq,
+                dqdd_dv: #dqdd_dv,
+                dqdd_dtau: #dqdd_dtau,
+                dforces_dq: #dforces_dq,
+                dforces_dv: #dforces_dv,
+                dforces_dtau: #dforces_dtau,
+            };
+            if !derivatives.all_finite() {
+                return Err(::articulated::constraint::ConstraintError::NonFinite);
+            }
+            Ok(derivatives)
         }
     })
 }
@@ -354,6 +453,34 @@ fn loops_doc(cx: &Context) -> Vec<String> {
          `a`'s origin (`point`) or frame `a` (`six_d`) on frame `b`, by their indices in \
          `Chain::FRAMES`."
     )]
+}
+
+fn derivatives_doc(traced: &ConstrainedTraced) -> Vec<String> {
+    vec![
+        "`constrained_forward_dynamics` and its derivatives with respect to `q`, `v` and `τ`, \
+         for the constraints the description declares (`Self::CONTACTS`, then `Self::LOOPS`): \
+         Pinocchio's `computeConstraintDynamicsDerivatives`, what model-predictive control of a \
+         robot on its feet linearizes. `∂/∂q` is along the configuration's tangent, as in \
+         `forward_dynamics_derivatives`; the forces and their derivatives are in the axes \
+         `constrained_forward_dynamics` documents (a six-dimensional constraint's wrench in its \
+         frame). `solution.residual` is `max |J·q̈ + γ|` over the rows, in world axes."
+            .to_string(),
+        format!(
+            "Generated for these constraints: the solve of `constrained_forward_dynamics`, then \
+             the residuals `r₁ = ID(q, v, q̈) − Jᵀ·f` and `r₂ = J·q̈ + γ` differentiated at \
+             fixed `(q̈, f)` by forward mode along each tangent direction (a body's motion does \
+             not depend on the joints below it: those terms fold away), and `[M −Jᵀ; J 0]` \
+             solved for each column with the factorizations of the solve: {} ({}). The runtime's \
+             `articulated::constraint::derivatives::forward_dynamics_derivatives_of` computes \
+             the same for any subset of the constraints.",
+            traced.ops(),
+            traced.variant
+        ),
+        "# Errors".to_string(),
+        "As `constrained_forward_dynamics`; `ConstraintError::NonFinite` where a derivative is \
+         not finite."
+            .to_string(),
+    ]
 }
 
 fn function_doc(cx: &Context, traced: &ConstrainedTraced) -> Vec<String> {

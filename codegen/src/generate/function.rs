@@ -357,7 +357,7 @@ fn finite_checks(qdd: &[TokenStream]) -> Vec<TokenStream> {
 }
 
 /// A row-major matrix of `rows` rows as its entries column by column.
-fn transposed(values: &[TokenStream], rows: usize) -> Vec<TokenStream> {
+pub(super) fn transposed(values: &[TokenStream], rows: usize) -> Vec<TokenStream> {
     let cols = values.len() / rows;
     (0..cols)
         .flat_map(|c| (0..rows).map(move |r| values[r * cols + c].clone()))
@@ -375,7 +375,7 @@ pub(super) fn vector(cx: &Context, values: &[TokenStream]) -> TokenStream {
 }
 
 /// A matrix of `rows` rows from its entries column by column.
-fn columns(cx: &Context, values: &[TokenStream], rows: usize) -> TokenStream {
+pub(super) fn columns(cx: &Context, values: &[TokenStream], rows: usize) -> TokenStream {
     let scalar = &cx.scalar;
     let (r, c) = (
         Literal::usize_unsuffixed(rows),

@@ -25,9 +25,9 @@ pub struct Generated {
     pub tokens: TokenStream,
     /// Each emitted function's figures.
     pub functions: Vec<FunctionReport>,
-    /// The operations of `constrained_forward_dynamics`, where the description declares
-    /// constraints.
-    pub constrained_ops: Option<OpCounts>,
+    /// The operations of `constrained_forward_dynamics` (and of its derivatives', with
+    /// `forward_dynamics_derivatives`) by name, where the description declares constraints.
+    pub constrained_ops: Vec<(&'static str, OpCounts)>,
 }
 
 /// One generated function's figures.
@@ -99,19 +99,21 @@ pub fn generate_file(model: &Model, options: &Options, source: &str) -> syn::Res
         .functions
         .iter()
         .map(|f| f.output.name().len())
-        .chain(g.constrained_ops.map(|_| CONSTRAINED.len()))
+        .chain(g.constrained_ops.iter().map(|(name, _)| name.len()))
         .fold(24, usize::max);
     for f in &g.functions {
         header.push_str(&format!("// {:<width$} {}\n", f.output.name(), f.ops));
     }
-    if let Some(ops) = &g.constrained_ops {
-        header.push_str(&format!("// {CONSTRAINED:<width$} {ops}\n"));
+    for (name, ops) in &g.constrained_ops {
+        header.push_str(&format!("// {name:<width$} {ops}\n"));
     }
     Ok(format!("{header}\n{body}"))
 }
 
 /// The name of the function the declared constraints give ([`constraints`]).
 const CONSTRAINED: &str = "constrained_forward_dynamics";
+/// The name of its derivatives' function.
+const CONSTRAINED_DERIVATIVES: &str = "constrained_forward_dynamics_derivatives";
 
 /// What every generated item needs to know: the names, sizes and types of the chain.
 struct Context<'a> {

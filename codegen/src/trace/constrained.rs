@@ -32,12 +32,13 @@
 //! turned by `W` (the same rank); a redundancy names the contact and its row in world axes.
 
 use articulated_dynamics::model::{Coupling, Model};
-use articulated_dynamics::reference::Ltdl;
-use articulated_dynamics::spatial::Vec3;
+use articulated_dynamics::reference::derivatives::{configuration_tangent, map_tree, Dual, Wrt};
+use articulated_dynamics::reference::{Ltdl, Tree};
+use articulated_dynamics::spatial::{Mat3, Vec3};
 use articulated_dynamics::Scalar;
 
 use super::frames::{Frame, FrameAt, In, Kinematics};
-use super::{fewest, inputs, mass_matrix, model_inputs, rnea, symbolic_tree};
+use super::{fewest, inputs, mass_matrix, model_inputs, newton_euler, rnea, symbolic_tree};
 use super::{Formulation, Variant};
 use crate::optimize::{reassociate, reciprocals};
 use crate::sym::{self, Graph, OpCounts, Sym, Var};
@@ -127,6 +128,27 @@ impl ConstrainedTraced {
 /// way `M` and `h` can be formed (specialized recursions, `M`'s off-diagonal entries in the root
 /// frame or not, regrouped inertias or not), and keeps the fewest operations.
 pub fn trace(model: &Model, frames: &[FrameAt], constraints: &[Constraint]) -> ConstrainedTraced {
+    trace_with(model, frames, constraints, false)
+}
+
+/// [`trace`] with the residuals `J·q̈ + γ` (one per row, world axes) and the derivatives after
+/// the forces: `∂q̈/∂q`, `∂q̈/∂v`, `∂q̈/∂τ` (`nv × nv` each), then `∂f/∂q`, `∂f/∂v`, `∂f/∂τ`
+/// (`rows × nv` each), row-major, `∂/∂q` along the configuration's tangent (module docs).
+pub fn trace_derivatives(
+    model: &Model,
+    frames: &[FrameAt],
+    constraints: &[Constraint],
+) -> ConstrainedTraced {
+    trace_with(model, frames, constraints, true)
+}
+
+/// [`trace`] with the derivatives ([`trace_derivatives`]'s values) or without.
+fn trace_with(
+    model: &Model,
+    frames: &[FrameAt],
+    constraints: &[Constraint],
+    derivatives: bool,
+) -> ConstrainedTraced {
     let variants = [false, true].into_iter().flat_map(|regrouped| {
         [Formulation::Specialized, Formulation::SpecializedRootFrame].map(|formulation| Variant {
             regrouped,
@@ -138,7 +160,7 @@ pub fn trace(model: &Model, frames: &[FrameAt], constraints: &[Constraint]) -> C
         })
     });
     let traced: Vec<ConstrainedTraced> = variants
-        .map(|v| trace_variant(model, frames, constraints, v).rebuilt(reciprocals))
+        .map(|v| trace_variant(model, frames, constraints, v, derivatives).rebuilt(reciprocals))
         .collect();
     let candidates = traced.iter().map(|t| (t.variant, t.ops())).collect();
     let mut best = fewest(traced, |t| t.ops().total());
@@ -151,6 +173,7 @@ fn trace_variant(
     frames: &[FrameAt],
     constraints: &[Constraint],
     variant: Variant,
+    derivatives: bool,
 ) -> ConstrainedTraced {
     let (graph, (values, mass, delassus)) = sym::trace(|| {
         let (tree, turns) = symbolic_tree(model, variant.regrouped);
@@ -171,23 +194,45 @@ fn trace_variant(
             }
             drift[r] = drift[r].label(format_args!("gamma_{r}"));
         }
-        let (mut values, mass, delassus) = solve(m, &h, &tau, &rows, &drift, nv);
-        // Each six-dimensional contact's wrench from world axes into its frame's.
-        let mut at = nv;
-        for &constraint in constraints {
-            if let Constraint::SixD(i) | Constraint::LoopSixD(i, _) = constraint {
-                let w = placed[i].rotation;
-                for part in 0..2 {
-                    let s = at + 3 * part;
-                    let x = w.tr_mul_vec(Vec3([values[s], values[s + 1], values[s + 2]]));
-                    for (r, x) in x.0.into_iter().enumerate() {
-                        values[s + r] = x.label(format_args!("force_{}", s + r - nv));
-                    }
-                }
-            }
-            at += constraint.rows();
+        let (l, m_pivots) = Ltdl::new(m, nv);
+        let solver = Kkt::new(l, &rows);
+        let rhs: Vec<Sym> = tau.iter().zip(&h).map(|(&t, &h)| t - h).collect();
+        let (qdd, world) = solver.solve(rhs, &drift);
+        let qdd: Vec<Sym> = qdd
+            .into_iter()
+            .enumerate()
+            .map(|(k, x)| x.label(format_args!("qdd_{k}")))
+            .collect();
+        let world: Vec<Sym> = world
+            .into_iter()
+            .enumerate()
+            .map(|(i, x)| x.label(format_args!("f_{i}")))
+            .collect();
+        let forces: Vec<Sym> = to_frames(&placed, constraints, world)
+            .into_iter()
+            .enumerate()
+            .map(|(i, x)| x.label(format_args!("force_{i}")))
+            .collect();
+        let mut values = qdd.clone();
+        values.extend(&forces);
+        if derivatives {
+            // `max |J·q̈ + γ|` for the solution's report, then the derivatives.
+            values.extend(rows.iter().zip(&drift).enumerate().map(|(r, (row, &d))| {
+                let x = row.iter().zip(&qdd).fold(d, |s, (&j, &a)| s + j * a);
+                x.label(format_args!("residual_{r}"))
+            }));
+            let at = Point {
+                tree: &tree,
+                coupling: &c,
+                frames,
+                constraints,
+                params: &params,
+                q: &q,
+                v: &v,
+            };
+            values.extend(derivative_values(&at, &solver, &placed, &qdd, &forces));
         }
-        (values, mass, delassus)
+        (values, m_pivots, solver.pivots())
     });
     ConstrainedTraced {
         graph,
@@ -199,24 +244,202 @@ fn trace_variant(
     }
 }
 
+/// The constraint forces turned from world axes into each six-dimensional constraint's frame
+/// (`Wᵀ·n`, `Wᵀ·f`), what the runtime returns; the others as they are.
+fn to_frames<T: Scalar>(
+    placed: &[Frame<T>],
+    constraints: &[Constraint],
+    mut forces: Vec<T>,
+) -> Vec<T> {
+    turn(placed, constraints, &mut forces, |w, x| w.tr_mul_vec(x));
+    forces
+}
+
+/// Applies `by(W, part)` to each three-vector of each six-dimensional constraint's force, `W`
+/// its frame's `world_R_frame`.
+fn turn<T: Scalar>(
+    placed: &[Frame<T>],
+    constraints: &[Constraint],
+    forces: &mut [T],
+    by: impl Fn(&Mat3<T>, Vec3<T>) -> Vec3<T>,
+) {
+    let mut at = 0;
+    for &constraint in constraints {
+        if let Constraint::SixD(i) | Constraint::LoopSixD(i, _) = constraint {
+            for part in 0..2 {
+                let s = at + 3 * part;
+                let x = by(
+                    &placed[i].rotation,
+                    Vec3([forces[s], forces[s + 1], forces[s + 2]]),
+                );
+                forces[s..s + 3].copy_from_slice(&x.0);
+            }
+        }
+        at += constraint.rows();
+    }
+}
+
+/// Where the derivatives are taken: the tree, its inputs and the constraints.
+struct Point<'a> {
+    tree: &'a Tree<Sym>,
+    coupling: &'a Coupling,
+    frames: &'a [FrameAt],
+    constraints: &'a [Constraint],
+    params: &'a [Sym],
+    /// The tree's `q` and `v`.
+    q: &'a [Sym],
+    v: &'a [Sym],
+}
+
+/// The residuals `r₁ = ID(q, v, q̈) − Jᵀ·f` (`nv`) and `r₂ = J·q̈ + γ` (one per row, world
+/// axes) at `(q, v)` on `tree` (a dual tree, for their derivatives), `q̈` (the model's) and `f`
+/// (the runtime's: six-dimensional wrenches in their frames) held fixed.
+#[allow(clippy::too_many_arguments)]
+fn residuals<T: Scalar>(
+    tree: &Tree<T>,
+    c: &Coupling,
+    frames: &[FrameAt],
+    constraints: &[Constraint],
+    params: &[T],
+    (q, v): (&[T], &[T]),
+    qdd: &[T],
+    forces: &[T],
+) -> Vec<T> {
+    let nv = qdd.len();
+    let mut out = c.reduce(&newton_euler::classical_rnea(
+        tree,
+        q,
+        v,
+        &c.expand_v(qdd),
+        true,
+    ));
+    let k = Kinematics::new(tree, q, v);
+    let placed: Vec<_> = frames.iter().map(|f| k.frame(f, params)).collect();
+    let zero = vec![T::zero(); tree.nv];
+    let (rows, drift) = rows_and_drift(&k, c, &placed, constraints, &zero, nv);
+    let mut world = forces.to_vec();
+    turn(&placed, constraints, &mut world, |w, x| w.mul_vec(x));
+    for (row, &f) in rows.iter().zip(&world) {
+        for (o, &j) in out.iter_mut().zip(row) {
+            *o = *o - j * f;
+        }
+    }
+    out.extend(
+        rows.iter()
+            .zip(&drift)
+            .map(|(row, &d)| row.iter().zip(qdd).fold(d, |s, (&j, &a)| s + j * a)),
+    );
+    out
+}
+
+/// `∂q̈/∂q`, `∂q̈/∂v`, `∂q̈/∂τ` (`nv × nv` each), then `∂f/∂q`, `∂f/∂v`, `∂f/∂τ` (`rows × nv`
+/// each), row-major (module docs).
+fn derivative_values(
+    at: &Point<'_>,
+    solver: &Kkt,
+    placed: &[Frame<Sym>],
+    qdd: &[Sym],
+    forces: &[Sym],
+) -> Vec<Sym> {
+    let (tree, c) = (at.tree, at.coupling);
+    let (nv, rows, nt) = (qdd.len(), forces.len(), tree.nv);
+    let dual_tree = map_tree(tree, Dual::constant);
+    let constant = |x: &[Sym]| -> Vec<Dual<Sym>> { x.iter().map(|&x| Dual::constant(x)).collect() };
+    let (qc, vc, params) = (constant(at.q), constant(at.v), constant(at.params));
+    let (qdd_c, forces_c) = (constant(qdd), constant(forces));
+    let run = |q: &[Dual<Sym>], v: &[Dual<Sym>]| -> Vec<Sym> {
+        let r = residuals(
+            &dual_tree,
+            c,
+            at.frames,
+            at.constraints,
+            &params,
+            (q, v),
+            &qdd_c,
+            &forces_c,
+        );
+        r.into_iter().map(|x| x.du).collect()
+    };
+    // Columns by tree velocity, `(nv + rows) × nt` row-major, then through the coupling.
+    let n = nv + rows;
+    let mut by_q = vec![Sym::zero(); n * nt];
+    let mut by_v = vec![Sym::zero(); n * nt];
+    for k in 0..nt {
+        let tangent = configuration_tangent(tree, at.q, k);
+        let qk: Vec<Dual<Sym>> =
+            at.q.iter()
+                .zip(tangent)
+                .map(|(&x, d)| Dual::seeded(x, d, Wrt::Q(k)))
+                .collect();
+        for (i, x) in run(&qk, &vc).into_iter().enumerate() {
+            by_q[i * nt + k] = x;
+        }
+        let vk: Vec<Dual<Sym>> = at
+            .v
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| Dual::seeded(x, Sym::from_f64(f64::from(u8::from(i == k))), Wrt::V(k)))
+            .collect();
+        for (i, x) in run(&qc, &vk).into_iter().enumerate() {
+            by_v[i * nt + k] = x;
+        }
+    }
+    let (by_q, by_v) = (c.reduce_columns(&by_q, n), c.reduce_columns(&by_v, n));
+    // Each column solved: `(∂q̈, ∂f)` for `(∂r₁, ∂r₂)`; for `τ`, `∂r₁ = −e_j`, `∂r₂ = 0`.
+    let column = |m: &[Sym], j: usize| -> (Vec<Sym>, Vec<Sym>) {
+        let dr1: Vec<Sym> = (0..nv).map(|i| -m[i * nv + j]).collect();
+        let dr2: Vec<Sym> = (nv..n).map(|i| m[i * nv + j]).collect();
+        let (x, f) = solver.solve(dr1, &dr2);
+        (x, to_frames(placed, at.constraints, f))
+    };
+    let zeros = vec![Sym::zero(); rows];
+    let by_tau = |j: usize| -> (Vec<Sym>, Vec<Sym>) {
+        let e: Vec<Sym> = (0..nv)
+            .map(|i| Sym::from_f64(f64::from(u8::from(i == j))))
+            .collect();
+        let (x, f) = solver.solve(e, &zeros);
+        (x, to_frames(placed, at.constraints, f))
+    };
+    let solved: [Vec<(Vec<Sym>, Vec<Sym>)>; 3] = [
+        (0..nv).map(|j| column(&by_q, j)).collect(),
+        (0..nv).map(|j| column(&by_v, j)).collect(),
+        (0..nv).map(by_tau).collect(),
+    ];
+    let mut values = Vec::with_capacity(3 * n * nv);
+    for (stem, columns) in ["dqdd_dq", "dqdd_dv", "dqdd_dtau"].iter().zip(&solved) {
+        for i in 0..nv {
+            values.extend((0..nv).map(|j| columns[j].0[i].label(format_args!("{stem}_{i}_{j}"))));
+        }
+    }
+    for (stem, columns) in ["dforce_dq", "dforce_dv", "dforce_dtau"]
+        .iter()
+        .zip(&solved)
+    {
+        for i in 0..rows {
+            values.extend((0..nv).map(|j| columns[j].1[i].label(format_args!("{stem}_{i}_{j}"))));
+        }
+    }
+    values
+}
+
 /// The constraints' rows (`nv` columns each) and drifts, stacked in order (module docs), from
 /// the tree's kinematics with the frames placed on it; `zero` is `q̈ = 0` on the tree.
-fn rows_and_drift(
-    k: &Kinematics<'_, Sym>,
+fn rows_and_drift<T: Scalar>(
+    k: &Kinematics<'_, T>,
     c: &Coupling,
-    placed: &[Frame<Sym>],
+    placed: &[Frame<T>],
     constraints: &[Constraint],
-    zero: &[Sym],
+    zero: &[T],
     nv: usize,
-) -> (Vec<Vec<Sym>>, Vec<Sym>) {
-    let point = |i: usize| -> (Vec<Vec<Sym>>, [Sym; 3]) {
+) -> (Vec<Vec<T>>, Vec<T>) {
+    let point = |i: usize| -> (Vec<Vec<T>>, [T; 3]) {
         let j = c.reduce_columns(&k.jacobian(&placed[i], In::LocalWorldAligned), 6);
         let rows = (3..6).map(|r| j[r * nv..(r + 1) * nv].to_vec()).collect();
         let (_, ddp) = k.classical_acceleration(&placed[i], zero);
         (rows, ddp.0)
     };
-    let mut rows: Vec<Vec<Sym>> = Vec::new();
-    let mut drift: Vec<Sym> = Vec::new();
+    let mut rows: Vec<Vec<T>> = Vec::new();
+    let mut drift: Vec<T> = Vec::new();
     for &constraint in constraints {
         match constraint {
             Constraint::Point(i) => {
@@ -249,8 +472,8 @@ fn rows_and_drift(
                 let ja = c.reduce_columns(&k.jacobian(fa, In::LocalWorldAligned), 6);
                 let jb = c.reduce_columns(&k.jacobian(fb, In::LocalWorldAligned), 6);
                 let r = fa.origin - fb.origin;
-                let at = |j: &[Sym], row: usize, col: usize| j[row * nv + col];
-                let moved: Vec<Vec3<Sym>> = (0..nv)
+                let at = |j: &[T], row: usize, col: usize| j[row * nv + col];
+                let moved: Vec<Vec3<T>> = (0..nv)
                     .map(|col| r.cross(Vec3([at(&jb, 0, col), at(&jb, 1, col), at(&jb, 2, col)])))
                     .collect();
                 let block = (0..6).map(|i| {
@@ -263,10 +486,10 @@ fn rows_and_drift(
                                 d + moved[col].0[i - 3]
                             }
                         })
-                        .collect::<Vec<Sym>>()
+                        .collect::<Vec<T>>()
                 });
                 rows.extend(block);
-                let spatial = |f: &Frame<Sym>| {
+                let spatial = |f: &Frame<T>| {
                     let (dw, ddp) = k.classical_acceleration(f, zero);
                     let (w, dp) = k.aligned_velocity(f);
                     (dw, ddp - w.cross(dp), w, dp)
@@ -285,70 +508,90 @@ fn rows_and_drift(
     (rows, drift)
 }
 
-/// `(q̈ then f, M's pivots, G's pivots)` from `M` (row-major), `h`, `τ`, the rows and their
-/// drift (module docs).
-#[allow(clippy::type_complexity)]
-fn solve(
-    m: Vec<Sym>,
-    h: &[Sym],
-    tau: &[Sym],
-    rows: &[Vec<Sym>],
-    drift: &[Sym],
-    n: usize,
-) -> (Vec<Sym>, Vec<(Sym, Sym)>, Vec<(Sym, Sym)>) {
-    let (ltdl, mass) = Ltdl::new(m, n);
-    // `Lᵀ·x = b`, from the last coordinate up (the first half of `Ltdl::solve`).
-    let upper = |mut x: Vec<Sym>| {
-        for k in (0..n).rev() {
-            for i in 0..k {
-                x[i] = x[i] - ltdl.l[k * n + i] * x[k];
+/// The constrained system factored (module docs): `M = LᵀDL`, `Z = L⁻ᵀ·Jᵀ` by row of `J`,
+/// `D⁻¹·Z`, and `G = Zᵀ·D⁻¹·Z = LᵀDL` with its rows in reverse.
+struct Kkt {
+    l: Ltdl<Sym>,
+    z: Vec<Vec<Sym>>,
+    scaled: Vec<Vec<Sym>>,
+    g: Ltdl<Sym>,
+    g_pivots: Vec<(Sym, Sym)>,
+}
+
+impl Kkt {
+    fn new(l: Ltdl<Sym>, rows: &[Vec<Sym>]) -> Self {
+        let z: Vec<Vec<Sym>> = rows
+            .iter()
+            .map(|r| l_transpose_solve(&l, r.clone()))
+            .collect();
+        // `D⁻¹·z` per row.
+        let scaled: Vec<Vec<Sym>> = z
+            .iter()
+            .map(|z| z.iter().zip(&l.inv_d).map(|(&z, &d)| z * d).collect())
+            .collect();
+        let r = rows.len();
+        // `G` with its rows in reverse (module docs).
+        let mut g = vec![Sym::zero(); r * r];
+        for i in 0..r {
+            for j in 0..=i {
+                let x = dot(&scaled[i], &z[j]).label(format_args!("g_{i}_{j}"));
+                g[(r - 1 - i) * r + (r - 1 - j)] = x;
+                g[(r - 1 - j) * r + (r - 1 - i)] = x;
             }
         }
-        x
-    };
-    let y: Vec<Sym> = upper(tau.iter().zip(h).map(|(&t, &h)| t - h).collect());
-    let z: Vec<Vec<Sym>> = rows.iter().map(|r| upper(r.clone())).collect();
-    // `D⁻¹·z` per row.
-    let scaled: Vec<Vec<Sym>> = z
-        .iter()
-        .map(|z| z.iter().zip(&ltdl.inv_d).map(|(&z, &d)| z * d).collect())
-        .collect();
-    let dot = |a: &[Sym], b: &[Sym]| a.iter().zip(b).fold(Sym::zero(), |s, (&a, &b)| s + a * b);
-    let r = rows.len();
-    // `G` and `b` with their rows in reverse (module docs).
-    let mut g = vec![Sym::zero(); r * r];
-    let mut b = vec![Sym::zero(); r];
-    for i in 0..r {
-        for j in 0..=i {
-            let x = dot(&scaled[i], &z[j]).label(format_args!("g_{i}_{j}"));
-            g[(r - 1 - i) * r + (r - 1 - j)] = x;
-            g[(r - 1 - j) * r + (r - 1 - i)] = x;
+        let (g, g_pivots) = Ltdl::new(g, r);
+        Kkt {
+            l,
+            z,
+            scaled,
+            g,
+            g_pivots,
         }
-        b[r - 1 - i] = (-drift[i] - dot(&scaled[i], &y)).label(format_args!("b_{i}"));
     }
-    let (g_ltdl, g_pivots) = Ltdl::new(g, r);
-    let reversed = g_ltdl.solve(b);
-    let forces: Vec<Sym> = (0..r)
-        .map(|i| reversed[r - 1 - i].label(format_args!("f_{i}")))
-        .collect();
-    let delassus = (0..r).map(|i| g_pivots[r - 1 - i]).collect();
-    // `q̈ = L⁻¹·D⁻¹·(y + Z·f)`: `L·x = D⁻¹·(…)` from the first coordinate down.
-    let mut x: Vec<Sym> = (0..n)
-        .map(|k| {
-            let s = z.iter().zip(&forces).fold(y[k], |s, (z, &f)| s + z[k] * f);
-            s * ltdl.inv_d[k]
-        })
-        .collect();
-    for k in 0..n {
+
+    /// `G`'s pivots with their unreduced values, by row.
+    fn pivots(&self) -> Vec<(Sym, Sym)> {
+        self.g_pivots.iter().rev().copied().collect()
+    }
+
+    /// `(x, f)` with `M·x = b + Jᵀ·f` and `J·x + c = 0`: `y = L⁻ᵀ·b`, `G·f = −c − Zᵀ·D⁻¹·y`,
+    /// `x = L⁻¹·D⁻¹·(y + Z·f)`. `f` in the rows' axes.
+    fn solve(&self, b: Vec<Sym>, c: &[Sym]) -> (Vec<Sym>, Vec<Sym>) {
+        let (l, n, r) = (&self.l, self.l.n, self.z.len());
+        let y = l_transpose_solve(l, b);
+        let mut rhs = vec![Sym::zero(); r];
+        for i in 0..r {
+            rhs[r - 1 - i] = (-c[i] - dot(&self.scaled[i], &y)).label(format_args!("b_{i}"));
+        }
+        let reversed = self.g.solve(rhs);
+        let f: Vec<Sym> = (0..r).map(|i| reversed[r - 1 - i]).collect();
+        // `L·x = D⁻¹·(…)` from the first coordinate down.
+        let mut x: Vec<Sym> = (0..n)
+            .map(|k| {
+                let s = self.z.iter().zip(&f).fold(y[k], |s, (z, &f)| s + z[k] * f);
+                s * l.inv_d[k]
+            })
+            .collect();
+        for k in 0..n {
+            for i in 0..k {
+                x[k] = x[k] - l.l[k * n + i] * x[i];
+            }
+        }
+        (x, f)
+    }
+}
+
+/// `L⁻ᵀ·b`: `Lᵀ·x = b` from the last coordinate up (the first half of `Ltdl::solve`).
+fn l_transpose_solve(l: &Ltdl<Sym>, mut x: Vec<Sym>) -> Vec<Sym> {
+    let n = l.n;
+    for k in (0..n).rev() {
         for i in 0..k {
-            x[k] = x[k] - ltdl.l[k * n + i] * x[i];
+            x[i] = x[i] - l.l[k * n + i] * x[k];
         }
     }
-    let values = x
-        .into_iter()
-        .enumerate()
-        .map(|(k, x)| x.label(format_args!("qdd_{k}")))
-        .chain(forces)
-        .collect();
-    (values, mass, delassus)
+    x
+}
+
+fn dot(a: &[Sym], b: &[Sym]) -> Sym {
+    a.iter().zip(b).fold(Sym::zero(), |s, (&a, &b)| s + a * b)
 }

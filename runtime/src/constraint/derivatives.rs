@@ -91,6 +91,22 @@ pub struct Derivatives<const NV: usize, const R: usize> {
     pub dforces_dtau: SMatrix<f64, R, NV>,
 }
 
+impl<const NV: usize, const R: usize> Derivatives<NV, R> {
+    /// Whether every value is finite: `q̈`, the forces and the six derivatives.
+    pub fn all_finite(&self) -> bool {
+        let s = &self.solution;
+        let matrices = [&self.dqdd_dq, &self.dqdd_dv, &self.dqdd_dtau];
+        let forces = [&self.dforces_dq, &self.dforces_dv, &self.dforces_dtau];
+        super::finite(
+            s.acceleration
+                .iter()
+                .chain(s.forces.iter())
+                .chain(matrices.into_iter().flat_map(|m| m.iter()))
+                .chain(forces.into_iter().flat_map(|m| m.iter())),
+        )
+    }
+}
+
 /// [`super::forward_dynamics_of`] (exact, no Baumgarte terms) and its derivatives with respect
 /// to `q`, `v` and `τ` (module docs), for the `contacts` then the `loops` on a generated
 /// chain's frames.
@@ -163,18 +179,7 @@ where
     let (dqdd_dq, dforces_dq) = derivative(&r1_dq, &r2_dq);
     let (dqdd_dv, dforces_dv) = derivative(&r1_dv, &r2_dv);
     let (dqdd_dtau, dforces_dtau) = (p, -b);
-    let all = [&dqdd_dq, &dqdd_dv, &dqdd_dtau]
-        .into_iter()
-        .flat_map(|x| x.iter())
-        .chain(
-            [&dforces_dq, &dforces_dv, &dforces_dtau]
-                .into_iter()
-                .flat_map(|x| x.iter()),
-        );
-    if !super::finite(all) {
-        return Err(ConstraintError::NonFinite);
-    }
-    Ok(Derivatives {
+    let derivatives = Derivatives {
         solution,
         dqdd_dq,
         dqdd_dv,
@@ -182,7 +187,11 @@ where
         dforces_dq,
         dforces_dv,
         dforces_dtau,
-    })
+    };
+    if !derivatives.all_finite() {
+        return Err(ConstraintError::NonFinite);
+    }
+    Ok(derivatives)
 }
 
 /// `∂(Jᵀ·f)/∂q` at fixed `f`: column `k` is `(∂J/∂δ_k)ᵀ·f`, the Jacobians' rates at the velocity
