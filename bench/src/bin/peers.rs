@@ -67,9 +67,11 @@
 //! second copy of the model's, which made no measurable difference to this binary's
 //! test-profile build. For a model marked `derivatives` the contacts' type also has the outputs
 //! the runtime's constrained derivatives read (`inverse_dynamics_derivatives`, the frames'
-//! Jacobian rates, acceleration and velocity derivatives), and
-//! [`forward_dynamics_derivatives_of`] is timed ([`CONSTRAINED_DERIVATIVES`]): for the humanoid,
-//! under the same feature `humanoid-derivatives`.
+//! Jacobian rates, acceleration and velocity derivatives), which give it the generated
+//! `constrained_forward_dynamics_derivatives` too: that is timed ([`CONSTRAINED_DERIVATIVES`]),
+//! and beside it the runtime's [`forward_dynamics_derivatives_of`]
+//! ([`CONSTRAINED_DERIVATIVES_RUNTIME`]); for the humanoid, under the same feature
+//! `humanoid-derivatives`.
 
 use std::hint::black_box;
 use std::path::Path;
@@ -77,7 +79,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use articulated::constraint::derivatives::{
-    forward_dynamics_derivatives_of, DerivativeOutputs as ConstraintDerivativeOutputs,
+    forward_dynamics_derivatives_of, DerivativeOutputs as ConstraintDerivativeOutputs, Derivatives,
 };
 use articulated::constraint::{self, Contact, Settings};
 use articulated::control::tangent::retract;
@@ -131,10 +133,22 @@ const CONSTRAINED: &str = "constrained_forward_dynamics";
 /// dense solve.
 const CONSTRAINED_RUNTIME: &str = "constrained_forward_dynamics_runtime";
 
-/// The timing of the runtime's [`forward_dynamics_derivatives_of`] on the same contacts, for a
-/// model marked `derivatives`: the constrained solve with `∂q̈` and `∂f` with respect to `q`, `v`
-/// and `τ`, from generated outputs and dense solves.
+/// The timing of the generated `constrained_forward_dynamics_derivatives` of the model's contacts,
+/// for a model marked `derivatives`: the constrained solve with `∂q̈` and `∂f` with respect to
+/// `q`, `v` and `τ`.
 const CONSTRAINED_DERIVATIVES: &str = "constrained_forward_dynamics_derivatives";
+
+/// The timing of the runtime's [`forward_dynamics_derivatives_of`] on the same contacts (any
+/// subset of them at run time): from generated outputs and dense products.
+const CONSTRAINED_DERIVATIVES_RUNTIME: &str = "constrained_forward_dynamics_derivatives_runtime";
+
+/// A generated `constrained_forward_dynamics_derivatives`.
+type ConstrainedDerivativesFn<const NQ: usize, const NV: usize, const R: usize> =
+    fn(
+        &SVector<f64, NQ>,
+        &SVector<f64, NV>,
+        &SVector<f64, NV>,
+    ) -> Result<Derivatives<NV, R>, constraint::ConstraintError>;
 
 /// The timing of `C::mass_matrix_update(&q, &mut kept)`: `M` into a [`KeptMassMatrix`], only the
 /// entries that can be non-zero written (reported beside `mass_matrix`).
@@ -187,6 +201,11 @@ trait Peer<const NQ: usize, const NV: usize>:
     /// [`CONSTRAINED_RUNTIME`] calls (zeros for a model without them).
     fn constrained_ops() -> (usize, usize) {
         (0, 0)
+    }
+    /// The generator's operation count of [`CONSTRAINED_DERIVATIVES`], for a model marked
+    /// `derivatives` and given contacts.
+    fn constrained_derivative_ops() -> Option<usize> {
+        None
     }
     /// Hands `visitor` the closures of [`CONSTRAINED`] and [`CONSTRAINED_RUNTIME`], for a
     /// model given contacts ([`each_constrained`]); nothing otherwise.
@@ -312,6 +331,9 @@ macro_rules! contact_members {
             .sum();
             ($cty::CONSTRAINED_FORWARD_DYNAMICS_OPS.total(), runtime)
         }
+        fn constrained_derivative_ops() -> Option<usize> {
+            constrained_derivatives!(ops $kind $cty)
+        }
         fn each_constrained<V: Visit>(states: &[State<{ $ty::NQ }, { $ty::NV }>], visitor: &mut V) {
             each_constrained::<$cty, V, { $ty::NQ }, { $ty::NV }, { $cty::NF }, { 6 * $cty::NF }>(
                 states,
@@ -340,7 +362,17 @@ macro_rules! contact_members {
 /// `derivatives` (for `models!`); nothing for a `plain` one.
 macro_rules! constrained_derivatives {
     (derivatives $cty:ident, $v:ident, $nq:expr, $nv:expr, $nf:expr, $r:expr, $states:ident, $visitor:ident) => {
-        each_constrained_derivative::<$cty, $v, $nq, $nv, $nf, $r>($states, $visitor)
+        each_constrained_derivative::<$cty, $v, $nq, $nv, $nf, $r>(
+            $states,
+            $cty::constrained_forward_dynamics_derivatives,
+            $visitor,
+        )
+    };
+    (ops derivatives $cty:ident) => {
+        Some($cty::CONSTRAINED_FORWARD_DYNAMICS_DERIVATIVES_OPS.total())
+    };
+    (ops plain $cty:ident) => {
+        None
     };
     (plain $($rest:tt)*) => {};
 }
@@ -912,8 +944,10 @@ fn each_constrained<K, V, const NQ: usize, const NV: usize, const NF: usize, con
     });
 }
 
-/// Hands `visitor` the closure of [`CONSTRAINED_DERIVATIVES`] on `states`, with `K` the type of
-/// the model's contacts (`NF` frames, `R = 6·NF` rows), generated with the derivative outputs.
+/// Hands `visitor` the closures of [`CONSTRAINED_DERIVATIVES`] (`generated`, the contacts' type's
+/// `constrained_forward_dynamics_derivatives`) and [`CONSTRAINED_DERIVATIVES_RUNTIME`] on
+/// `states`, with `K` the type of the model's contacts (`NF` frames, `R = 6·NF` rows), generated
+/// with the derivative outputs.
 fn each_constrained_derivative<
     K,
     V,
@@ -923,6 +957,7 @@ fn each_constrained_derivative<
     const R: usize,
 >(
     states: &[State<NQ, NV>],
+    generated: ConstrainedDerivativesFn<NQ, NV, R>,
     visitor: &mut V,
 ) where
     K: ConstraintDerivativeOutputs<NQ, NV, NF>,
@@ -931,6 +966,14 @@ fn each_constrained_derivative<
     let mask = states.len() - 1;
     let contacts = six_d_contacts::<NF>();
     visitor.visit(CONSTRAINED_DERIVATIVES, |i| {
+        let x = &states[i & mask];
+        let _ = black_box(generated(
+            black_box(&x.q),
+            black_box(&x.v),
+            black_box(&x.tau),
+        ));
+    });
+    visitor.visit(CONSTRAINED_DERIVATIVES_RUNTIME, |i| {
         let x = &states[i & mask];
         let _ = black_box(forward_dynamics_derivatives_of::<K, NQ, NV, NF, R>(
             black_box(&x.q),
@@ -1117,6 +1160,9 @@ fn layout<M: Peer<NQ, NV>, const NQ: usize, const NV: usize>() -> Result<Layout,
         let (generated, runtime) = M::constrained_ops();
         ops.push((CONSTRAINED, generated));
         ops.push((CONSTRAINED_RUNTIME, runtime));
+        if let Some(derivatives) = M::constrained_derivative_ops() {
+            ops.push((CONSTRAINED_DERIVATIVES, derivatives));
+        }
     }
     Ok(Layout {
         nq: NQ,

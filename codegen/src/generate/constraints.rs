@@ -12,7 +12,8 @@ use quote::quote;
 use super::function::{self, Used};
 use super::{docs, Context};
 use crate::emit;
-use crate::options::{ContactKind, Output, ScalarKind};
+use crate::options::{ContactKind, ScalarKind};
+use crate::outputs::Group;
 use crate::sym::{Node, OpCounts, Sym};
 use crate::trace::constrained::{self, ConstrainedTraced, Constraint};
 
@@ -79,11 +80,12 @@ pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Vec<(&'static str
     let ops = traced.ops();
     let function = function(cx, &traced, &constraints)?;
     let mut all_ops = vec![(super::CONSTRAINED, ops)];
-    // With forward dynamics' derivatives asked for, the constrained ones (`f64` only: they
-    // return the runtime's `Derivatives`).
+    // With a derivative output asked for, the constrained derivatives (`f64` only: they return
+    // the runtime's `Derivatives`).
     let derivatives = if options
         .outputs
-        .contains(&Output::ForwardDynamicsDerivatives)
+        .iter()
+        .any(|o| o.spec().group == Some(Group::Derivatives))
         && options.scalar == ScalarKind::F64
     {
         let traced = constrained::trace_derivatives(cx.model, &cx.frames(), &constraints);

@@ -30,15 +30,38 @@
 //! every column of the Jacobian into the frame; the wrench solved for, in world axes, is turned
 //! into the frame's at the end (`Wᵀ·n`, `Wᵀ·f`), what the runtime returns. `G` is the runtime's
 //! turned by `W` (the same rank); a redundancy names the contact and its row in world axes.
+//!
+//! With a derivative output asked for, [`trace_derivatives`] adds the derivatives with respect
+//! to `q`, `v` and `τ` (`constrained_forward_dynamics_derivatives`; Pinocchio's
+//! `computeConstraintDynamicsDerivatives`). At the solution the residuals
+//! `r₁ = ID(q, v, q̈) − Jᵀ·f − τ` and `r₂ = J·q̈ + γ` vanish for every `(q, v, τ)`, so at fixed
+//! `(q̈, f)` (the runtime's `articulated::constraint::derivatives` derives the same)
+//!
+//! ```text
+//! [M  −Jᵀ] [∂q̈]     [∂r₁]
+//! [J   0 ] [∂f ] = − [∂r₂]
+//! ```
+//!
+//! - `∂r₁` and `∂r₂` along each tangent direction by forward mode ([`Dual`]) through one
+//!   Newton–Euler pass (`residuals`): the constraint forces enter it as external forces on
+//!   their bodies (a six-dimensional wrench, fixed in its frame, is a constant of its body's
+//!   frame: only the backward pass's transforms carry its derivative), and the constraints'
+//!   accelerations come from the same pass's spatial accelerations. The structure folds away:
+//!   a body's motion does not depend on the joints below it;
+//! - each column solved with the factorizations of the solve above (`Kkt::solve`): `L⁻ᵀ`,
+//!   the `Z` dot products, `G`'s `LᵀDL`, `L⁻¹`; for `τ`, `∂r₁ = −e_j`. Held in world axes as
+//!   the solve is: a six-dimensional constraint's `∂r₂` turned by `W` (at the solution
+//!   `r₂ = 0`, so `∂(W·r₂) = W·∂r₂`) and its `∂f` turned back by `Wᵀ`, with `f` held fixed in
+//!   its frame.
 
 use articulated_dynamics::model::{Coupling, Model};
 use articulated_dynamics::reference::derivatives::{configuration_tangent, map_tree, Dual, Wrt};
-use articulated_dynamics::reference::{Ltdl, Tree};
-use articulated_dynamics::spatial::{Mat3, Vec3};
+use articulated_dynamics::reference::{project, transmit, Ltdl, Tree};
+use articulated_dynamics::spatial::{Force, Mat3, Motion, Vec3};
 use articulated_dynamics::Scalar;
 
 use super::frames::{Frame, FrameAt, In, Kinematics};
-use super::{fewest, inputs, mass_matrix, model_inputs, newton_euler, rnea, symbolic_tree};
+use super::{fewest, inputs, mass_matrix, model_inputs, rnea, symbolic_tree};
 use super::{Formulation, Variant};
 use crate::optimize::{reassociate, reciprocals};
 use crate::sym::{self, Graph, OpCounts, Sym, Var};
@@ -291,9 +314,16 @@ struct Point<'a> {
     v: &'a [Sym],
 }
 
-/// The residuals `r₁ = ID(q, v, q̈) − Jᵀ·f` (`nv`) and `r₂ = J·q̈ + γ` (one per row, world
-/// axes) at `(q, v)` on `tree` (a dual tree, for their derivatives), `q̈` (the model's) and `f`
-/// (the runtime's: six-dimensional wrenches in their frames) held fixed.
+/// The residuals at `(q, v)` on `tree` (a dual tree, for their derivatives), with `q̈` (the
+/// model's) and `f` (the runtime's: six-dimensional wrenches in their frames) held fixed, both
+/// from one Newton–Euler pass:
+/// - `r₁ = ID(q, v, q̈) − Jᵀ·f` (`nv`): the constraint forces enter as external forces on their
+///   bodies before the backward pass (a wrench fixed in a body's frame is a constant there);
+/// - `r₂ = J·q̈ + γ`, the constraints' accelerations (one per row, in the solve's world axes),
+///   from the pass's spatial accelerations. A six-dimensional contact's is its frame's spatial
+///   acceleration in LOCAL (the runtime's row) turned by `w`, the value of its `world_R_frame`
+///   as a constant: at the solution that acceleration is zero, so `∂(W·r₂) = W·∂r₂`, the
+///   derivative the world-axes solve needs.
 #[allow(clippy::too_many_arguments)]
 fn residuals<T: Scalar>(
     tree: &Tree<T>,
@@ -302,38 +332,120 @@ fn residuals<T: Scalar>(
     constraints: &[Constraint],
     params: &[T],
     (q, v): (&[T], &[T]),
-    qdd: &[T],
-    forces: &[T],
+    (qdd, forces): (&[T], &[T]),
+    w: &[Mat3<T>],
 ) -> Vec<T> {
-    let nv = qdd.len();
-    let mut out = c.reduce(&newton_euler::classical_rnea(
-        tree,
-        q,
-        v,
-        &c.expand_v(qdd),
-        true,
-    ));
+    let a = c.expand_v(qdd);
     let k = Kinematics::new(tree, q, v);
-    let placed: Vec<_> = frames.iter().map(|f| k.frame(f, params)).collect();
-    let zero = vec![T::zero(); tree.nv];
-    let (rows, drift) = rows_and_drift(&k, c, &placed, constraints, &zero, nv);
-    let mut world = forces.to_vec();
-    turn(&placed, constraints, &mut world, |w, x| w.mul_vec(x));
-    for (row, &f) in rows.iter().zip(&world) {
-        for (o, &j) in out.iter_mut().zip(row) {
-            *o = *o - j * f;
-        }
+    let placed: Vec<Frame<T>> = frames.iter().map(|f| k.frame(f, params)).collect();
+    // Forward pass (RBDA Table 5.1), gravity as the base's acceleration.
+    let a0 = tree.base_acceleration(true);
+    let n = tree.nodes.len();
+    let mut acc: Vec<Motion<T>> = Vec::with_capacity(n);
+    let mut f: Vec<Force<T>> = Vec::with_capacity(n);
+    for (i, node) in tree.nodes.iter().enumerate() {
+        let v_i = k.vel[i];
+        let a_i = match node.parent {
+            None => k.x_up[i].apply_motion(a0) + node.s_mul(&a),
+            Some(p) => {
+                k.x_up[i].apply_motion(acc[p]) + node.s_mul(&a) + v_i.cross_motion(node.s_mul(v))
+            }
+        };
+        let inertia = &node.inertia;
+        f.push(inertia.mul_motion(a_i) + v_i.cross_force(inertia.mul_motion(v_i)));
+        acc.push(a_i);
     }
-    out.extend(
-        rows.iter()
-            .zip(&drift)
-            .map(|(row, &d)| row.iter().zip(qdd).fold(d, |s, (&j, &a)| s + j * a)),
-    );
+    // A frame's motion in its body's axes: `(ω̇, a)` the spatial acceleration at its origin
+    // (gravity's part taken out: `X_0·a₀ = [0; E·a₀]`) and `(ω, ṗ)` its velocity there.
+    let motion = |fr: &Frame<T>| -> Option<[Vec3<T>; 4]> {
+        let n = fr.node?;
+        let (ac, ve) = (acc[n], k.vel[n]);
+        let lin = ac.lin - k.x0[n].e.mul_vec(a0.lin);
+        let p = fr.offset;
+        Some([
+            ac.ang,
+            lin + ac.ang.cross(p),
+            ve.ang,
+            ve.lin + ve.ang.cross(p),
+        ])
+    };
+    // `[ω̇; p̈]` and `[ω; ṗ]` of a frame's origin in world axes (classical).
+    let classical = |fr: &Frame<T>| -> [Vec3<T>; 4] {
+        let Some([dw, a, om, dp]) = motion(fr) else {
+            return [Vec3::zero(); 4];
+        };
+        let to_world = |x: Vec3<T>| fr.node.map_or(x, |n| k.x0[n].e.tr_mul_vec(x));
+        [
+            to_world(dw),
+            to_world(a + om.cross(dp)),
+            to_world(om),
+            to_world(dp),
+        ]
+    };
+    // `wrench` (about the frame's origin, in its body's axes) on the frame's body.
+    let mut push = |fr: &Frame<T>, n_b: Vec3<T>, f_b: Vec3<T>| {
+        if let Some(n) = fr.node {
+            f[n] = f[n] - Force::new(n_b + fr.offset.cross(f_b), f_b);
+        }
+    };
+    let three = |at: usize| Vec3([forces[at], forces[at + 1], forces[at + 2]]);
+    let body = |fr: &Frame<T>, x: Vec3<T>| fr.node.map_or(x, |n| k.x0[n].e.mul_vec(x));
+    let mut r2: Vec<T> = Vec::with_capacity(forces.len());
+    let mut at = 0;
+    for &constraint in constraints {
+        match constraint {
+            Constraint::Point(i) => {
+                let fr = &placed[i];
+                push(fr, Vec3::zero(), body(fr, three(at)));
+                r2.extend(classical(fr)[1].0);
+            }
+            Constraint::SixD(i) => {
+                let fr = &placed[i];
+                let (n_l, f_l) = (three(at), three(at + 3));
+                push(fr, fr.in_body.mul_vec(n_l), fr.in_body.mul_vec(f_l));
+                let [dw, a, ..] = motion(fr).unwrap_or([Vec3::zero(); 4]);
+                let local = [fr.in_body.tr_mul_vec(dw), fr.in_body.tr_mul_vec(a)];
+                r2.extend(local.into_iter().flat_map(|x| w[i].mul_vec(x).0));
+            }
+            Constraint::Loop(a, b) => {
+                let f_w = three(at);
+                push(&placed[a], Vec3::zero(), body(&placed[a], f_w));
+                push(&placed[b], Vec3::zero(), body(&placed[b], -f_w));
+                r2.extend((classical(&placed[a])[1] - classical(&placed[b])[1]).0);
+            }
+            Constraint::LoopSixD(a, b) => {
+                let (fa, fb) = (&placed[a], &placed[b]);
+                let (n_l, f_l) = (three(at), three(at + 3));
+                push(fa, fa.in_body.mul_vec(n_l), fa.in_body.mul_vec(f_l));
+                // The opposite wrench on `b`, at `a`'s origin: about `b`'s origin in `b`'s axes.
+                let r = fa.origin - fb.origin;
+                let (n_w, f_w) = (fa.rotation.mul_vec(n_l), fa.rotation.mul_vec(f_l));
+                push(fb, -body(fb, n_w + r.cross(f_w)), -body(fb, f_w));
+                // The world-axes rows of `rows_and_drift` at the pass's accelerations.
+                let [dwa, ddpa, wa, pa] = classical(fa);
+                let [dwb, ddpb, wb, pb] = classical(fb);
+                let dva = ddpa - wa.cross(pa);
+                let dvb = ddpb - wb.cross(pb) + dwb.cross(r);
+                let pb = pb + wb.cross(r);
+                r2.extend((dwa - dwb + wa.cross(wb)).0);
+                r2.extend((dva - dvb + wa.cross(pb) + pa.cross(wb)).0);
+            }
+        }
+        at += constraint.rows();
+    }
+    transmit(tree, &k.x_up, &mut f);
+    let mut tau = project(tree, &f);
+    for node in &tree.nodes {
+        node.add_armature(&a, &mut tau);
+    }
+    let mut out = c.reduce(&tau);
+    out.extend(r2);
     out
 }
 
 /// `∂q̈/∂q`, `∂q̈/∂v`, `∂q̈/∂τ` (`nv × nv` each), then `∂f/∂q`, `∂f/∂v`, `∂f/∂τ` (`rows × nv`
-/// each), row-major (module docs).
+/// each), row-major (module docs): the residuals' derivatives along each tangent direction by
+/// forward mode ([`residuals`] on duals), each column solved with the solve's factorizations.
 fn derivative_values(
     at: &Point<'_>,
     solver: &Kkt,
@@ -347,6 +459,10 @@ fn derivative_values(
     let constant = |x: &[Sym]| -> Vec<Dual<Sym>> { x.iter().map(|&x| Dual::constant(x)).collect() };
     let (qc, vc, params) = (constant(at.q), constant(at.v), constant(at.params));
     let (qdd_c, forces_c) = (constant(qdd), constant(forces));
+    let w: Vec<Mat3<Dual<Sym>>> = placed
+        .iter()
+        .map(|f| Mat3(f.rotation.0.map(|r| r.map(Dual::constant))))
+        .collect();
     let run = |q: &[Dual<Sym>], v: &[Dual<Sym>]| -> Vec<Sym> {
         let r = residuals(
             &dual_tree,
@@ -355,8 +471,8 @@ fn derivative_values(
             at.constraints,
             &params,
             (q, v),
-            &qdd_c,
-            &forces_c,
+            (&qdd_c, &forces_c),
+            &w,
         );
         r.into_iter().map(|x| x.du).collect()
     };

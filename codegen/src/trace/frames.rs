@@ -238,9 +238,11 @@ fn label_matrix(values: Vec<Sym>, name: &str, stem: &str, nv: usize) -> Vec<Sym>
 /// A frame on the traced tree: its body's node, its placement in the world.
 pub(super) struct Frame<T> {
     /// The node of its body, `None` for a frame fixed to the world.
-    node: Option<usize>,
+    pub(super) node: Option<usize>,
     /// Its origin in its body's frame.
-    offset: Vec3<T>,
+    pub(super) offset: Vec3<T>,
+    /// Its axes in its body's frame, `body_R_frame`.
+    pub(super) in_body: Mat3<T>,
     /// `world_R_frame`.
     pub(super) rotation: Mat3<T>,
     /// Its origin in the world.
@@ -250,11 +252,12 @@ pub(super) struct Frame<T> {
 /// The tree's kinematics at `(q, v)`: each node's transforms and spatial velocity.
 pub(super) struct Kinematics<'a, T> {
     tree: &'a Tree<T>,
-    x_up: Vec<Transform<T>>,
+    /// Parent → node.
+    pub(super) x_up: Vec<Transform<T>>,
     /// World → node.
-    x0: Vec<Transform<T>>,
+    pub(super) x0: Vec<Transform<T>>,
     /// Each node's spatial velocity in its own frame.
-    vel: Vec<Motion<T>>,
+    pub(super) vel: Vec<Motion<T>>,
     /// The velocities `v` of the tree.
     v: Vec<T>,
 }
@@ -290,6 +293,7 @@ impl<'a, T: Scalar> Kinematics<'a, T> {
             None => Frame {
                 node: None,
                 offset,
+                in_body: r_p,
                 rotation: r_p,
                 origin: offset,
             },
@@ -300,6 +304,7 @@ impl<'a, T: Scalar> Kinematics<'a, T> {
                 Frame {
                     node: Some(n),
                     offset,
+                    in_body: r_p,
                     rotation: world_r_body.mul_mat(&r_p),
                     origin: x.r + world_r_body.mul_vec(offset),
                 }
