@@ -129,6 +129,7 @@ FRAME_TOL = 1e-10
 CONSTRAINED = "constrained_forward_dynamics"
 CONSTRAINED_RUNTIME = "constrained_forward_dynamics_runtime"
 CONSTRAINED_DERIVATIVES = "constrained_forward_dynamics_derivatives"
+CONSTRAINED_DERIVATIVES_RUNTIME = "constrained_forward_dynamics_derivatives_runtime"
 # q̈ relative to its largest entry, the wrenches relative to their largest entry.
 CONSTRAINED_TOL = 1e-9
 # Central differences (step 1e-6) against the analytical values: a sanity check of the kernel.
@@ -1231,17 +1232,19 @@ def constrained_report(w, models, ops, results, instr, checks):
     w(f"`{CONSTRAINED_DERIVATIVES}` (the models generated with derivatives): **Pinocchio**")
     w("`constraintDynamics` as above, then `computeConstraintDynamicsDerivatives(model, data,")
     w("contact_models, contact_datas, settings)` (it needs the solution: a user calls both): `q̈`, the")
-    w("forces and their derivatives with respect to `q`, `v` and `τ`. **ours**: the runtime's")
-    w("`constraint::derivatives::forward_dynamics_derivatives_of::<C, NQ, NV, NF, R>(&q, &v, &τ,")
-    w("&contacts, &[])` on the same contacts (`runtime/src/constraint/derivatives.rs`): the solve")
-    w("above, then the KKT system differentiated at the solution from generated outputs of `C`")
-    w("(`inverse_dynamics_derivatives` at `q̈`, one `frame_jacobian_time_variations_local` per")
-    w("velocity coordinate for `∂(Jᵀ·f)/∂q`, `frame_acceleration_derivatives`,")
-    w("`frame_velocity_derivatives`) and dense products with the blocks of the KKT matrix's inverse")
-    w("(`M⁻¹ − A·G⁻¹·Aᵀ` and `G⁻¹·Aᵀ`, `A = M⁻¹·Jᵀ`, from the Cholesky factors of `M` and `G`); not")
-    w("generated as one function (the unconstrained `forward_dynamics_derivatives` of the humanoid is")
-    w("already 131,000 operations). Their values are checked against Pinocchio's and central")
-    w("differences in `tests/tests/constraint_derivatives.rs`, not here.")
+    w("forces and their derivatives with respect to `q`, `v` and `τ`. **ours**: `C::constrained_forward_dynamics_derivatives(&q,")
+    w("&v, &τ)`, generated for the same declared contacts (`C` is generated with the derivative")
+    w("outputs, which gives it this function; `codegen/src/trace/constrained.rs`): the solve above,")
+    w("then the residuals `ID(q, v, q̈) − Jᵀ·f` and `J·q̈ + γ` differentiated at the solution by")
+    w("forward mode through one Newton–Euler pass with the contact wrenches as external forces, and")
+    w("each column of the KKT system solved with the solve's sparse factorizations. Beside it,")
+    w(f"`{CONSTRAINED_DERIVATIVES_RUNTIME}`: the runtime's `constraint::derivatives::forward_dynamics_derivatives_of::<C, NQ,")
+    w("NV, NF, R>(&q, &v, &τ, &contacts, &[])` on the same contacts, what any subset chosen at run")
+    w("time costs (`runtime/src/constraint/derivatives.rs`: generated `inverse_dynamics_derivatives`")
+    w("at `q̈`, one `frame_jacobian_time_variations_local` per velocity coordinate,")
+    w("`frame_acceleration_derivatives`, `frame_velocity_derivatives`, and dense products with the")
+    w("blocks of the KKT matrix's inverse). Their values are checked against Pinocchio's, each other")
+    w("and central differences in `tests/tests/constraint_derivatives.rs`, not here.")
     w("")
     w(CONSTRAINED_MUJOCO)
     w("")
@@ -1255,7 +1258,7 @@ def constrained_report(w, models, ops, results, instr, checks):
             f"{fmt_ratio(p3 / res['ours_v3'][CONSTRAINED][0])} (v3), "
             f"{fmt_ratio(p3 / res['ours_default'][CONSTRAINED][0])} (default)"
             + (
-                f"; the derivatives (ours the runtime's) {fmt_ratio(res['pin_v3'][CONSTRAINED_DERIVATIVES][0] / res['ours_v3'][CONSTRAINED_DERIVATIVES][0])} (v3)"
+                f"; the derivatives {fmt_ratio(res['pin_v3'][CONSTRAINED_DERIVATIVES][0] / res['ours_v3'][CONSTRAINED_DERIVATIVES][0])} (v3)"
                 if CONSTRAINED_DERIVATIVES in res["ours_v3"] and CONSTRAINED_DERIVATIVES in res["pin_v3"]
                 else ""
             )
@@ -1296,11 +1299,21 @@ def constrained_report(w, models, ops, results, instr, checks):
             i_d = ins.get("ours_v3", {}).get(CONSTRAINED_DERIVATIVES)
             i_q = ins.get("pin_v3", {}).get(CONSTRAINED_DERIVATIVES)
             w(
-                f"- the derivatives (`{CONSTRAINED_DERIVATIVES}`, ours the runtime's): ours v3 {fmt_ns(d3)} ns, "
+                f"- the derivatives (`{CONSTRAINED_DERIVATIVES}`, {ops[name]['ops'].get(CONSTRAINED_DERIVATIVES, '–')} ops): "
+                f"ours v3 {fmt_ns(d3)} ns, "
                 f"default {fmt_ns(dd)} ns; Pinocchio v3 {fmt_ns(q3)} ns, wheel {fmt_ns(qw)} ns; Pinocchio / ours "
                 f"{fmt_ratio(q3 / d3)} (v3), {fmt_ratio(q3 / dd)} (default)"
                 + (f"; instructions ours v3 / Pinocchio v3 {i_d:.0f} / {i_q:.0f}" if i_d and i_q else "")
             )
+            if CONSTRAINED_DERIVATIVES_RUNTIME in res["ours_v3"]:
+                r3 = res["ours_v3"][CONSTRAINED_DERIVATIVES_RUNTIME][0]
+                rd = res["ours_default"][CONSTRAINED_DERIVATIVES_RUNTIME][0]
+                i_r = ins.get("ours_v3", {}).get(CONSTRAINED_DERIVATIVES_RUNTIME)
+                w(
+                    f"- the runtime's derivatives of the same contacts (`{CONSTRAINED_DERIVATIVES_RUNTIME}`): "
+                    f"v3 {fmt_ns(r3)} ns ({fmt_ratio(q3 / r3)} against Pinocchio v3), default {fmt_ns(rd)} ns"
+                    + (f"; {i_r:.0f} instructions per call (v3)" if i_r else "")
+                )
         med = lambda k, o: fmt_ns(res[k][o][1])
         w(
             "- medians (ns; ours v3 / ours default / Pinocchio v3 / Pinocchio wheel): "
@@ -1620,7 +1633,7 @@ def main():
                 ours += [CONSTRAINED, CONSTRAINED_RUNTIME]
                 pin += [CONSTRAINED]
                 if ops[name]["derivatives"]:
-                    ours += [CONSTRAINED_DERIVATIVES]
+                    ours += [CONSTRAINED_DERIVATIVES, CONSTRAINED_DERIVATIVES_RUNTIME]
                     pin += [CONSTRAINED_DERIVATIVES]
             return {"ours_v3": ours, "ours_default": ours, "pin_v3": pin, "mujoco": [r[2] for r in ROWS]}
 

@@ -602,7 +602,8 @@ struct Cli {
     /// With --calls: the output or kernel to call (an output's name, frame outputs included,
     /// mass_matrix_update, mass_matrix_lower, inverse_dynamics_differences,
     /// forward_dynamics_differences, constrained_forward_dynamics,
-    /// constrained_forward_dynamics_runtime, constrained_forward_dynamics_derivatives).
+    /// constrained_forward_dynamics_runtime, constrained_forward_dynamics_derivatives,
+    /// constrained_forward_dynamics_derivatives_runtime).
     #[arg(requires = "calls")]
     output: Option<String>,
 }
