@@ -708,8 +708,34 @@ where
     )
 }
 
-/// [`impulse_dynamics`] of a generated chain at `(q, v⁻)` with the constraints `contacts`.
-/// Needs the outputs of [`constrained_forward_dynamics`].
+/// [`impulse_dynamics`] of a generated chain at `(q, v⁻)` with the contacts `contacts` and the
+/// loop closures `loops` on its frames, their rows stacked in that order ([`Frames::system`]):
+/// a loop's rows are its frames' relative velocity, so `J·v⁺ = −e·J·v⁻` there is a closing
+/// loop's impact (the impulse on `a`, its opposite on `b`). Needs the outputs of
+/// [`constrained_forward_dynamics`].
+///
+/// # Errors
+/// As [`impulse_dynamics`] and [`Frames::system`].
+pub fn impulse_dynamics_of<C, const NQ: usize, const NV: usize, const NF: usize, const R: usize>(
+    q: &SVector<f64, NQ>,
+    v_minus: &SVector<f64, NV>,
+    contacts: &[Contact],
+    loops: &[Loop],
+    restitution: f64,
+    settings: &Settings,
+) -> Result<Solution<NV, R>, ConstraintError>
+where
+    C: ConstraintOutputs<NQ, NV, NF>,
+{
+    let frames = Frames::<NV, NF>::of::<C, NQ>(q, v_minus);
+    let system = frames.system::<R>(contacts, loops, None)?;
+    let (m, _) = C::mass_matrix_and_nonlinear_effects(q, v_minus);
+    impulse_dynamics(&m, v_minus, &system, restitution, settings)
+}
+
+/// [`impulse_dynamics`] of a generated chain at `(q, v⁻)` with the constraints `contacts`
+/// ([`impulse_dynamics_of`] without loops). Needs the outputs of
+/// [`constrained_forward_dynamics`].
 ///
 /// # Errors
 /// As [`impulse_dynamics`] and [`Frames::system`].
@@ -729,10 +755,7 @@ pub fn constrained_impulse_dynamics<
 where
     C: ConstraintOutputs<NQ, NV, NF>,
 {
-    let frames = Frames::<NV, NF>::of::<C, NQ>(q, v_minus);
-    let system = frames.system::<R>(contacts, &[], None)?;
-    let (m, _) = C::mass_matrix_and_nonlinear_effects(q, v_minus);
-    impulse_dynamics(&m, v_minus, &system, restitution, settings)
+    impulse_dynamics_of::<C, NQ, NV, NF, R>(q, v_minus, contacts, &[], restitution, settings)
 }
 
 /// A generated chain held by constraints, under a controller, for the integrators

@@ -33,7 +33,7 @@
 //!   `∂ᵃX_b/∂δ_k = ᵃX_b·(s_b×) − (s_a×)·ᵃX_b`, `s` the LOCAL Jacobians' columns `k`.
 //!
 //! `∂/∂q` is along the configuration's tangent, as every derivative output's
-//! ([`crate::generated`]). Exact solves only ([`Settings::default`]): redundant constraints have
+//! (`articulated::generated`). Exact solves only ([`Settings::default`]): redundant constraints have
 //! no unique forces to differentiate.
 
 use nalgebra::{SMatrix, SVector, Vector3};
