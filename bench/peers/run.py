@@ -1234,7 +1234,7 @@ def constrained_report(w, models, ops, results, instr, checks):
     w("contact_models, contact_datas, settings)` (it needs the solution: a user calls both): `q̈`, the")
     w("forces and their derivatives with respect to `q`, `v` and `τ`. **ours**: `C::constrained_forward_dynamics_derivatives(&q,")
     w("&v, &τ)`, generated for the same declared contacts (`C` is generated with the derivative")
-    w("outputs, which gives it this function; `codegen/src/trace/constrained.rs`): the solve above,")
+    w("outputs; `forward_dynamics_derivatives` gives it this function; `codegen/src/trace/constrained.rs`): the solve above,")
     w("then the residuals `ID(q, v, q̈) − Jᵀ·f` and `J·q̈ + γ` differentiated at the solution by")
     w("forward mode through one Newton–Euler pass with the contact wrenches as external forces, and")
     w("each column of the KKT system solved with the solve's sparse factorizations. Beside it,")

@@ -230,7 +230,8 @@ pub struct Options {
     pub frames: Vec<String>,
     /// The contacts (`contacts: [left_sole: six_d, toe: point]`), in declaration order: with
     /// [`Options::loops`], they make the generated `constrained_forward_dynamics`
-    /// ([`Options::resolved`]).
+    /// ([`Options::resolved`]), and with [`Output::ForwardDynamicsDerivatives`] its derivatives,
+    /// `constrained_forward_dynamics_derivatives`.
     pub contacts: Vec<Contact>,
     /// The loop closures (`loops: [rod: point(a, b)]`), in declaration order.
     pub loops: Vec<Loop>,

@@ -67,8 +67,9 @@
 //! second copy of the model's, which made no measurable difference to this binary's
 //! test-profile build. For a model marked `derivatives` the contacts' type also has the outputs
 //! the runtime's constrained derivatives read (`inverse_dynamics_derivatives`, the frames'
-//! Jacobian rates, acceleration and velocity derivatives), which give it the generated
-//! `constrained_forward_dynamics_derivatives` too: that is timed ([`CONSTRAINED_DERIVATIVES`]),
+//! Jacobian rates, acceleration and velocity derivatives) and `forward_dynamics_derivatives`,
+//! which gives it the generated `constrained_forward_dynamics_derivatives`: that is timed
+//! ([`CONSTRAINED_DERIVATIVES`]),
 //! and beside it the runtime's [`forward_dynamics_derivatives_of`]
 //! ([`CONSTRAINED_DERIVATIVES_RUNTIME`]); for the humanoid, under the same feature
 //! `humanoid-derivatives`.
@@ -280,6 +281,7 @@ macro_rules! contact_type {
         contact_type!(
             @outputs [
                 inverse_dynamics_derivatives,
+                forward_dynamics_derivatives,
                 frame_jacobian_time_variations_local,
                 frame_jacobian_time_variations_local_world_aligned,
                 frame_acceleration_derivatives,

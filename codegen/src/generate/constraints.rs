@@ -13,7 +13,7 @@ use super::function::{self, Used};
 use super::{docs, Context};
 use crate::emit;
 use crate::options::{ContactKind, ScalarKind};
-use crate::outputs::Group;
+use crate::outputs::Output;
 use crate::sym::{Node, OpCounts, Sym};
 use crate::trace::constrained::{self, ConstrainedTraced, Constraint};
 
@@ -80,12 +80,13 @@ pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Vec<(&'static str
     let ops = traced.ops();
     let function = function(cx, &traced, &constraints)?;
     let mut all_ops = vec![(super::CONSTRAINED, ops)];
-    // With a derivative output asked for, the constrained derivatives (`f64` only: they return
-    // the runtime's `Derivatives`).
+    // With forward dynamics' derivatives asked for, the constrained ones (`f64` only: they
+    // return the runtime's `Derivatives`). Not with the other derivative outputs, which the
+    // runtime's `forward_dynamics_derivatives_of` reads: on a humanoid on two feet this function
+    // is a quarter of a million operations, minutes of release build.
     let derivatives = if options
         .outputs
-        .iter()
-        .any(|o| o.spec().group == Some(Group::Derivatives))
+        .contains(&Output::ForwardDynamicsDerivatives)
         && options.scalar == ScalarKind::F64
     {
         let traced = constrained::trace_derivatives(cx.model, &cx.frames(), &constraints);
