@@ -72,3 +72,39 @@ fn declared_loop() {
         generate_file(&chain.model, &chain.options, source).unwrap_or_else(|e| panic!("{e}"))
     );
 }
+
+/// The constrained derivatives come with `forward_dynamics_derivatives` in `f64`, and not with
+/// the other derivative outputs (what the runtime's derivatives read: on a large chain the
+/// function is minutes of build) nor in another scalar (it returns the runtime's `f64` type).
+#[test]
+fn constrained_derivatives_come_with_forward_dynamics_derivatives() {
+    let path = format!("{}/../models/four_bar.chain", env!("CARGO_MANIFEST_DIR"));
+    let mut chain = load(Path::new(&path), false).unwrap_or_else(|e| panic!("{e}"));
+    chain.options.loops = vec![articulated_codegen::options::Loop {
+        name: "closure".into(),
+        kind: articulated_codegen::options::ContactKind::Point,
+        a: "tip".into(),
+        b: "ground".into(),
+    }];
+    for (outputs, scalar, expected) in [
+        (Output::ForwardDynamicsDerivatives, ScalarKind::F64, true),
+        (Output::InverseDynamicsDerivatives, ScalarKind::F64, false),
+        (Output::MassMatrixInverse, ScalarKind::F64, false),
+        (Output::ForwardDynamicsDerivatives, ScalarKind::F32, false),
+    ] {
+        let mut options = chain.options.clone();
+        options.set_outputs([outputs]);
+        options.scalar = scalar;
+        let file =
+            generate_file(&chain.model, &options, "four_bar").unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(
+            file.contains("pub fn constrained_forward_dynamics_derivatives("),
+            expected,
+            "{outputs:?} in {scalar:?}"
+        );
+        assert!(
+            file.contains("pub fn constrained_forward_dynamics<")
+                || file.contains("pub fn constrained_forward_dynamics(")
+        );
+    }
+}
