@@ -55,10 +55,8 @@ fn inverse_dynamics_derivatives() {
     insta::assert_snapshot!(expand("models/double_pendulum.chain", None, Some(&outputs)));
 }
 
-/// A declared constraint (the four-bar's loop): `CONTACTS`, `LOOPS`, `CONSTRAINT_ROWS` and
-/// `constrained_forward_dynamics` with its docs (`articulated expand` with `--loops`).
-#[test]
-fn declared_loop() {
+/// The four-bar with its loop declared (`--loops 'closure:point(tip,ground)'`).
+fn four_bar_closed() -> articulated_codegen::options::Description {
     let path = format!("{}/../models/four_bar.chain", env!("CARGO_MANIFEST_DIR"));
     let mut chain = load(Path::new(&path), false).unwrap_or_else(|e| panic!("{e}"));
     chain.options.loops = vec![articulated_codegen::options::Loop {
@@ -67,6 +65,14 @@ fn declared_loop() {
         a: "tip".into(),
         b: "ground".into(),
     }];
+    chain
+}
+
+/// A declared constraint (the four-bar's loop): `CONTACTS`, `LOOPS`, `CONSTRAINT_ROWS` and
+/// `constrained_forward_dynamics` with its docs (`articulated expand` with `--loops`).
+#[test]
+fn declared_loop() {
+    let chain = four_bar_closed();
     let source = "models/four_bar.chain --loops 'closure:point(tip,ground)'";
     insta::assert_snapshot!(
         generate_file(&chain.model, &chain.options, source).unwrap_or_else(|e| panic!("{e}"))
@@ -78,14 +84,7 @@ fn declared_loop() {
 /// function is minutes of build) nor in another scalar (it returns the runtime's `f64` type).
 #[test]
 fn constrained_derivatives_come_with_forward_dynamics_derivatives() {
-    let path = format!("{}/../models/four_bar.chain", env!("CARGO_MANIFEST_DIR"));
-    let mut chain = load(Path::new(&path), false).unwrap_or_else(|e| panic!("{e}"));
-    chain.options.loops = vec![articulated_codegen::options::Loop {
-        name: "closure".into(),
-        kind: articulated_codegen::options::ContactKind::Point,
-        a: "tip".into(),
-        b: "ground".into(),
-    }];
+    let chain = four_bar_closed();
     for (outputs, scalar, expected) in [
         (Output::ForwardDynamicsDerivatives, ScalarKind::F64, true),
         (Output::InverseDynamicsDerivatives, ScalarKind::F64, false),

@@ -50,65 +50,55 @@ chain_with_derivatives!(
 chain_with_derivatives!(Foot, file = "../models/two_link_foot.chain", [sole, trunk]);
 chain_with_derivatives!(Gripper, urdf = "data/gripper_mimic.urdf", [left_tip, thumb]);
 
-// The generated `constrained_forward_dynamics_derivatives` of declared constraints (with
-// `forward_dynamics_derivatives` asked for), on the frames of the chains above, in their order.
+/// A chain generated with `forward_dynamics_derivatives` and the constraints given, whose
+/// `constrained_forward_dynamics_derivatives` is checked, on the frames of the runtime's chain
+/// above, in their order.
+macro_rules! declared {
+    (
+        $name:ident, $source:tt = $path:literal, [$($frame:ident),*],
+        $($list:ident = [$($item:tt)*]),+ $(; $floating:ident)?
+    ) => {
+        #[derive(Chain)]
+        #[chain(
+            $source = $path,
+            $($floating = quaternion,)?
+            outputs = [forward_dynamics_derivatives],
+            frames = [$($frame),*],
+            $($list = [$($item)*]),+
+        )]
+        struct $name;
+    };
+}
 
-#[derive(Chain)]
-#[chain(
+declared!(Arm7Welded, urdf = "../models/arm7.urdf", [link7], contacts = [link7: six_d]);
+declared!(Arm7AtPoint, urdf = "../models/arm7.urdf", [link7], contacts = [link7: point]);
+declared!(
+    Arm7Held,
     urdf = "../models/arm7.urdf",
-    outputs = [forward_dynamics_derivatives],
-    frames = [link7],
-    contacts = [link7: six_d]
-)]
-struct Arm7Welded;
-
-#[derive(Chain)]
-#[chain(
-    urdf = "../models/arm7.urdf",
-    outputs = [forward_dynamics_derivatives],
-    frames = [link7],
-    contacts = [link7: point]
-)]
-struct Arm7AtPoint;
-
-#[derive(Chain)]
-#[chain(
-    urdf = "../models/arm7.urdf",
-    floating = quaternion,
-    outputs = [forward_dynamics_derivatives],
-    frames = [link7, link4, link1],
+    [link7, link4, link1],
     contacts = [link4: point],
-    loops = [hold: six_d(link7, link1)]
-)]
-struct Arm7Held;
-
-#[derive(Chain)]
-#[chain(
+    loops = [hold: six_d(link7, link1)];
+    floating
+);
+declared!(
+    Arm7Rod,
     urdf = "../models/arm7.urdf",
-    floating = quaternion,
-    outputs = [forward_dynamics_derivatives],
-    frames = [link7, link4, link1],
-    loops = [rod: point(link7, link4)]
-)]
-struct Arm7Rod;
-
-#[derive(Chain)]
-#[chain(
+    [link7, link4, link1],
+    loops = [rod: point(link7, link4)];
+    floating
+);
+declared!(
+    FootStanding,
     file = "../models/two_link_foot.chain",
-    outputs = [forward_dynamics_derivatives],
-    frames = [sole, trunk],
+    [sole, trunk],
     contacts = [sole: six_d]
-)]
-struct FootStanding;
-
-#[derive(Chain)]
-#[chain(
+);
+declared!(
+    GripperHeld,
     urdf = "data/gripper_mimic.urdf",
-    outputs = [forward_dynamics_derivatives],
-    frames = [left_tip, thumb],
+    [left_tip, thumb],
     contacts = [left_tip: point]
-)]
-struct GripperHeld;
+);
 
 /// A state: `q` from the neutral configuration moved by `δ` (deterministic, away from
 /// singularities), `v` and `τ` alike.
