@@ -82,8 +82,8 @@ pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Vec<(&'static str
     let mut all_ops = vec![(super::CONSTRAINED, ops)];
     // With forward dynamics' derivatives asked for, the constrained ones (`f64` only: they
     // return the runtime's `Derivatives`). Not with the other derivative outputs, which the
-    // runtime's `forward_dynamics_derivatives_of` reads: on a humanoid on two feet this function
-    // is a quarter of a million operations, minutes of release build.
+    // runtime's `forward_dynamics_derivatives_of` reads: on a large chain this function is
+    // minutes of release build, which a user of the runtime's derivatives should not pay.
     let derivatives = if options
         .outputs
         .contains(&Output::ForwardDynamicsDerivatives)

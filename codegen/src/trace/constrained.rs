@@ -422,13 +422,7 @@ fn residuals<T: Scalar>(
                 let (n_w, f_w) = (fa.rotation.mul_vec(n_l), fa.rotation.mul_vec(f_l));
                 push(fb, -body(fb, n_w + r.cross(f_w)), -body(fb, f_w));
                 // The world-axes rows of `rows_and_drift` at the pass's accelerations.
-                let [dwa, ddpa, wa, pa] = classical(fa);
-                let [dwb, ddpb, wb, pb] = classical(fb);
-                let dva = ddpa - wa.cross(pa);
-                let dvb = ddpb - wb.cross(pb) + dwb.cross(r);
-                let pb = pb + wb.cross(r);
-                r2.extend((dwa - dwb + wa.cross(wb)).0);
-                r2.extend((dva - dvb + wa.cross(pb) + pa.cross(wb)).0);
+                r2.extend(six_d_loop_acceleration(classical(fa), classical(fb), r));
             }
         }
         at += constraint.rows();
@@ -605,23 +599,31 @@ fn rows_and_drift<T: Scalar>(
                         .collect::<Vec<T>>()
                 });
                 rows.extend(block);
-                let spatial = |f: &Frame<T>| {
+                let classical = |f: &Frame<T>| {
                     let (dw, ddp) = k.classical_acceleration(f, zero);
                     let (w, dp) = k.aligned_velocity(f);
-                    (dw, ddp - w.cross(dp), w, dp)
+                    [dw, ddp, w, dp]
                 };
-                let (dwa, dva, wa, pa) = spatial(fa);
-                let (dwb, dvb, wb, pb) = spatial(fb);
-                // `b`'s velocity and drift at `p_a`; the drift is `W_a·(γ_a − ᵃX_b·γ_b +
-                // v_a × ᵃX_b·v_b)`, the runtime's turned into world axes.
-                let pb = pb + wb.cross(r);
-                let dvb = dvb + dwb.cross(r);
-                drift.extend((dwa - dwb + wa.cross(wb)).0);
-                drift.extend((dva - dvb + wa.cross(pb) + pa.cross(wb)).0);
+                drift.extend(six_d_loop_acceleration(classical(fa), classical(fb), r));
             }
         }
     }
     (rows, drift)
+}
+
+/// A six-dimensional loop's acceleration in world axes at `a`'s origin, `W_a·(a_a − ᵃX_b·a_b +
+/// v_a × ᵃX_b·v_b)` (the runtime's, LOCAL of `a`, turned into world axes), from each frame's
+/// classical `[ω̇, p̈, ω, ṗ]` in world axes and `r = p_a − p_b`: `b`'s velocity and spatial
+/// acceleration moved to `p_a`. Six values, angular first.
+fn six_d_loop_acceleration<T: Scalar>(a: [Vec3<T>; 4], b: [Vec3<T>; 4], r: Vec3<T>) -> Vec<T> {
+    let [dwa, ddpa, wa, pa] = a;
+    let [dwb, ddpb, wb, pb] = b;
+    let dva = ddpa - wa.cross(pa);
+    let dvb = ddpb - wb.cross(pb) + dwb.cross(r);
+    let pb = pb + wb.cross(r);
+    let mut out = (dwa - dwb + wa.cross(wb)).0.to_vec();
+    out.extend((dva - dvb + wa.cross(pb) + pa.cross(wb)).0);
+    out
 }
 
 /// The constrained system factored (module docs): `M = LᵀDL`, `Z = L⁻ᵀ·Jᵀ` by row of `J`,
