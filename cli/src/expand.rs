@@ -51,6 +51,16 @@ pub fn run(args: &ExpandArgs) -> Result<String, String> {
         })?;
         source.push_str(&format!(" --accuracy {name}"));
     }
+    if let Some(n) = args.lanes {
+        if !articulated_codegen::options::LANES.contains(&n) {
+            return Err(format!(
+                "error: --lanes {n}: {}",
+                articulated_codegen::options::unknown_lanes(&n.to_string())
+            ));
+        }
+        chain.options.lanes = Some(n);
+        source.push_str(&format!(" --lanes {n}"));
+    }
     for lock in &args.locks {
         let (joint, values) = lock
             .split_once('=')

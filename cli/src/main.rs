@@ -138,6 +138,10 @@ pub struct ExpandArgs {
     /// or `robust` (forward dynamics by ABA).
     #[arg(long)]
     pub accuracy: Option<String>,
+    /// States per vector value of the batch functions (`inverse_dynamics_batch`, …), in place
+    /// of the description's: 2, 4 or 8 in `f64`, 4, 8 or 16 in `f32`.
+    #[arg(long)]
+    pub lanes: Option<usize>,
     /// Locks a joint at its position coordinates, e.g. `--lock elbow=0.3` or
     /// `--lock hip=0,0.1,0` (repeatable): it becomes fixed and its body merges into its parent.
     #[arg(long = "lock")]

@@ -50,6 +50,7 @@ struct Entry {
     contacts: Option<Vec<Contact>>,
     loops: Option<Vec<Loop>>,
     quasi_static: bool,
+    lanes: Option<usize>,
     strict: bool,
     balance_inertia: bool,
 }
@@ -125,6 +126,7 @@ impl Builder {
             contacts: None,
             loops: None,
             quasi_static: false,
+            lanes: None,
             strict: false,
             balance_inertia: false,
         });
@@ -276,6 +278,15 @@ impl Builder {
         self
     }
 
+    /// Batch functions over lanes of `n` states for the source added last (as `lanes: n`;
+    /// `articulated::lanes`).
+    pub fn lanes(mut self, n: usize) -> Self {
+        if let Some(last) = self.sources.last_mut() {
+            last.lanes = Some(n);
+        }
+        self
+    }
+
     /// The formatted code of every source, with a header per chain.
     ///
     /// # Errors
@@ -346,6 +357,9 @@ impl Builder {
                 chain.options.loops = l.clone();
             }
             chain.options.quasi_static |= entry.quasi_static;
+            if entry.lanes.is_some() {
+                chain.options.lanes = entry.lanes;
+            }
             let failed = |error| BuildError::Generate {
                 source: label.clone(),
                 error,

@@ -235,6 +235,18 @@ pub struct Options {
     pub contacts: Vec<Contact>,
     /// The loop closures (`loops: [rod: point(a, b)]`), in declaration order.
     pub loops: Vec<Loop>,
+    /// States per lane value of the batch functions (`lanes: 4`): with it each output's batch
+    /// twin runs the generated statements on [`LANES`] states at once (`articulated::lanes`);
+    /// without it, state by state. `f64` and `f32` only.
+    pub lanes: Option<usize>,
+}
+
+/// The lane counts a description may ask for (`lanes: 4`).
+pub const LANES: [usize; 4] = [2, 4, 8, 16];
+
+/// The message for a lane count that is not one of [`LANES`].
+pub fn unknown_lanes(found: &str) -> String {
+    format!("`lanes` must be 2, 4, 8 or 16 (states per vector value), found `{found}`")
 }
 
 impl Default for Options {
@@ -252,6 +264,7 @@ impl Default for Options {
             frames: Vec::new(),
             contacts: Vec::new(),
             loops: Vec::new(),
+            lanes: None,
         }
     }
 }

@@ -1074,21 +1074,55 @@ impl Spec {
 
     /// `-> R` (a `Result` where it is fallible), or nothing for an output written into `kept`.
     pub fn ret(&self, t: &Types) -> TokenStream {
+        match self.result_type(t) {
+            Some(ty) => quote!(-> #ty),
+            None => TokenStream::new(),
+        }
+    }
+
+    /// What the function returns without its `Result` (`None`: nothing, the kept outputs).
+    pub fn value_type(&self, t: &Types) -> Option<TokenStream> {
         let parts: Vec<TokenStream> = self
             .parts
             .iter()
             .filter_map(|&p| Self::part_type(p, t))
             .collect();
-        let value = match &parts[..] {
-            [] => return TokenStream::new(),
-            [one] => one.clone(),
-            many => quote!((#(#many),*)),
-        };
-        if self.fallible {
-            let k = &t.krate;
-            quote!(-> ::core::result::Result<#value, #k::SingularMassMatrix>)
+        match &parts[..] {
+            [] => None,
+            [one] => Some(one.clone()),
+            many => Some(quote!((#(#many),*))),
+        }
+    }
+
+    /// What the function returns: [`Spec::value_type`], in a `Result` where it is fallible.
+    pub fn result_type(&self, t: &Types) -> Option<TokenStream> {
+        let value = self.value_type(t)?;
+        let k = &t.krate;
+        Some(if self.fallible {
+            quote!(::core::result::Result<#value, #k::SingularMassMatrix>)
         } else {
-            quote!(-> #value)
+            value
+        })
+    }
+
+    /// The batch twin's name, `mass_matrix_batch`, and with the parameters,
+    /// `mass_matrix_batch_with`.
+    pub fn batch_names(&self) -> (Ident, Ident) {
+        (
+            format_ident!("{}_batch", self.name),
+            format_ident!("{}_batch_with", self.name),
+        )
+    }
+
+    /// The batch twin's slice of results: the results, or for a kept output the kept matrices.
+    pub fn batch_out_type(&self, t: &Types) -> TokenStream {
+        let (k, scalar, nv) = (&t.krate, &t.scalar, &t.nv);
+        match (self.result_type(t), self.parts) {
+            (Some(ty), _) => ty,
+            (None, [Part::Kept { lower: true }]) => {
+                quote!(#k::KeptMassMatrixLower<Self, #scalar, #nv>)
+            }
+            (None, _) => quote!(#k::KeptMassMatrix<Self, #scalar, #nv>),
         }
     }
 
@@ -1137,6 +1171,100 @@ pub fn runtime_traits() -> TokenStream {
         let doc_with = format!(" {} for the parameters `p`{into}.", s.value);
         let doc_plain = format!(" {} with the default parameters{into}.", s.value);
         let trait_doc = s.trait_doc.split('\n').map(|l| format!(" {l}"));
+        let (batch, batch_with) = s.batch_names();
+        let out_ty = s.batch_out_type(&t);
+        let names: Vec<&str> = s.args.iter().map(|a| a.name()).collect();
+        // `out.iter_mut().zip(q).zip(v)` and its pattern `((out, q), v)`.
+        let (zipped, pattern) = args.iter().fold(
+            (quote!(out.iter_mut()), quote!(out)),
+            |(z, p), a| (quote!(#z.zip(#a)), quote!((#p, #a))),
+        );
+        let call = if kept.is_some() {
+            quote!(Self::#with(#(#args,)* p, out);)
+        } else {
+            quote!(*out = Self::#with(#(#args,)* p);)
+        };
+        let what = if kept.is_some() { "kept matrices" } else { "results" };
+        let doc_batch_with = format!(
+            " {} at every state, for the parameters `p`: `out[i]` for the `i`-th entry of \
+             each argument. Where the chain asks for lanes (`lanes: N`), `N` states at a time \
+             in one pass of the generated code (`articulated::lanes`); otherwise state by \
+             state. Each state's {what} are the same as one call's.",
+            s.value
+        );
+        let doc_batch = format!(" {} at every state, with the default parameters.", s.value);
+        let batch_errors = format!(
+            " [`BatchLengths`](crate::lanes::BatchLengths) where an argument's length is not \
+             `out`'s (nothing is computed).{}",
+            if s.fallible {
+                " A singular state's entry is its `Err`, its neighbours' their values."
+            } else {
+                ""
+            }
+        );
+        let par = (kept.is_none()).then(|| {
+            let par_with = format_ident!("{}_par_batch_with", s.name);
+            let par_plain = format_ident!("{}_par_batch", s.name);
+            let doc_par_with = format!(
+                " [`{batch_with}`](Self::{batch_with}) spread over threads (rayon's global pool), \
+                 in groups of [`PAR_CHUNK`](crate::lanes::PAR_CHUNK) states: the same groups, \
+                 so the same results, whatever the number of threads."
+            );
+            let doc_par = format!(
+                " [`{par_with}`](Self::{par_with}) with the default parameters."
+            );
+            // `((out, q), v)` over `par_chunks` of every slice.
+            let (zipped, pattern) = args.iter().fold(
+                (quote!(out.par_chunks_mut(crate::lanes::PAR_CHUNK)), quote!(out)),
+                |(z, p), a| {
+                    (
+                        quote!(#z.zip(#a.par_chunks(crate::lanes::PAR_CHUNK))),
+                        quote!((#p, #a)),
+                    )
+                },
+            );
+            quote! {
+                #[cfg(feature = "rayon")]
+                #[doc = #doc_par_with]
+                #[doc = ""]
+                #[doc = " # Errors"]
+                #[doc = #batch_errors]
+                #[allow(clippy::type_complexity)]
+                fn #par_with(
+                    #(#args: &[#types],)*
+                    p: &Self::Params,
+                    out: &mut [#out_ty],
+                ) -> ::core::result::Result<(), crate::lanes::BatchLengths>
+                where
+                    T: Send + Sync,
+                    Self::Params: Sync,
+                {
+                    use rayon::prelude::*;
+                    crate::lanes::check_lengths(out.len(), &[#((#names, #args.len())),*])?;
+                    #zipped.for_each(|#pattern| {
+                        // The lengths agree chunk by chunk, as they did whole.
+                        let _ = Self::#batch_with(#(#args,)* p, out);
+                    });
+                    Ok(())
+                }
+                #[cfg(feature = "rayon")]
+                #[doc = #doc_par]
+                #[doc = ""]
+                #[doc = " # Errors"]
+                #[doc = #batch_errors]
+                #[allow(clippy::type_complexity)]
+                fn #par_plain(
+                    #(#args: &[#types],)*
+                    out: &mut [#out_ty],
+                ) -> ::core::result::Result<(), crate::lanes::BatchLengths>
+                where
+                    T: Send + Sync,
+                    Self::Params: Sync,
+                {
+                    Self::#par_with(#(#args,)* &Self::default_params(), out)
+                }
+            }
+        });
         quote! {
             #(#[doc = #trait_doc])*
             pub trait #name #generics: crate::Chain<T> {
@@ -1150,6 +1278,35 @@ pub fn runtime_traits() -> TokenStream {
                 fn #plain(#(#args: &#types),* #kept) #ret {
                     Self::#with(#(#args,)* &Self::default_params() #kept_name)
                 }
+                #[doc = #doc_batch_with]
+                #[doc = ""]
+                #[doc = " # Errors"]
+                #[doc = #batch_errors]
+                #[allow(clippy::type_complexity)]
+                fn #batch_with(
+                    #(#args: &[#types],)*
+                    p: &Self::Params,
+                    out: &mut [#out_ty],
+                ) -> ::core::result::Result<(), crate::lanes::BatchLengths> {
+                    crate::lanes::check_lengths(out.len(), &[#((#names, #args.len())),*])?;
+                    for #pattern in #zipped {
+                        #call
+                    }
+                    Ok(())
+                }
+                #[doc = #doc_batch]
+                #[doc = ""]
+                #[doc = " # Errors"]
+                #[doc = #batch_errors]
+                #[allow(clippy::type_complexity)]
+                fn #batch(
+                    #(#args: &[#types],)*
+                    out: &mut [#out_ty],
+                ) -> ::core::result::Result<(), crate::lanes::BatchLengths> {
+                    Self::#batch_with(#(#args,)* &Self::default_params(), out)
+                }
+                #par
+
             }
         }
     });

@@ -21,10 +21,33 @@ articulated::chain! {
     }
 }
 
-/// The 7-DOF arm from its URDF.
+/// The 7-DOF arm from its URDF, with batch functions in lanes of four states
+/// (`articulated::lanes`: `wide`'s vectors, no `std` either).
 #[derive(articulated::Chain)]
-#[chain(urdf = "../models/arm7.urdf")]
+#[chain(urdf = "../models/arm7.urdf", lanes = 4)]
 pub struct Arm7;
+
+/// `q̈` of eight arm states, in two groups of four lanes. Returns 0 on success, 1 + the first
+/// state where `M(q)` is singular.
+#[no_mangle]
+pub extern "C" fn arm7_forward_dynamics_batch(
+    q: &[SVector<f64, 7>; 8],
+    v: &[SVector<f64, 7>; 8],
+    tau: &[SVector<f64, 7>; 8],
+    out: &mut [SVector<f64, 7>; 8],
+) -> i32 {
+    let mut results = [Ok(SVector::zeros()); 8];
+    if Arm7::forward_dynamics_batch(q, v, tau, &mut results).is_err() {
+        return -1;
+    }
+    for (i, (r, o)) in results.iter().zip(out.iter_mut()).enumerate() {
+        match r {
+            Ok(qdd) => *o = *qdd,
+            Err(_) => return 1 + i as i32,
+        }
+    }
+    0
+}
 
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {

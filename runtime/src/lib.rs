@@ -157,6 +157,9 @@ pub mod integrate;
 #[cfg(feature = "alloc")]
 pub mod interpreted;
 pub mod invert;
+// Lanes are `[T; N]` indexed by counters below `N` (`Split::lane` is called with `i < N`).
+#[allow(clippy::indexing_slicing)]
+pub mod lanes;
 /// Sine and cosine together for generated code, branch-free and inlinable, with libm's kernels
 /// and accuracy: [`math::sincos_array`] (several angles, faster than [`libm::sincos`]),
 /// [`math::sincos`] and [`math::sincosf`] (one angle, slower than libm).

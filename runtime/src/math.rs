@@ -309,7 +309,7 @@ pub fn sincosf(x: f32) -> (f32, f32) {
 
 /// `|x| <` [`SINCOS_FAST_LIMIT`]: false for infinities and NaN.
 #[inline(always)]
-fn in_fast_range(x: f64) -> bool {
+pub(crate) fn in_fast_range(x: f64) -> bool {
     x.abs() < SINCOS_FAST_LIMIT
 }
 
@@ -323,7 +323,7 @@ fn sincos_libm(x: f64) -> (f64, f64) {
 /// The out-of-line fallback of [`sincos_array`]: redoes the angles the fast path cannot take.
 #[cold]
 #[inline(never)]
-fn sincos_array_libm(x: &[f64], sin: &mut [f64], cos: &mut [f64]) {
+pub(crate) fn sincos_array_libm(x: &[f64], sin: &mut [f64], cos: &mut [f64]) {
     for ((&x, s), c) in x.iter().zip(sin).zip(cos) {
         if !in_fast_range(x) {
             (*s, *c) = libm::sincos(x);
@@ -338,46 +338,117 @@ fn lanes<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
     let mut sin = [0.0; N];
     let mut cos = [0.0; N];
     for i in 0..N {
-        let x = x[i];
-
-        // n = round(x·2/π), |n| ≤ 2^15; n mod 4 is in the low bits of `t`'s representation.
-        // Fused where the target has FMA (`mul_add`): one rounding instead of two, which can
-        // only move `n` by one where x·2/π lies within an ulp of a half-integer (|y| then ≈ π/4,
-        // inside the kernels' range either way), and a shorter latency before the kernels.
-        let t = mul_add(x, INV_PIO2, TOINT);
-        let quadrant = t.to_bits();
-        let n = t - TOINT;
-
-        // y = x − n·π/2 = x − n·(PIO2_1 + PIO2_2 + PIO2_3) as y0 − yn, |yn| ≪ |y0|:
-        // - n·PIO2_1 and n·PIO2_2 are exact (15 + 35 bits ≤ 53, or n = 2^15), and so is
-        //   r1 = x − n·PIO2_1 (Sterbenz: x is within a factor 2 of n·PIO2_1 when n ≠ 0);
-        // - y0 = r1 − p2 rounded, and p2 − (r1 − y0) is its exact error: r1 is a multiple of
-        //   2^-53 (|x| > 1/2 when n ≠ 0, and PIO2_1's last bit is 2^-34), hence of p2's ulp
-        //   (|p2| < 2^-23), which makes Fast2Sum exact whichever of r1 and p2 is larger;
-        // - yn adds n·PIO2_3 (< n·2^-76): y = y0 − yn but for the roundings of n·PIO2_3 and
-        //   of that sum (2^-53 of n·2^-76 each, plus 2^-106 of |y0|) and for
-        //   π/2 − (PIO2_1 + PIO2_2 + PIO2_3) < 2^-130: below n·2^-128 + 2^-106·|y0| in all.
-        //   Below the limit |y| ≥ n·2^-67.5 (the least ratio, at x = 46066.74…, n = 29327), so
-        //   the error is below 2^-60 of |y|, 1/100 of an ulp; the closest x to a multiple of
-        //   π/2, x = 45.553…, n = 29, has |y| = 2^-60.5 and |yn| ≈ 2^-71.5.
-        // yn enters the kernels only in their first-order corrections, late.
-        let r1 = mul_add(-n, PIO2_1, x);
-        let p2 = n * PIO2_2;
-        let y0 = r1 - p2;
-        let yn = mul_add(n, PIO2_3, p2 - (r1 - y0));
-
-        let (s, c) = kernels(y0, yn);
-
-        // Quadrant 0: (s, c); 1: (c, −s); 2: (−s, −c); 3: (−c, s). That is: negate s if n is
-        // odd, swap the two if n is odd (xor-swap under a mask), negate both if n mod 4 ≥ 2.
-        let s = s.to_bits() ^ (quadrant << 63);
-        let c = c.to_bits();
-        let swap = (s ^ c) & 0u64.wrapping_sub(quadrant & 1);
-        let sign = (quadrant << 62) & (1 << 63);
-        sin[i] = f64::from_bits(s ^ swap ^ sign);
-        cos[i] = f64::from_bits(c ^ swap ^ sign);
+        (sin[i], cos[i]) = fast(x[i]);
     }
     (sin, cos)
+}
+
+/// What the fast path computes with: `f64`, or a vector of them (`articulated::lanes`, whose
+/// lane types run the same algorithm on several states at once).
+pub(crate) trait Angles:
+    Copy
+    + core::ops::Add<Output = Self>
+    + core::ops::Sub<Output = Self>
+    + core::ops::Mul<Output = Self>
+    + core::ops::Neg<Output = Self>
+{
+    /// The representations: `u64`, or a vector of them.
+    type Bits: Copy
+        + core::ops::BitXor<Output = Self::Bits>
+        + core::ops::BitAnd<Output = Self::Bits>;
+    /// A constant in every lane.
+    fn splat(x: f64) -> Self;
+    /// [`mul_add`] in every lane.
+    fn fma(a: Self, b: Self, c: Self) -> Self;
+    /// The representation.
+    fn to_bits(self) -> Self::Bits;
+    /// The value of a representation.
+    fn from_bits(b: Self::Bits) -> Self;
+    /// A representation in every lane.
+    fn bits(b: u64) -> Self::Bits;
+    /// Shifted left by `n`.
+    fn shl(b: Self::Bits, n: u32) -> Self::Bits;
+    /// `0 − b`, wrapping.
+    fn wrapping_neg(b: Self::Bits) -> Self::Bits;
+}
+
+impl Angles for f64 {
+    type Bits = u64;
+    #[inline(always)]
+    fn splat(x: f64) -> f64 {
+        x
+    }
+    #[inline(always)]
+    fn fma(a: f64, b: f64, c: f64) -> f64 {
+        mul_add(a, b, c)
+    }
+    #[inline(always)]
+    fn to_bits(self) -> u64 {
+        f64::to_bits(self)
+    }
+    #[inline(always)]
+    fn from_bits(b: u64) -> f64 {
+        f64::from_bits(b)
+    }
+    #[inline(always)]
+    fn bits(b: u64) -> u64 {
+        b
+    }
+    #[inline(always)]
+    fn shl(b: u64, n: u32) -> u64 {
+        b << n
+    }
+    #[inline(always)]
+    fn wrapping_neg(b: u64) -> u64 {
+        b.wrapping_neg()
+    }
+}
+
+/// The fast path for one angle (or one vector of them): `(sin x, cos x)` with no branch,
+/// correct for `|x| <` [`SINCOS_FAST_LIMIT`], meaningless (but harmless) beyond.
+#[inline(always)]
+pub(crate) fn fast<V: Angles>(x: V) -> (V, V) {
+    let c = V::splat;
+    let mul_add = V::fma;
+
+    // n = round(x·2/π), |n| ≤ 2^15; n mod 4 is in the low bits of `t`'s representation.
+    // Fused where the target has FMA (`mul_add`): one rounding instead of two, which can
+    // only move `n` by one where x·2/π lies within an ulp of a half-integer (|y| then ≈ π/4,
+    // inside the kernels' range either way), and a shorter latency before the kernels.
+    let t = mul_add(x, c(INV_PIO2), c(TOINT));
+    let quadrant = t.to_bits();
+    let n = t - c(TOINT);
+
+    // y = x − n·π/2 = x − n·(PIO2_1 + PIO2_2 + PIO2_3) as y0 − yn, |yn| ≪ |y0|:
+    // - n·PIO2_1 and n·PIO2_2 are exact (15 + 35 bits ≤ 53, or n = 2^15), and so is
+    //   r1 = x − n·PIO2_1 (Sterbenz: x is within a factor 2 of n·PIO2_1 when n ≠ 0);
+    // - y0 = r1 − p2 rounded, and p2 − (r1 − y0) is its exact error: r1 is a multiple of
+    //   2^-53 (|x| > 1/2 when n ≠ 0, and PIO2_1's last bit is 2^-34), hence of p2's ulp
+    //   (|p2| < 2^-23), which makes Fast2Sum exact whichever of r1 and p2 is larger;
+    // - yn adds n·PIO2_3 (< n·2^-76): y = y0 − yn but for the roundings of n·PIO2_3 and
+    //   of that sum (2^-53 of n·2^-76 each, plus 2^-106 of |y0|) and for
+    //   π/2 − (PIO2_1 + PIO2_2 + PIO2_3) < 2^-130: below n·2^-128 + 2^-106·|y0| in all.
+    //   Below the limit |y| ≥ n·2^-67.5 (the least ratio, at x = 46066.74…, n = 29327), so
+    //   the error is below 2^-60 of |y|, 1/100 of an ulp; the closest x to a multiple of
+    //   π/2, x = 45.553…, n = 29, has |y| = 2^-60.5 and |yn| ≈ 2^-71.5.
+    // yn enters the kernels only in their first-order corrections, late.
+    let r1 = mul_add(-n, c(PIO2_1), x);
+    let p2 = n * c(PIO2_2);
+    let y0 = r1 - p2;
+    let yn = mul_add(n, c(PIO2_3), p2 - (r1 - y0));
+
+    let (s, co) = kernels(y0, yn);
+
+    // Quadrant 0: (s, c); 1: (c, −s); 2: (−s, −c); 3: (−c, s). That is: negate s if n is
+    // odd, swap the two if n is odd (xor-swap under a mask), negate both if n mod 4 ≥ 2.
+    let s = s.to_bits() ^ V::shl(quadrant, 63);
+    let co = co.to_bits();
+    let swap = (s ^ co) & V::wrapping_neg(quadrant & V::bits(1));
+    let sign = V::shl(quadrant, 62) & V::bits(1 << 63);
+    (
+        V::from_bits(s ^ swap ^ sign),
+        V::from_bits(co ^ swap ^ sign),
+    )
 }
 
 /// FreeBSD `__sin(x, −yn, 1)` and `__cos(x, −yn)`: (sin(x − yn), cos(x − yn)) for
@@ -399,23 +470,29 @@ fn lanes<const N: usize>(x: [f64; N]) -> ([f64; N], [f64; N]) {
 /// order for both, fewer than Estrin's for both, and as fast as the latter (`arm7`'s inverse
 /// dynamics faster than with Horner's order for both, and a shorter latency of [`sincos`]).
 #[inline(always)]
-fn kernels(x: f64, yn: f64) -> (f64, f64) {
+fn kernels<V: Angles>(x: V, yn: V) -> (V, V) {
+    let c = V::splat;
+    let mul_add = V::fma;
     let z = x * x;
     let z2 = z * z;
     let v = z * x;
-    let hz = 0.5 * z;
-    let w = 1.0 - hz;
+    let hz = c(0.5) * z;
+    let w = c(1.0) - hz;
 
     // In `mul_add`: fused where the target has FMA (shorter latency, one rounding per
     // coefficient instead of two), the same operations in the same order otherwise.
-    let r = mul_add(z, mul_add(z, mul_add(z, mul_add(z, S6, S5), S4), S3), S2);
-    let sin = x - ((w * yn - v * S1) - (v * z) * r);
+    let r = mul_add(
+        z,
+        mul_add(z, mul_add(z, mul_add(z, c(S6), c(S5)), c(S4)), c(S3)),
+        c(S2),
+    );
+    let sin = x - ((w * yn - v * c(S1)) - (v * z) * r);
 
     let rc = mul_add(
         z2,
-        mul_add(z2, mul_add(z, C6, C5), mul_add(z, C4, C3)),
-        mul_add(z, C2, C1),
+        mul_add(z2, mul_add(z, c(C6), c(C5)), mul_add(z, c(C4), c(C3))),
+        mul_add(z, c(C2), c(C1)),
     );
-    let cos = w + ((((1.0 - w) - hz) + x * yn) + z2 * rc);
+    let cos = w + ((((c(1.0) - w) - hz) + x * yn) + z2 * rc);
     (sin, cos)
 }

@@ -23,6 +23,7 @@ use articulated::nalgebra::SVector;
 use articulated::prelude::*;
 use articulated::reference::Reference;
 use articulated_dynamics::random::{random_model, random_state};
+use common::batch::same;
 use common::{
     centroidal_rate_by_differences, centroidal_rate_errors, check_chain, coriolis_error, rel_err,
     whole_body_errors, WHOLE_BODY_OUTPUTS,
@@ -205,4 +206,80 @@ fn random_trees_match_the_reference() {
         "every joint kind must appear among the trees, found {kinds:?}"
     );
     assert!(largest >= 3);
+}
+
+/// Each tree's batch functions (in four lanes up to 8 bodies, `build.rs`; state by state for the
+/// 30-body tree) against its scalar functions, on 11 random states (two whole groups of four
+/// and a partial one).
+#[test]
+fn random_trees_batches_are_their_scalar_functions() {
+    macro_rules! whole_body {
+        (whole_body, $name:ident, $q:ident, $v:ident, $a:ident) => {
+            vec![
+                same!(trees::$name, center_of_mass, center_of_mass_batch, $q),
+                same!(
+                    trees::$name,
+                    centroidal_momentum_matrix,
+                    centroidal_momentum_matrix_batch,
+                    $q
+                ),
+                same!(
+                    trees::$name,
+                    centroidal_momentum_rate,
+                    centroidal_momentum_rate_batch,
+                    $q,
+                    $v,
+                    $a
+                ),
+                same!(trees::$name, kinetic_energy, kinetic_energy_batch, $q, $v),
+                same!(trees::$name, coriolis_matrix, coriolis_matrix_batch, $q, $v),
+            ]
+        };
+        (basic, $($rest:tt)*) => {
+            Vec::<(&str, f64)>::new()
+        };
+    }
+    macro_rules! check {
+        ($name:ident, $seed:expr, $n:expr, $nq:expr, $nv:expr, $whole:ident) => {{
+            let model = random_model($seed, $n);
+            let (mut q, mut v, mut a) = (Vec::new(), Vec::new(), Vec::new());
+            for s in 0..11 {
+                let (qs, vs, as_) = random_state(&model, s);
+                q.push(SVector::<f64, $nq>::from_column_slice(&qs));
+                v.push(SVector::<f64, $nv>::from_column_slice(&vs));
+                a.push(SVector::<f64, $nv>::from_column_slice(&as_));
+            }
+            let mut results = vec![
+                same!(trees::$name, mass_matrix, mass_matrix_batch, q),
+                same!(trees::$name, bias, bias_batch, q, v),
+                same!(trees::$name, gravity, gravity_batch, q),
+                same!(
+                    trees::$name,
+                    inverse_dynamics,
+                    inverse_dynamics_batch,
+                    q,
+                    v,
+                    a
+                ),
+                same!(
+                    trees::$name,
+                    forward_dynamics,
+                    forward_dynamics_batch,
+                    q,
+                    v,
+                    a
+                ),
+                same!(trees::$name, joint_wrenches, joint_wrenches_batch, q, v, a),
+            ];
+            results.extend(whole_body!($whole, $name, q, v, a));
+            for (output, d) in results {
+                assert!(
+                    d <= 1e-14,
+                    "{} {output}: batch differs from the scalar function by {d:e}",
+                    stringify!($name)
+                );
+            }
+        }};
+    }
+    for_each_random_tree!(check);
 }

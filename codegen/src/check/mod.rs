@@ -66,6 +66,8 @@ pub enum About {
     Output(Output),
     /// The accuracy asked for (`accuracy: robust`).
     Accuracy,
+    /// The lanes asked for (`lanes: 4`).
+    Lanes,
     /// A joint locked or a body kept by the scene (`lock`, `keep`), or a frame named in
     /// `frames`, by name.
     Scene(String),

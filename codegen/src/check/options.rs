@@ -10,7 +10,7 @@ use articulated_dynamics::prune::PruneError;
 
 use super::{About, Problem};
 use crate::model::{JointKind, Model};
-use crate::options::{did_you_mean, Accuracy, ContactKind, Options, Output};
+use crate::options::{did_you_mean, Accuracy, ContactKind, Options, Output, ScalarKind};
 
 /// The most velocity coordinates the generator emits straight-line code for.
 pub const MAX_NV: usize = 160;
@@ -312,6 +312,30 @@ fn rules(name: &str, shape: &[JointShape], options: &Options) -> Vec<Problem> {
                 j.name
             ),
         ));
+    }
+    if let Some(n) = options.lanes {
+        let (scalar, allowed) = match options.scalar {
+            ScalarKind::F64 => ("f64", &[2, 4, 8][..]),
+            ScalarKind::F32 => ("f32", &[4, 8, 16][..]),
+            ScalarKind::Generic => ("generic", &[][..]),
+        };
+        if !allowed.contains(&n) {
+            let message = match allowed {
+                [] => "`lanes` needs `scalar: f64` or `f32`: a generic scalar has no vector type \
+                       (its batch functions run state by state)"
+                    .to_string(),
+                _ => format!(
+                    "`lanes: {n}` is not a vector of `{scalar}`: use {} (states per vector \
+                     value; 4 in `f64` and 8 in `f32` fill a 256-bit register)",
+                    allowed
+                        .iter()
+                        .map(|a| format!("`{a}`"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            };
+            problems.push(Problem::new(About::Lanes, message));
+        }
     }
     let nv: usize = shape.iter().map(|j| j.nv).sum();
     if nv > MAX_NV {

@@ -106,7 +106,7 @@ pub fn straight_line(
     scalar: ScalarKind,
     input: &dyn Fn(Var) -> TokenStream,
 ) -> Result<Emitted, EmitError> {
-    straight_line_into(graph, outputs, scalar, input, None)
+    straight_line_into(graph, outputs, scalar, input, None, None)
 }
 
 /// Where outputs of [`straight_line_into`] are stored as soon as they are computed:
@@ -139,18 +139,28 @@ pub struct Sink {
 ///
 /// # Panics
 /// If an output belongs to another graph.
+///
+/// With `lanes` (a lane type, `articulated::lanes::F64x4`), the same statements for its values
+/// (many states at once): the constants stay scalars (the lane type's operators take them on either side),
+/// and the fused multiply–add and the sines, cosines and square roots are `articulated::lanes`'
+/// functions of the same names.
 pub fn straight_line_into(
     graph: &Graph,
     outputs: &[Sym],
     scalar: ScalarKind,
     input: &dyn Fn(Var) -> TokenStream,
     sink: Option<&Sink>,
+    lanes: Option<&TokenStream>,
 ) -> Result<Emitted, EmitError> {
     if scalar == ScalarKind::F32 {
         let (g, outs) = crate::optimize::round_constants_to_f32(graph, outputs);
-        return Writer::new(&g, &outs, scalar, input, sink).emit(&outs, sink);
+        let mut w = Writer::new(&g, &outs, scalar, input, sink);
+        w.lanes = lanes.cloned();
+        return w.emit(&outs, sink);
     }
-    Writer::new(graph, outputs, scalar, input, sink).emit(outputs, sink)
+    let mut w = Writer::new(graph, outputs, scalar, input, sink);
+    w.lanes = lanes.cloned();
+    w.emit(outputs, sink)
 }
 
 /// The constant `0` in `scalar`, as the emitted code writes it (what a [`Sink`]'s array starts
@@ -216,6 +226,9 @@ struct Writer<'g> {
     batched: Vec<Sym>,
     /// The local each statement binds.
     name: HashMap<Sym, Ident>,
+    /// The lane type the statements are for (`articulated::lanes::F64x4`; see
+    /// [`straight_line_into`]), `None` for one state.
+    lanes: Option<TokenStream>,
 }
 
 impl<'g> Writer<'g> {
@@ -260,6 +273,7 @@ impl<'g> Writer<'g> {
             fused,
             batched,
             name: HashMap::new(),
+            lanes: None,
         };
         let statements = w.statement_nodes(outputs);
         w.name = names::assign(graph, &statements, &|s| w.reads(s), &mut names);
@@ -394,7 +408,7 @@ impl<'g> Writer<'g> {
             for &place in places.get(&s).into_iter().flatten() {
                 stmts.push(Statement {
                     pattern: place.clone(),
-                    value: self.operand(s)?,
+                    value: self.stored(s)?,
                     binds: Vec::new(),
                     reads: vec![s],
                     kind: Kind::Store,
@@ -448,6 +462,12 @@ impl<'g> Writer<'g> {
         let statements = self.bind(stmts, &kept)?;
         let uses = match (self.fused.is_empty(), self.scalar) {
             (true, _) => TokenStream::new(),
+            (false, ScalarKind::F32) if self.lanes.is_some() => quote!(
+                use ::articulated::lanes::mul_add as mul_addf;
+            ),
+            (false, _) if self.lanes.is_some() => quote!(
+                use ::articulated::lanes::mul_add;
+            ),
             (false, ScalarKind::F32) => quote!(
                 use ::articulated::math::mul_addf;
             ),
@@ -460,7 +480,7 @@ impl<'g> Writer<'g> {
             statements,
             outputs: outputs
                 .iter()
-                .map(|&s| self.operand(s))
+                .map(|&s| self.stored(s))
                 .collect::<Result<_, _>>()?,
             ops: self.graph.op_counts(outputs),
         })
@@ -558,7 +578,11 @@ impl<'g> Writer<'g> {
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Some(Statement {
             pattern: quote!((#sines, #cosines)),
-            value: quote!(::articulated::math::sincos_array([#(#args),*])),
+            value: if self.lanes.is_some() {
+                quote!(::articulated::lanes::sincos_array([#(#args),*]))
+            } else {
+                quote!(::articulated::math::sincos_array([#(#args),*]))
+            },
             binds: self.batch_nodes(),
             reads: self.batched.clone(),
             kind: Kind::Let,
@@ -602,17 +626,30 @@ impl<'g> Writer<'g> {
                 if let (Some(&sin), Some(&cos)) = both {
                     done.extend([sin, cos]);
                     let (ns, nc) = (&self.name[&sin], &self.name[&cos]);
-                    let call = sines::call(self.scalar, MathFn::SinCos, self.operand(a)?);
+                    let call = sines::call(
+                        self.scalar,
+                        self.lanes.is_some(),
+                        MathFn::SinCos,
+                        self.operand(a)?,
+                    );
                     return Ok((quote!((#ns, #nc)), call, vec![a]));
                 }
                 let f = match node {
                     Node::Sin(_) => MathFn::Sin,
                     _ => MathFn::Cos,
                 };
-                (sines::call(self.scalar, f, self.operand(a)?), vec![a])
+                (
+                    sines::call(self.scalar, self.lanes.is_some(), f, self.operand(a)?),
+                    vec![a],
+                )
             }
             Node::Sqrt(a) => (
-                sines::call(self.scalar, MathFn::Sqrt, self.operand(a)?),
+                sines::call(
+                    self.scalar,
+                    self.lanes.is_some(),
+                    MathFn::Sqrt,
+                    self.operand(a)?,
+                ),
                 vec![a],
             ),
             Node::Const(_) | Node::Input(_) => unreachable!("never bound to a local"),
@@ -666,6 +703,16 @@ impl<'g> Writer<'g> {
                 Ok(quote!(#n))
             }
         }
+    }
+
+    /// A value stored or returned: [`Writer::operand`], with a constant made lanes where the
+    /// statements are for lanes (`F64x4::splat(c)`: the result holds lanes).
+    fn stored(&self, s: Sym) -> Result<TokenStream, EmitError> {
+        let value = self.operand(s)?;
+        Ok(match (self.graph.node(s), &self.lanes) {
+            (Node::Const(_), Some(ty)) => quote!(#ty::splat(#value)),
+            _ => value,
+        })
     }
 
     /// An operand of `+ − · /`: the same, with the rare constant that is itself a quotient (see

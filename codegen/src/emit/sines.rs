@@ -26,13 +26,17 @@ pub(super) enum MathFn {
 }
 
 /// The call of `f` on `x` in `scalar`.
-pub(super) fn call(scalar: ScalarKind, f: MathFn, x: TokenStream) -> TokenStream {
+pub(super) fn call(scalar: ScalarKind, lanes: bool, f: MathFn, x: TokenStream) -> TokenStream {
     let (free, method) = match f {
         MathFn::Sin => ("sin", "sin"),
         MathFn::Cos => ("cos", "cos"),
         MathFn::SinCos => ("sincos", "sin_cos"),
         MathFn::Sqrt => ("sqrt", "sqrt"),
     };
+    if lanes {
+        let f = format_ident!("{}", free);
+        return quote!(::articulated::lanes::#f(#x));
+    }
     match scalar {
         ScalarKind::F64 => {
             let f = format_ident!("{}", free);

@@ -57,6 +57,8 @@ pub(crate) struct Attr {
     pub loops: Option<Vec<LoopTokens>>,
     /// `quasi_static`.
     pub quasi_static: bool,
+    /// `lanes = N`, if given, with its token's span.
+    pub lanes: Option<(usize, Span)>,
     /// `strict`: a warning of the loader refuses the file.
     pub strict: bool,
     /// `balance_inertia`: inertias no rigid body has are balanced, not warned about.
@@ -69,7 +71,7 @@ const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, \
                     `accuracy = fastest | robust`, `lock = [joint(q, …), …]`, \
                     `keep = [body, …]`, `frames = [frame, …]`, \
                     `contacts = [frame: six_d | point, …]`, `loops = [name: point(a, b) | six_d(a, b), …]`, \
-                    `quasi_static`, `strict` or `balance_inertia`";
+                    `lanes = 2 | 4 | 8 | 16`, `quasi_static`, `strict` or `balance_inertia`";
 
 /// Reads every `#[chain(…)]` on `input`.
 pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
@@ -85,6 +87,7 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
     let mut contacts = None;
     let mut loops = None;
     let mut quasi_static = false;
+    let mut lanes = None;
     let mut strict = false;
     let mut balance_inertia = false;
     let mut seen = false;
@@ -145,6 +148,18 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
                     loops = Some(list);
                     combined(errors)?;
                 }
+                Some("lanes") => {
+                    let n: syn::LitInt = meta.value()?.parse()?;
+                    match n.base10_parse::<usize>() {
+                        Ok(k) if crate::options::LANES.contains(&k) => lanes = Some((k, n.span())),
+                        _ => {
+                            return Err(syn::Error::new(
+                                n.span(),
+                                crate::options::unknown_lanes(&n.to_string()),
+                            ))
+                        }
+                    }
+                }
                 Some("quasi_static") => quasi_static = true,
                 Some("strict") => strict = true,
                 Some("balance_inertia") => balance_inertia = true,
@@ -195,6 +210,7 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
         contacts,
         loops,
         quasi_static,
+        lanes,
         strict,
         balance_inertia,
     })

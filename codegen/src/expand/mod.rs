@@ -186,6 +186,9 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
         chain.options.accuracy = accuracy;
     }
     chain.options.quasi_static |= attr.quasi_static;
+    if let Some((n, _)) = attr.lanes {
+        chain.options.lanes = Some(n);
+    }
     for (name, q) in &attr.locks {
         chain.options.locks.push((name.to_string(), q.clone()));
     }
@@ -245,6 +248,9 @@ fn attr_span(attr: &attr::Attr, about: &About) -> Option<proc_macro2::Span> {
             .chain(attr.frames.iter().flatten())
             .find(|n| *n == name)
     };
+    if *about == About::Lanes {
+        return attr.lanes.map(|(_, span)| span);
+    }
     match about {
         About::Output(o) => attr
             .outputs

@@ -140,6 +140,7 @@ fn body(
         cx.options.scalar,
         &|var| cx.input(var),
         None,
+        None,
     )?;
     let (nq, nv) = (cx.nq, cx.nv);
     let values = traced.values.len();

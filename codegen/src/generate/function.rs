@@ -14,8 +14,55 @@ use crate::trace::{
     PIVOT_TOL_GLOBAL_ABA_F64, PIVOT_TOL_GLOBAL_F64,
 };
 
-/// The trait impl of one traced output.
+/// The trait impl of one traced output: its function, and where the chain asks for lanes
+/// (`lanes: N`), its batch twin over lanes ([`batch`]).
 pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
+    let Signature {
+        trait_,
+        after_params,
+        ret,
+        ..
+    } = signature(cx, traced.output);
+    let (args, p_arg, body) = function(cx, traced)?;
+    let function = format_ident!("{}_with", traced.output.name());
+    let (name, generics, params_ty) = (&cx.name, &cx.impl_generics, &cx.params_ty);
+    let doc = docs::function_doc(cx, traced)
+        .into_iter()
+        .map(|d| quote!(#[doc = #d]));
+    // A scalar result is the last `let`, named after what it is (`kinetic_energy`): returning
+    // the name reads better than inlining its expression, which is what clippy would have.
+    let allow = if matches!(
+        traced.output,
+        Output::KineticEnergy | Output::PotentialEnergy
+    ) {
+        quote!(#[allow(clippy::let_and_return)])
+    } else {
+        quote!()
+    };
+    let batch = match (cx.options.lanes, cx.options.scalar) {
+        (Some(n), ScalarKind::F64 | ScalarKind::F32) if !traced.output.is_kept() => {
+            batch(cx, traced, n)?
+        }
+        _ => TokenStream::new(),
+    };
+    Ok(quote! {
+        impl #generics #trait_ for #name {
+            #(#doc)*
+            #allow
+            fn #function(#(#args)* #p_arg: &#params_ty, #after_params) #ret {
+                #body
+            }
+            #batch
+        }
+    })
+}
+
+/// A function's arguments before the parameters (`q: &SVector<f64, 7>,` …), the parameters'
+/// name (`_p` where unread) and its body, in `cx`'s scalar (lanes for [`batch`]).
+fn function(
+    cx: &Context,
+    traced: &Traced,
+) -> syn::Result<(Vec<TokenStream>, TokenStream, TokenStream)> {
     let sunk = sink(cx, traced);
     let emitted = emit::straight_line_into(
         &traced.graph,
@@ -23,20 +70,17 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
         cx.options.scalar,
         &|var| cx.input(var),
         sunk.as_ref().map(|k| &k.sink),
+        cx.lanes.map(|_| &cx.scalar),
     )?;
     let used = Used::of(traced, &outputs(cx, traced), cx.nq, cx.nv);
-    let Signature {
-        trait_,
-        arguments,
-        after_params,
-        ret,
-    } = signature(cx, traced.output);
     let declare = sunk.as_ref().map(|k| k.declare.clone()).unwrap_or_default();
     let result = result(cx, traced, &emitted, sunk.as_ref().map(|k| &k.names[..]));
-    let function = format_ident!("{}_with", traced.output.name());
     // Each argument, and the `let` that binds the entries the function reads.
     let types = cx.types();
-    let (args, inputs): (Vec<TokenStream>, Vec<TokenStream>) = arguments
+    let (args, inputs): (Vec<TokenStream>, Vec<TokenStream>) = traced
+        .output
+        .spec()
+        .args
         .iter()
         .map(|&arg| {
             let used = match arg {
@@ -51,33 +95,89 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
             (quote!(#id: &#ty,), destructure(arg.name(), used))
         })
         .unzip();
-    let (name, generics, params_ty) = (&cx.name, &cx.impl_generics, &cx.params_ty);
-    let doc = docs::function_doc(cx, traced)
-        .into_iter()
-        .map(|d| quote!(#[doc = #d]));
     let p_arg = if used.params { quote!(p) } else { quote!(_p) };
     let (uses, statements) = (&emitted.uses, &emitted.statements);
-    // A scalar result is the last `let`, named after what it is (`kinetic_energy`): returning
-    // the name reads better than inlining its expression, which is what clippy would have.
-    let allow = if matches!(
-        traced.output,
-        Output::KineticEnergy | Output::PotentialEnergy
-    ) {
-        quote!(#[allow(clippy::let_and_return)])
+    Ok((
+        args,
+        p_arg,
+        quote! {
+            #uses
+            #(#inputs)*
+            #declare
+            #statements
+            #result
+        },
+    ))
+}
+
+/// The batch twin of an output (`inverse_dynamics_batch_with`) over lanes of `n` states: the
+/// output's statements in `Lanes<f64, n>` (`articulated::lanes`) as an inner function, run on
+/// each group of `n` states gathered from the slices, its results scattered into `out`.
+fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
+    let lanes = cx.with_lanes(n);
+    let (args, p_arg, body) = function(&lanes, traced)?;
+    let spec = traced.output.spec();
+    let t = cx.types();
+    let (_, batch_with) = spec.batch_names();
+    let out_ty = spec.batch_out_type(&t);
+    let lane_value = spec.value_type(&lanes.types());
+    let n_lit = Literal::usize_unsuffixed(n);
+    let ret = if spec.fallible {
+        quote!(-> (#lane_value, [::core::option::Option<::articulated::SingularMassMatrix>; #n_lit]))
     } else {
-        quote!()
+        quote!(-> #lane_value)
     };
+    let names: Vec<proc_macro2::Ident> = spec
+        .args
+        .iter()
+        .map(|a| format_ident!("{}", a.name()))
+        .collect();
+    let strs: Vec<&str> = spec.args.iter().map(|a| a.name()).collect();
+    let types: Vec<TokenStream> = spec.args.iter().map(|&a| spec.arg_type(a, &t)).collect();
+    let (zipped, pattern) = names.iter().fold(
+        (quote!(out.chunks_mut(#n_lit)), quote!(out)),
+        |(z, p), a| (quote!(#z.zip(#a.chunks(#n_lit))), quote!((#p, #a))),
+    );
+    let scatter = if spec.fallible {
+        quote!(::articulated::lanes::scatter_results(&values.0, &values.1, out);)
+    } else {
+        quote!(::articulated::lanes::Split::scatter(&values, out);)
+    };
+    let params_ty = &cx.params_ty;
+    let allow = match traced.output {
+        Output::KineticEnergy | Output::PotentialEnergy => {
+            quote!(#[allow(clippy::let_and_return)])
+        }
+        _ => TokenStream::new(),
+    };
+    let doc = format!(
+        " `{}` on {n} states at once: the same statements in lanes (`articulated::lanes`).",
+        spec.name
+    );
+    // Not inlined into the caller: one call runs a whole batch, and inlined into a large caller
+    // the lane statements were left partly unvectorized (arm7's inverse dynamics in four lanes
+    // ran no faster than the scalar loop).
     Ok(quote! {
-        impl #generics #trait_ for #name {
-            #(#doc)*
+        #[allow(clippy::type_complexity)]
+        #[inline(never)]
+        fn #batch_with(
+            #(#names: &[#types],)*
+            p: &#params_ty,
+            out: &mut [#out_ty],
+        ) -> ::core::result::Result<(), ::articulated::lanes::BatchLengths> {
+            #[doc = #doc]
             #allow
-            fn #function(#(#args)* #p_arg: &#params_ty, #after_params) #ret {
-                #uses
-                #(#inputs)*
-                #declare
-                #statements
-                #result
+            #[allow(clippy::type_complexity)]
+            #[inline(always)]
+            fn lanes(#(#args)* #p_arg: &#params_ty) #ret {
+                #body
             }
+            ::articulated::lanes::check_lengths(out.len(), &[#((#strs, #names.len())),*])?;
+            for #pattern in #zipped {
+                let values = lanes(#(&::articulated::lanes::gather(#names),)* p);
+                #scatter
+            }
+            Ok(())
         }
     })
 }
@@ -182,7 +282,10 @@ fn sink(cx: &Context, traced: &Traced) -> Option<Sunk> {
             None => Vec::new(),
         })
         .collect();
-    let zero = emit::zero(cx.options.scalar);
+    let zero = match cx.lanes {
+        Some(_) => quote!(<#scalar as ::articulated::lanes::Simd>::ZERO),
+        None => emit::zero(cx.options.scalar),
+    };
     // Each matrix a new zero one; the update's is the one its caller keeps, not zeroed (only the
     // entries that can be non-zero are stored).
     let zeroed = |(&(_, rows, cols), name): (&(&str, usize, usize), &proc_macro2::Ident)| {
@@ -216,11 +319,9 @@ fn sink(cx: &Context, traced: &Traced) -> Option<Sunk> {
 }
 
 /// What an output's function looks like, from its description ([`crate::outputs::Spec`]): its
-/// trait, its arguments before the parameters (`q`, `v`, `a`, `tau`, `base`), the `kept` one
-/// after them, and its return type (`-> …`, or nothing).
+/// trait, the `kept` argument after the parameters, and its return type (`-> …`, or nothing).
 struct Signature {
     trait_: TokenStream,
-    arguments: &'static [Arg],
     after_params: TokenStream,
     ret: TokenStream,
 }
@@ -230,7 +331,6 @@ fn signature(cx: &Context, output: Output) -> Signature {
     let t = cx.types();
     Signature {
         trait_: spec.trait_path(&t),
-        arguments: spec.args,
         after_params: spec.kept_arg(&t).map(|k| quote!(#k,)).unwrap_or_default(),
         ret: spec.ret(&t),
     }
@@ -257,8 +357,19 @@ fn result(
     };
     let ok = |finite: &[TokenStream]| {
         let checks = pivot_checks(cx, traced, emitted);
-        let finite = finite_checks(finite);
-        quote!(#(#checks)* #(#finite)* Ok(#built))
+        let finite = finite_checks(cx, finite);
+        match cx.lanes {
+            // Every check of every lane, the first failure per lane kept (`lanes::refuse`).
+            Some(n) => {
+                let n = Literal::usize_unsuffixed(n);
+                quote! {
+                    let mut status = [None; #n];
+                    #(#checks)* #(#finite)*
+                    (#built, status)
+                }
+            }
+            None => quote!(#(#checks)* #(#finite)* Ok(#built)),
+        }
     };
     let spec = traced.output.spec();
     if !spec.fallible {
@@ -341,19 +452,35 @@ fn built(cx: &Context, output: Output, values: &[TokenStream]) -> TokenStream {
     }
 }
 
-/// One `if` per acceleration: an error where it is not finite.
-fn finite_checks(qdd: &[TokenStream]) -> Vec<TokenStream> {
+/// One `if` per acceleration: an error where it is not finite (in lanes, the lanes where it
+/// is not).
+fn finite_checks(cx: &Context, qdd: &[TokenStream]) -> Vec<TokenStream> {
     qdd.iter()
         .enumerate()
         .map(|(k, x)| {
             let k = Literal::usize_unsuffixed(k);
-            quote! {
-                if !#x.is_finite() {
-                    return Err(::articulated::SingularMassMatrix { velocity: #k });
-                }
-            }
+            let ok = match cx.lanes {
+                Some(_) => quote!(::articulated::lanes::is_finite(#x)),
+                None => quote!(#x.is_finite()),
+            };
+            refusal(cx, ok, &k, true)
         })
         .collect()
+}
+
+/// `if !(ok) { return Err(SingularMassMatrix { velocity }) }`; in lanes, `ok` is a mask and the
+/// lanes where it is false are refused (`lanes::refuse`) instead of returning.
+/// `ok` is negated as written (`!x.is_finite()`) where `simple`, in parentheses otherwise.
+fn refusal(cx: &Context, ok: TokenStream, velocity: &Literal, simple: bool) -> TokenStream {
+    let not_ok = if simple { quote!(!#ok) } else { quote!(!(#ok)) };
+    match cx.lanes {
+        Some(_) => quote!(::articulated::lanes::refuse(&mut status, #ok, #velocity);),
+        None => quote! {
+            if #not_ok {
+                return Err(::articulated::SingularMassMatrix { velocity: #velocity });
+            }
+        },
+    }
 }
 
 /// A row-major matrix of `rows` rows as its entries column by column.
@@ -436,15 +563,26 @@ fn pivot_checks(cx: &Context, traced: &Traced, emitted: &Emitted) -> Vec<TokenSt
         .cloned()
         .unwrap_or_default();
     let scale_const = constant(pivots.scale);
+    let positive_pivot = match cx.lanes {
+        Some(_) => quote!(::articulated::lanes::positive_pivot),
+        None => quote!(::articulated::__private::positive_pivot),
+    };
     let mut checks = Vec::new();
     let (mut uses_local, mut uses_global) = (false, false);
     if let Some(k) = pivots.singular {
         // Decided by the generator (`trace::singular_everywhere`); the function's docs say so.
         let k = Literal::usize_unsuffixed(k);
-        checks.push(quote! {
-            if ::articulated::__private::singular_at_every_configuration() {
-                return Err(::articulated::SingularMassMatrix { velocity: #k });
-            }
+        checks.push(match cx.lanes {
+            Some(_) => quote!(::articulated::lanes::refuse(
+                &mut status,
+                ::articulated::lanes::Mask::NONE,
+                #k
+            );),
+            None => quote! {
+                if ::articulated::__private::singular_at_every_configuration() {
+                    return Err(::articulated::SingularMassMatrix { velocity: #k });
+                }
+            },
         });
     }
     for (k, &(p, d)) in pivots.pairs.iter().enumerate() {
@@ -452,13 +590,16 @@ fn pivot_checks(cx: &Context, traced: &Traced, emitted: &Emitted) -> Vec<TokenSt
         let (p_const, d_const) = (constant(p), constant(d));
         let local = match (p_const, d_const) {
             (Some(pv), Some(dv)) if pv > tol * dv => None,
-            _ if p == d => {
-                let zero = cx.lit(0.0);
-                Some(quote!(#pe > #zero))
-            }
+            _ if p == d => Some(match cx.lanes {
+                Some(_) => quote!(::articulated::lanes::positive(#pe)),
+                None => {
+                    let zero = cx.lit(0.0);
+                    quote!(#pe > #zero)
+                }
+            }),
             _ => {
                 uses_local = true;
-                Some(quote!(::articulated::__private::positive_pivot(#pe, #de, PIVOT_TOL)))
+                Some(quote!(#positive_pivot(#pe, #de, PIVOT_TOL)))
             }
         };
         let global = match (p_const, scale_const, tol_global) {
@@ -470,29 +611,22 @@ fn pivot_checks(cx: &Context, traced: &Traced, emitted: &Emitted) -> Vec<TokenSt
             (Some(pv), Some(sv), Some(tol_global)) if pv > tol_global * sv => None,
             (_, _, Some(_)) => {
                 uses_global = true;
-                Some(quote!(::articulated::__private::positive_pivot(
-                    #pe,
-                    #scale_expr,
-                    PIVOT_TOL_TRACE
-                )))
+                Some(quote!(#positive_pivot(#pe, #scale_expr, PIVOT_TOL_TRACE)))
             }
         };
         let condition = match (local, global) {
             (None, None) => continue,
             (Some(c), None) | (None, Some(c)) => c,
+            (Some(l), Some(g)) if cx.lanes.is_some() => quote!(#l & #g),
             (Some(l), Some(g)) => quote!(#l && #g),
         };
         let k = Literal::usize_unsuffixed(k);
-        checks.push(quote! {
-            if !(#condition) {
-                return Err(::articulated::SingularMassMatrix { velocity: #k });
-            }
-        });
+        checks.push(refusal(cx, condition, &k, false));
     }
     // The tolerances by name where a check reads them (`M` is singular where a pivot is not
     // above `PIVOT_TOL` of its unreduced value, or `PIVOT_TOL_TRACE` of the trace): constants,
     // or in a generic scalar the values converted once.
-    let scalar = &cx.scalar;
+    let scalar = &cx.element;
     let declare = |name: TokenStream, tol: f64| {
         let value = cx.lit(tol);
         match cx.options.scalar {

@@ -116,6 +116,7 @@ const CONSTRAINED: &str = "constrained_forward_dynamics";
 const CONSTRAINED_DERIVATIVES: &str = "constrained_forward_dynamics_derivatives";
 
 /// What every generated item needs to know: the names, sizes and types of the chain.
+#[derive(Clone)]
 struct Context<'a> {
     model: &'a Model,
     options: &'a Options,
@@ -124,8 +125,12 @@ struct Context<'a> {
     name: Ident,
     nq: usize,
     nv: usize,
-    /// The scalar's tokens: `f64`, `f32` or `T`.
+    /// The scalar's tokens: `f64`, `f32` or `T`; in lanes, `::articulated::lanes::F64x4`.
     scalar: TokenStream,
+    /// The scalar of one state: `f64`, `f32` or `T` (what [`Context::scalar`] holds lanes of).
+    element: TokenStream,
+    /// The lanes of a batch twin's inner function ([`Context::with_lanes`]), `None` otherwise.
+    lanes: Option<usize>,
     /// `<T: RealField + Copy>` for a generic chain, nothing otherwise.
     impl_generics: TokenStream,
     /// One field per runtime parameter.
@@ -149,6 +154,11 @@ impl<'a> Context<'a> {
             (false, true) => quote!(#params_name<T>),
             (false, false) => quote!(#params_name),
         };
+        let scalar = match options.scalar {
+            ScalarKind::F64 => quote!(f64),
+            ScalarKind::F32 => quote!(f32),
+            ScalarKind::Generic => quote!(T),
+        };
         Context {
             model,
             options,
@@ -156,11 +166,9 @@ impl<'a> Context<'a> {
             name,
             nq: model.nq(),
             nv: model.nv(),
-            scalar: match options.scalar {
-                ScalarKind::F64 => quote!(f64),
-                ScalarKind::F32 => quote!(f32),
-                ScalarKind::Generic => quote!(T),
-            },
+            element: scalar.clone(),
+            scalar,
+            lanes: None,
             impl_generics: if generic {
                 quote!(<T: ::articulated::nalgebra::RealField + Copy>)
             } else {
@@ -168,6 +176,17 @@ impl<'a> Context<'a> {
             },
             param_idents,
             params_ty,
+        }
+    }
+
+    /// The same chain with its values in lanes of `n` states (`articulated::lanes::F64x4` for
+    /// four in `f64`): what a batch twin's inner function is written in.
+    fn with_lanes(&self, n: usize) -> Self {
+        let ty = format_ident!("{}x{}", self.element.to_string().to_uppercase(), n);
+        Context {
+            scalar: quote!(::articulated::lanes::#ty),
+            lanes: Some(n),
+            ..self.clone()
         }
     }
 

@@ -19,8 +19,8 @@ use super::{visibility, BodyDecl, FrameDecl, InertiaDecl, JointDecl, Lower, Mimi
 use crate::check::{self, End};
 use crate::model::{Drive, JointKind, Placement, Value, DEFAULT_GRAVITY};
 use crate::options::{
-    one_of, unknown_accuracy, unknown_output, unknown_scalar, Accuracy, Contact, Loop, Options,
-    Output, ScalarKind,
+    one_of, unknown_accuracy, unknown_lanes, unknown_output, unknown_scalar, Accuracy, Contact,
+    Loop, Options, Output, ScalarKind, LANES,
 };
 use crate::parse::{BodyDef, ChainDef, Expr, Field, Item, JointDef, Setting};
 
@@ -259,6 +259,13 @@ impl Lower {
             "contacts" => self.contact_list(v, options),
             "loops" => self.loop_list(v, options),
             "keep" => self.keep(v, options),
+            "lanes" => match v {
+                Expr::Number(Lit::Int(n)) if n.base10_parse().is_ok_and(|n| LANES.contains(&n)) => {
+                    options.lanes = n.base10_parse().ok();
+                    self.lanes_token = Some(v.to_token_stream());
+                }
+                _ => self.cx.error(v, unknown_lanes(&v.to_string())),
+            },
             "quasi_static" => match v {
                 Expr::Name(n) if n == "true" || n == "false" => options.quasi_static = n == "true",
                 _ => self

@@ -53,6 +53,7 @@ impl Lower {
                 }
                 About::Output(o) => self.output_tokens.get(o).map(|t| t as &dyn ToTokens),
                 About::Accuracy => self.accuracy_token.as_ref().map(|t| t as &dyn ToTokens),
+                About::Lanes => self.lanes_token.as_ref().map(|t| t as &dyn ToTokens),
                 About::Scene(name) => self.scene_names.get(name).map(|i| i as &dyn ToTokens),
                 About::Contact(k) => self.contact_tokens.get(*k).map(|i| i as &dyn ToTokens),
                 About::Loop(k) => self.loop_tokens.get(*k).map(|(i, _)| i as &dyn ToTokens),

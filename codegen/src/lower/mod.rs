@@ -64,6 +64,8 @@ struct Lower {
     output_tokens: HashMap<Output, TokenStream>,
     /// The value of `accuracy`, for errors at its token.
     accuracy_token: Option<TokenStream>,
+    /// The value of `lanes: …`, where a problem about it is reported.
+    lanes_token: Option<TokenStream>,
     /// The frames declared with an error already reported (an unknown parent).
     broken_frames: std::collections::HashSet<String>,
     /// Each contact's frame in `contacts`, in order, for errors at its token.

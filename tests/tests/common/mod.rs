@@ -11,6 +11,8 @@
 // Each test crate that includes this module uses part of it.
 #![allow(dead_code)]
 
+pub mod batch;
+
 use articulated::nalgebra::{DMatrix, DVector, SMatrix, SVector};
 use articulated::prelude::*;
 use articulated::reference::{Error, Reference};

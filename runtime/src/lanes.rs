@@ -1,0 +1,685 @@
+//! Many states per call: the scalar [`Lanes`], which carries `N` states' values of one quantity,
+//! and what the generated batch functions (`C::inverse_dynamics_batch`, …) are made of.
+//!
+//! # How a batch is computed
+//!
+//! A chain that asks for lanes (`lanes: 4` in its description, `lanes = 4` in `#[chain(…)]`)
+//! gets, for each output, the same straight-line statements as its scalar function, typed in
+//! [`F64x4`] instead of `f64`: one statement then computes the same quantity for four states,
+//! in one vector instruction (`x86-64-v3`: four `f64` in a 256-bit register; the default
+//! target: two 128-bit instructions). The statements are the
+//! scalar function's, operand for operand, with the same fused multiply–adds, divisions and
+//! sines (the lanes' sines and cosines are [`crate::math::sincos_array`]'s polynomial), so a
+//! state's result in a batch is the scalar function's, bit for bit, whichever lane it sits in.
+//!
+//! The batch function ([`crate::InverseDynamics::inverse_dynamics_batch`] and its kind) takes
+//! the slices a user holds (`&[SVector<f64, NQ>]`), gathers `N` states at a time into lanes
+//! ([`gather`]), runs the statements and scatters the results ([`Split`]); the last, partial
+//! group is padded with copies of its first state, whose results are dropped. Forward dynamics
+//! checks its pivots lane by lane ([`positive_pivot`] gives a [`Mask`]): a singular state gets
+//! its error, its neighbours their values ([`refuse`]).
+//!
+//! The lane types: [`F64x2`], [`F64x4`], [`F64x8`] (`lanes: 2 | 4 | 8` in `f64`) and [`F32x4`],
+//! [`F32x8`], [`F32x16`] (`lanes: 4 | 8 | 16` in `f32`), each one vector of the `wide` crate,
+//! which picks the target's instructions at compile time (SSE2, AVX, AVX-512, NEON, or plain
+//! arrays).
+//!
+//! Every chain has the batch functions: without `lanes`, they call the scalar function state by
+//! state (the traits' provided methods); with it, the generator overrides them with the lane
+//! code, at the price of compiling each output twice.
+//!
+//! # Why wrappers of `wide`'s vectors
+//!
+//! The generated code is written in `+ − · /` and a few calls: it needs a type whose operators
+//! also take an `f64` constant on either side (`0.25_f64 * x`), so that the lane statements are
+//! the scalar ones unchanged; a type of another crate cannot be given those operators (`f64 *
+//! wide::f64x4` is a foreign impl on foreign types), so each lane type wraps one. The first
+//! version was an array `[f64; N]` with each operation a loop over its lanes, left to the
+//! compiler to vectorize: it did for arm7's forward dynamics in four lanes, not for its inverse
+//! dynamics (nine in ten operations stayed scalar, no faster than the scalar loop). A vector type
+//! leaves the compiler nothing to find. The sines and cosines are computed on the lanes as an
+//! array by [`crate::math::sincos_array`], which the compiler does vectorize (four angles per
+//! instruction with AVX2), so that they are the scalar code's, bit for bit.
+
+use core::fmt::Debug;
+use core::ops::{Add, BitAnd, Div, Mul, Neg, Sub};
+
+use nalgebra::{SMatrix, SVector};
+
+use crate::{FramePlacement, SingularMassMatrix};
+
+/// The element types of the lanes: `f64` and `f32`, with what the lane code computes on them.
+pub trait Element: nalgebra::Scalar + Copy + PartialOrd + Mul<Output = Self> {
+    /// Neither infinite nor NaN.
+    fn is_finite(x: Self) -> bool;
+    /// Zero.
+    const ZERO: Self;
+}
+
+impl Element for f64 {
+    #[inline(always)]
+    fn is_finite(x: f64) -> bool {
+        x.is_finite()
+    }
+    const ZERO: f64 = 0.0;
+}
+
+impl Element for f32 {
+    #[inline(always)]
+    fn is_finite(x: f32) -> bool {
+        x.is_finite()
+    }
+    const ZERO: f32 = 0.0;
+}
+
+/// A lane type: `LANES` values of one quantity, one per state, the scalar of the generated lane
+/// code. Arithmetic is lane by lane, also with a plain element on either side (the same value in
+/// every lane).
+pub trait Simd:
+    Copy
+    + Debug
+    + PartialEq
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// One state's value: `f64` or `f32`.
+    type Element: Element;
+    /// States per value.
+    const LANES: usize;
+    /// Zero in every lane.
+    const ZERO: Self;
+    /// The same value in every lane.
+    fn splat(x: Self::Element) -> Self;
+    /// Lane `i`'s value computed by `f(i)`.
+    fn from_fn(f: impl FnMut(usize) -> Self::Element) -> Self;
+    /// Lane `i`'s value (`i < LANES`).
+    fn lane(&self, i: usize) -> Self::Element;
+    /// `a·b + c` lane by lane, as the scalar code's [`crate::math::mul_add`]: fused where the
+    /// target has FMA, `a * b + c` otherwise.
+    fn mul_add(a: Self, b: Self, c: Self) -> Self;
+    /// `(sin x, cos x)` lane by lane, as the scalar code computes them.
+    fn sincos(self) -> (Self, Self);
+    /// `√x` lane by lane (correctly rounded, as the scalar code's `libm::sqrt`).
+    fn sqrt(self) -> Self;
+    /// Up to `LANES` states' vectors (at least one) as one vector of lanes: entry `k` of state
+    /// `l` in lane `l` of entry `k`; missing lanes repeat the first state.
+    fn gather<const K: usize>(states: &[SVector<Self::Element, K>]) -> SVector<Self, K>;
+    /// The lanes where `a > b` (false for NaN), lane `l` in bit `l`.
+    fn gt(a: Self, b: Self) -> Mask;
+    /// The lanes that are neither infinite nor NaN.
+    fn finite(self) -> Mask;
+    /// `out[l][e] = values[e].lane(l)` for each lane `l` whose `out[l]` is `Some`: the inverse
+    /// of [`Simd::gather`], by `LANES × LANES` transposes of blocks of entries.
+    fn scatter_entries(values: &[Self], out: &mut [Option<&mut [Self::Element]>]);
+}
+
+/// One lane type and its operators, over a vector of `wide`.
+macro_rules! lane_type {
+    ($(#[$doc:meta])* $name:ident($wide:ty, $t:ty, $n:literal), |$x:ident| $sincos:expr) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        #[repr(transparent)]
+        pub struct $name(pub $wide);
+
+        impl $name {
+            /// The same value in every lane: how generated code writes a constant it stores.
+            #[inline(always)]
+            pub fn splat(x: $t) -> Self {
+                $name(<$wide>::splat(x))
+            }
+        }
+
+        impl Simd for $name {
+            type Element = $t;
+            const LANES: usize = $n;
+            const ZERO: Self = $name(<$wide>::splat(0.0));
+            #[inline(always)]
+            fn splat(x: $t) -> Self {
+                $name::splat(x)
+            }
+            #[inline(always)]
+            fn from_fn(f: impl FnMut(usize) -> $t) -> Self {
+                $name(<$wide>::new(core::array::from_fn(f)))
+            }
+            #[inline(always)]
+            fn lane(&self, i: usize) -> $t {
+                self.0.as_array()[i]
+            }
+            #[inline(always)]
+            fn mul_add(a: Self, b: Self, c: Self) -> Self {
+                // `wide` fuses where the target has FMA, as `math::mul_add` does; elsewhere it
+                // rounds twice, like `a * b + c`.
+                $name(a.0.mul_add(b.0, c.0))
+            }
+            #[inline(always)]
+            fn sincos(self) -> (Self, Self) {
+                let $x = self.0;
+                let (s, c) = $sincos;
+                ($name(s), $name(c))
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                $name(self.0.sqrt())
+            }
+            #[inline(always)]
+            fn gt(a: Self, b: Self) -> Mask {
+                Mask(a.0.simd_gt(b.0).to_bitmask())
+            }
+            #[inline(always)]
+            fn finite(self) -> Mask {
+                Mask(self.0.is_finite().to_bitmask())
+            }
+            #[inline(always)]
+            fn gather<const K: usize>(states: &[SVector<$t, K>]) -> SVector<Self, K> {
+                let Ok(full) = <&[SVector<$t, K>; $n]>::try_from(states) else {
+                    return gather_padded(states);
+                };
+                // Entry by entry: the compiler loads each lane's value into its place (the
+                // transposes of `wide` measured slower here, through memory).
+                let values: [Self; K] = core::array::from_fn(|k| {
+                    $name(<$wide>::new(core::array::from_fn(|l| full[l].data.0[0][k])))
+                });
+                SVector::from_array_storage(nalgebra::ArrayStorage([values]))
+            }
+            #[inline(always)]
+            fn scatter_entries(values: &[Self], out: &mut [Option<&mut [$t]>]) {
+                let blocks = values.chunks_exact($n);
+                let rest = blocks.remainder();
+                for (b, block) in blocks.enumerate() {
+                    let at = b * $n;
+                    let rows: [$wide; $n] = core::array::from_fn(|e| block[e].0);
+                    for (o, t) in out.iter_mut().zip(<$wide>::transpose(rows)) {
+                        if let Some(dst) = o.as_deref_mut().and_then(|o| o.get_mut(at..at + $n)) {
+                            dst.copy_from_slice(t.as_array());
+                        }
+                    }
+                }
+                let at = values.len() - rest.len();
+                for (l, o) in out.iter_mut().enumerate().take($n) {
+                    if let Some(o) = o.as_deref_mut() {
+                        for (d, v) in o.iter_mut().skip(at).zip(rest) {
+                            *d = v.lane(l);
+                        }
+                    }
+                }
+            }
+        }
+
+        impl Operand<$name> for $t {
+            #[inline(always)]
+            fn lanes(self) -> $name {
+                $name::splat(self)
+            }
+        }
+
+        impl Split for $name {
+            type State = $t;
+            #[inline(always)]
+            fn zero() -> $t {
+                0.0
+            }
+            #[inline(always)]
+            fn scatter_with<O>(&self, out: &mut [O], place: impl for<'a> Fn(&'a mut O) -> Option<&'a mut $t>) {
+                for (l, o) in out.iter_mut().enumerate().take($n) {
+                    if let Some(o) = place(o) {
+                        *o = self.lane(l);
+                    }
+                }
+            }
+        }
+
+        lane_type!(@ops $name, $t: Add add +, Sub sub -, Mul mul *, Div div /);
+
+        impl Neg for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn neg(self) -> Self {
+                $name(-self.0)
+            }
+        }
+    };
+    (@ops $name:ident, $t:ty: $($tr:ident $f:ident $op:tt),*) => {$(
+        impl $tr for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: Self) -> Self {
+                $name(self.0 $op o.0)
+            }
+        }
+        impl $tr<$t> for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: $t) -> Self {
+                self $op $name::splat(o)
+            }
+        }
+        impl $tr<$name> for $t {
+            type Output = $name;
+            #[inline(always)]
+            fn $f(self, o: $name) -> $name {
+                $name::splat(self) $op o
+            }
+        }
+    )*};
+}
+
+/// `math::fast` on `f64` vectors: the scalar code's algorithm ([`crate::math::sincos_array`])
+/// on every lane at once.
+macro_rules! angles {
+    ($wide:ty, $bits:ty) => {
+        impl crate::math::Angles for $wide {
+            type Bits = $bits;
+            #[inline(always)]
+            fn splat(x: f64) -> Self {
+                <$wide>::splat(x)
+            }
+            #[inline(always)]
+            fn fma(a: Self, b: Self, c: Self) -> Self {
+                a.mul_add(b, c)
+            }
+            #[inline(always)]
+            fn to_bits(self) -> $bits {
+                wide::bytemuck::cast(self)
+            }
+            #[inline(always)]
+            fn from_bits(b: $bits) -> Self {
+                wide::bytemuck::cast(b)
+            }
+            #[inline(always)]
+            fn bits(b: u64) -> $bits {
+                <$bits>::splat(b)
+            }
+            #[inline(always)]
+            fn shl(b: $bits, n: u32) -> $bits {
+                b << n
+            }
+            #[inline(always)]
+            fn wrapping_neg(b: $bits) -> $bits {
+                <$bits>::splat(0) - b
+            }
+        }
+    };
+}
+angles!(wide::f64x2, wide::u64x2);
+angles!(wide::f64x4, wide::u64x4);
+angles!(wide::f64x8, wide::u64x8);
+
+/// `(sin x, cos x)` of every lane of an `f64` vector: [`crate::math::fast`] on the vector, the
+/// scalar code's algorithm and so its values, bit for bit; any lane at or beyond
+/// [`crate::math::SINCOS_FAST_LIMIT`] (or not finite) redone by `libm`, as the scalar code does.
+#[inline(always)]
+fn sincos_f64<W: crate::math::Angles + Copy, const N: usize>(
+    x: W,
+    to_array: impl Fn(W) -> [f64; N],
+    from_array: impl Fn([f64; N]) -> W,
+) -> (W, W) {
+    let (s, c) = crate::math::fast(x);
+    let xs = to_array(x);
+    if xs.iter().all(|&x| crate::math::in_fast_range(x)) {
+        return (s, c);
+    }
+    let (mut s, mut c) = (to_array(s), to_array(c));
+    crate::math::sincos_array_libm(&xs, &mut s, &mut c);
+    (from_array(s), from_array(c))
+}
+
+/// The sines and cosines of `f32` lanes: in `f64` (as [`sincos_f64`]), rounded; within 1 ulp
+/// of the scalar code's `libm::sincosf` and equal to it for nearly every argument (see
+/// [`crate::math::sincosf`], which computes the same one angle at a time).
+#[inline(always)]
+fn sincos_f32<const N: usize>(x: [f32; N]) -> ([f32; N], [f32; N]) {
+    let (s, c) = crate::math::sincos_array(x.map(f64::from));
+    (s.map(|s| s as f32), c.map(|c| c as f32))
+}
+
+lane_type!(
+    /// Two `f64` states (`lanes: 2`): one 128-bit vector.
+    F64x2(wide::f64x2, f64, 2), |x| sincos_f64(x, |v| v.to_array(), wide::f64x2::new)
+);
+lane_type!(
+    /// Four `f64` states (`lanes: 4`): one 256-bit vector with AVX, two 128-bit ones without.
+    F64x4(wide::f64x4, f64, 4), |x| sincos_f64(x, |v| v.to_array(), wide::f64x4::new)
+);
+lane_type!(
+    /// Eight `f64` states (`lanes: 8`): one 512-bit vector with AVX-512, two 256-bit ones with
+    /// AVX.
+    F64x8(wide::f64x8, f64, 8), |x| sincos_f64(x, |v| v.to_array(), wide::f64x8::new)
+);
+lane_type!(
+    /// Four `f32` states (`lanes: 4` in `f32`): one 128-bit vector.
+    F32x4(wide::f32x4, f32, 4), |x| {
+        let (s, c) = sincos_f32(x.to_array());
+        (wide::f32x4::new(s), wide::f32x4::new(c))
+    }
+);
+lane_type!(
+    /// Eight `f32` states (`lanes: 8` in `f32`): one 256-bit vector with AVX.
+    F32x8(wide::f32x8, f32, 8), |x| {
+        let (s, c) = sincos_f32(x.to_array());
+        (wide::f32x8::new(s), wide::f32x8::new(c))
+    }
+);
+lane_type!(
+    /// Sixteen `f32` states (`lanes: 16` in `f32`): one 512-bit vector with AVX-512, two
+    /// 256-bit ones with AVX.
+    F32x16(wide::f32x16, f32, 16), |x| {
+        let (s, c) = sincos_f32(x.to_array());
+        (wide::f32x16::new(s), wide::f32x16::new(c))
+    }
+);
+
+/// A value the lane code reads: lanes, or a constant of their element, the same in every lane.
+pub trait Operand<L: Simd>: Copy {
+    /// As lanes.
+    fn lanes(self) -> L;
+}
+
+impl<L: Simd> Operand<L> for L {
+    #[inline(always)]
+    fn lanes(self) -> L {
+        self
+    }
+}
+
+/// `a·b + c` lane by lane ([`Simd::mul_add`]): what generated lane code computes its sums of
+/// products with. Any operand may be a constant.
+#[inline(always)]
+pub fn mul_add<L: Simd>(a: impl Operand<L>, b: impl Operand<L>, c: impl Operand<L>) -> L {
+    L::mul_add(a.lanes(), b.lanes(), c.lanes())
+}
+
+/// The sines and cosines of `K` angles in lanes, as the scalar code's
+/// [`crate::math::sincos_array`] computes each (the same values, bit for bit, in `f64`).
+#[inline(always)]
+pub fn sincos_array<L: Simd, const K: usize>(x: [L; K]) -> ([L; K], [L; K]) {
+    let mut sin = [L::ZERO; K];
+    let mut cos = [L::ZERO; K];
+    for ((x, s), c) in x.iter().zip(&mut sin).zip(&mut cos) {
+        (*s, *c) = x.sincos();
+    }
+    (sin, cos)
+}
+
+/// `(sin x, cos x)` lane by lane.
+#[inline(always)]
+pub fn sincos<L: Simd>(x: L) -> (L, L) {
+    x.sincos()
+}
+
+/// `sin x` lane by lane.
+#[inline(always)]
+pub fn sin<L: Simd>(x: L) -> L {
+    x.sincos().0
+}
+
+/// `cos x` lane by lane.
+#[inline(always)]
+pub fn cos<L: Simd>(x: L) -> L {
+    x.sincos().1
+}
+
+/// `√x` lane by lane.
+#[inline(always)]
+pub fn sqrt<L: Simd>(x: L) -> L {
+    x.sqrt()
+}
+
+/// One truth value per lane, lane `i` in bit `i`: the outcome of a check (a pivot, a finite
+/// value) state by state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Mask(pub u32);
+
+impl BitAnd for Mask {
+    type Output = Self;
+    #[inline(always)]
+    fn bitand(self, o: Self) -> Self {
+        Mask(self.0 & o.0)
+    }
+}
+
+impl Mask {
+    /// No lane: a check that fails for every state.
+    pub const NONE: Mask = Mask(0);
+}
+
+/// `pivot > tol·scale` lane by lane, false for NaN: the scalar code's pivot check
+/// (`__private::positive_pivot`) state by state.
+#[inline(always)]
+pub fn positive_pivot<L: Simd>(
+    pivot: impl Operand<L>,
+    scale: impl Operand<L>,
+    tol: L::Element,
+) -> Mask {
+    L::gt(pivot.lanes(), L::splat(tol) * scale.lanes())
+}
+
+/// `x > 0` lane by lane, false for NaN.
+#[inline(always)]
+pub fn positive<L: Simd>(x: impl Operand<L>) -> Mask {
+    L::gt(x.lanes(), L::ZERO)
+}
+
+/// Neither infinite nor NaN, lane by lane.
+#[inline(always)]
+pub fn is_finite<L: Simd>(x: impl Operand<L>) -> Mask {
+    x.lanes().finite()
+}
+
+/// Records `SingularMassMatrix { velocity }` for each lane where `ok` is false and no earlier
+/// check failed: the first failure per state, as the scalar code returns it.
+#[inline(always)]
+pub fn refuse<const N: usize>(
+    status: &mut [Option<SingularMassMatrix>; N],
+    ok: Mask,
+    velocity: usize,
+) {
+    let all = (1u32 << N) - 1;
+    if ok.0 & all == all {
+        return;
+    }
+    for (i, s) in status.iter_mut().enumerate() {
+        if ok.0 >> i & 1 == 0 && s.is_none() {
+            *s = Some(SingularMassMatrix { velocity });
+        }
+    }
+}
+
+/// Up to `LANES` states' vectors (at least one) as one vector of lanes ([`Simd::gather`]).
+#[inline(always)]
+pub fn gather<L: Simd, const K: usize>(states: &[SVector<L::Element, K>]) -> SVector<L, K> {
+    L::gather(states)
+}
+
+/// [`Simd::gather`] of a group of fewer than `LANES` states (the last of a batch): entry by
+/// entry, the missing lanes repeating the first state.
+#[cold]
+fn gather_padded<L: Simd, const K: usize>(states: &[SVector<L::Element, K>]) -> SVector<L, K> {
+    let first = states.first();
+    SVector::from_fn(|k, _| {
+        L::from_fn(|l| states.get(l).or(first).map_or(L::Element::ZERO, |s| s[k]))
+    })
+}
+
+/// The most lanes of any lane type ([`F32x16`]).
+const MAX_LANES: usize = 16;
+
+/// A result in lanes that splits into one result per state.
+pub trait Split {
+    /// One state's result.
+    type State: 'static;
+    /// A state's result of zeros, to be written over.
+    fn zero() -> Self::State;
+    /// Lane `l`'s result into `place(&mut out[l])` for each `l` where it is `Some` (the lanes
+    /// past `out`'s length, padding, are dropped).
+    fn scatter_with<O>(
+        &self,
+        out: &mut [O],
+        place: impl for<'a> Fn(&'a mut O) -> Option<&'a mut Self::State>,
+    );
+    /// Each state's result into `out`, in order.
+    #[inline(always)]
+    fn scatter(&self, out: &mut [Self::State]) {
+        self.scatter_with(out, |o| Some(o));
+    }
+}
+
+impl<L: Simd, const R: usize, const C: usize> Split for SMatrix<L, R, C> {
+    type State = SMatrix<L::Element, R, C>;
+    #[inline(always)]
+    fn zero() -> Self::State {
+        SMatrix::from_element(L::Element::ZERO)
+    }
+    #[inline(always)]
+    fn scatter_with<O>(
+        &self,
+        out: &mut [O],
+        place: impl for<'a> Fn(&'a mut O) -> Option<&'a mut Self::State>,
+    ) {
+        let mut it = out.iter_mut().map(|o| place(o).map(|m| m.as_mut_slice()));
+        let mut slots: [Option<&mut [L::Element]>; MAX_LANES] =
+            core::array::from_fn(|_| it.next().flatten());
+        L::scatter_entries(self.as_slice(), &mut slots);
+    }
+}
+
+impl<L: Simd> Split for FramePlacement<L> {
+    type State = FramePlacement<L::Element>;
+    #[inline(always)]
+    fn zero() -> Self::State {
+        FramePlacement {
+            rotation: SMatrix::<L, 3, 3>::zero(),
+            translation: SMatrix::<L, 3, 1>::zero(),
+        }
+    }
+    #[inline(always)]
+    fn scatter_with<O>(
+        &self,
+        out: &mut [O],
+        place: impl for<'a> Fn(&'a mut O) -> Option<&'a mut Self::State>,
+    ) {
+        self.rotation
+            .scatter_with(out, |o| place(o).map(|p| &mut p.rotation));
+        self.translation
+            .scatter_with(out, |o| place(o).map(|p| &mut p.translation));
+    }
+}
+
+impl<S: Split, const K: usize> Split for [S; K] {
+    type State = [S::State; K];
+    #[inline(always)]
+    fn zero() -> Self::State {
+        core::array::from_fn(|_| S::zero())
+    }
+    #[inline(always)]
+    fn scatter_with<O>(
+        &self,
+        out: &mut [O],
+        place: impl for<'a> Fn(&'a mut O) -> Option<&'a mut Self::State>,
+    ) {
+        for (k, s) in self.iter().enumerate() {
+            s.scatter_with(out, |o| place(o).and_then(|a| a.get_mut(k)));
+        }
+    }
+}
+
+impl<A: Split, B: Split> Split for (A, B) {
+    type State = (A::State, B::State);
+    #[inline(always)]
+    fn zero() -> Self::State {
+        (A::zero(), B::zero())
+    }
+    #[inline(always)]
+    fn scatter_with<O>(
+        &self,
+        out: &mut [O],
+        place: impl for<'a> Fn(&'a mut O) -> Option<&'a mut Self::State>,
+    ) {
+        self.0.scatter_with(out, |o| place(o).map(|t| &mut t.0));
+        self.1.scatter_with(out, |o| place(o).map(|t| &mut t.1));
+    }
+}
+
+impl<A: Split, B: Split, C: Split> Split for (A, B, C) {
+    type State = (A::State, B::State, C::State);
+    #[inline(always)]
+    fn zero() -> Self::State {
+        (A::zero(), B::zero(), C::zero())
+    }
+    #[inline(always)]
+    fn scatter_with<O>(
+        &self,
+        out: &mut [O],
+        place: impl for<'a> Fn(&'a mut O) -> Option<&'a mut Self::State>,
+    ) {
+        self.0.scatter_with(out, |o| place(o).map(|t| &mut t.0));
+        self.1.scatter_with(out, |o| place(o).map(|t| &mut t.1));
+        self.2.scatter_with(out, |o| place(o).map(|t| &mut t.2));
+    }
+}
+
+/// The results of a fallible output in lanes (forward dynamics): the values, and per lane the
+/// first check that failed, into one `Result` per state.
+#[inline(always)]
+pub fn scatter_results<S: Split, const N: usize>(
+    values: &S,
+    status: &[Option<SingularMassMatrix>; N],
+    out: &mut [Result<S::State, SingularMassMatrix>],
+) {
+    for (o, s) in out.iter_mut().zip(status) {
+        *o = match s {
+            Some(e) => Err(*e),
+            None => Ok(S::zero()),
+        };
+    }
+    values.scatter_with(out, |o| o.as_mut().ok());
+}
+
+/// A batch call whose arguments are not as long as its `out` slice: which argument, and the
+/// lengths. Nothing was computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BatchLengths {
+    /// The argument's name in the signature (`q`, `v`, `a`, `tau`, `base`).
+    pub argument: &'static str,
+    /// `out`'s length: one result per state.
+    pub expected: usize,
+    /// The argument's length.
+    pub found: usize,
+}
+
+impl core::fmt::Display for BatchLengths {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(
+            f,
+            "batch argument `{}` holds {} states, but `out` has room for {}: they must be equal",
+            self.argument, self.found, self.expected
+        )
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for BatchLengths {}
+
+/// `Ok` where every argument is `out`'s length (`expected`), else the first that is not.
+///
+/// # Errors
+/// [`BatchLengths`] for the first argument of another length.
+#[inline]
+pub fn check_lengths(expected: usize, args: &[(&'static str, usize)]) -> Result<(), BatchLengths> {
+    match args.iter().find(|(_, n)| *n != expected) {
+        Some(&(argument, found)) => Err(BatchLengths {
+            argument,
+            expected,
+            found,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// The states one thread takes at a time in the `_par_batch` functions: a multiple of every
+/// lane count, so that the groups of lanes, and so the results, do not depend on the number of
+/// threads; large enough that a group's work dwarfs handing it out.
+pub const PAR_CHUNK: usize = 64;

@@ -1,0 +1,412 @@
+//! Batch functions (`C::x_batch`, `C::x_par_batch`) against the scalar function of the same
+//! output, state by state (`common::batch`): in lanes (`lanes: N`) for every lane type, and state
+//! by state (a generic chain, and the outputs no lane code is generated for). The random trees'
+//! batches are checked in `generated_random.rs`.
+
+mod common;
+
+use articulated::lanes::BatchLengths;
+use articulated::nalgebra::SVector;
+use articulated::prelude::*;
+use common::batch::{same, states};
+
+#[derive(articulated::Chain)]
+#[chain(
+    file = "../models/arm7.chain",
+    outputs = [dynamics, whole_body, derivatives, wrenches, joint_wrenches_bottom_up, kept],
+    lanes = 4
+)]
+struct Arm7;
+
+#[derive(articulated::Chain)]
+#[chain(file = "../models/arm7.chain", outputs = [dynamics], lanes = 8)]
+struct Arm7x8;
+
+#[derive(articulated::Chain)]
+#[chain(file = "../models/arm7.chain", outputs = [inverse_dynamics, forward_dynamics], scalar = f32, lanes = 16)]
+struct Arm7f32x16;
+
+#[derive(articulated::Chain)]
+#[chain(file = "../models/arm7.chain", outputs = [dynamics], scalar = f32, lanes = 4)]
+struct Arm7f32x4;
+
+#[derive(articulated::Chain)]
+#[chain(file = "../models/tree.chain", outputs = [dynamics, whole_body], lanes = 2)]
+struct Tree;
+
+#[derive(articulated::Chain)]
+#[chain(file = "../models/two_link.chain", outputs = [dynamics, whole_body], scalar = f32, lanes = 8)]
+struct TwoLinkF32;
+
+#[derive(articulated::Chain)]
+#[chain(file = "../models/two_link.chain", outputs = [dynamics], scalar = generic)]
+struct TwoLinkGeneric;
+
+// Its own outputs: the frames' placements, Jacobians, velocities and accelerations.
+#[derive(articulated::Chain)]
+#[chain(file = "../models/two_link_foot.chain", lanes = 4)]
+struct TwoLinkFoot;
+
+#[derive(articulated::Chain)]
+#[chain(file = "../models/humanoid.chain", outputs = [dynamics], lanes = 4)]
+struct Humanoid;
+
+/// 11 states: two whole groups of four and a partial one (three of eight, of sixteen).
+const N: usize = 11;
+
+/// Every `(output, difference)` at most `tol`.
+fn assert_within(label: &str, results: &[(&str, f64)], tol: f64) {
+    for (output, d) in results {
+        assert!(
+            *d <= tol,
+            "{label} {output}: batch differs from the scalar function by {d:e}"
+        );
+    }
+}
+
+#[test]
+fn arm7_batches_in_four_lanes_are_the_scalar_functions() {
+    let (q, v, a) = (states::<7>(N, 1), states::<7>(N, 2), states::<7>(N, 3));
+    let base = states::<6>(N, 4);
+    let results = [
+        same!(Arm7, mass_matrix, mass_matrix_batch, q),
+        same!(Arm7, bias, bias_batch, q, v),
+        same!(Arm7, gravity, gravity_batch, q),
+        same!(Arm7, inverse_dynamics, inverse_dynamics_batch, q, v, a),
+        same!(Arm7, forward_dynamics, forward_dynamics_batch, q, v, a),
+        same!(Arm7, nonlinear_effects, nonlinear_effects_batch, q, v),
+        same!(
+            Arm7,
+            mass_matrix_and_nonlinear_effects,
+            mass_matrix_and_nonlinear_effects_batch,
+            q,
+            v
+        ),
+        same!(Arm7, joint_wrenches, joint_wrenches_batch, q, v, a),
+        same!(
+            Arm7,
+            joint_wrenches_bottom_up,
+            joint_wrenches_bottom_up_batch,
+            q,
+            v,
+            a,
+            base
+        ),
+        same!(Arm7, center_of_mass, center_of_mass_batch, q),
+        same!(
+            Arm7,
+            center_of_mass_velocity,
+            center_of_mass_velocity_batch,
+            q,
+            v
+        ),
+        same!(
+            Arm7,
+            center_of_mass_jacobian,
+            center_of_mass_jacobian_batch,
+            q
+        ),
+        same!(Arm7, centroidal_momentum, centroidal_momentum_batch, q, v),
+        same!(
+            Arm7,
+            centroidal_momentum_matrix,
+            centroidal_momentum_matrix_batch,
+            q
+        ),
+        same!(
+            Arm7,
+            centroidal_momentum_rate,
+            centroidal_momentum_rate_batch,
+            q,
+            v,
+            a
+        ),
+        same!(
+            Arm7,
+            centroidal_momentum_drift,
+            centroidal_momentum_drift_batch,
+            q,
+            v
+        ),
+        same!(Arm7, kinetic_energy, kinetic_energy_batch, q, v),
+        same!(Arm7, potential_energy, potential_energy_batch, q),
+        same!(Arm7, coriolis_matrix, coriolis_matrix_batch, q, v),
+        same!(
+            Arm7,
+            inverse_dynamics_derivatives,
+            inverse_dynamics_derivatives_batch,
+            q,
+            v,
+            a
+        ),
+        same!(
+            Arm7,
+            forward_dynamics_derivatives,
+            forward_dynamics_derivatives_batch,
+            q,
+            v,
+            a
+        ),
+        same!(Arm7, mass_matrix_inverse, mass_matrix_inverse_batch, q),
+    ];
+    assert_within("arm7 (f64, 4 lanes)", &results, 1e-14);
+}
+
+#[test]
+fn batches_in_every_lane_type_are_the_scalar_functions() {
+    let (q, v, a) = (states::<7>(N, 5), states::<7>(N, 6), states::<7>(N, 7));
+    assert_within(
+        "arm7 (f64, 8 lanes)",
+        &[
+            same!(Arm7x8, mass_matrix, mass_matrix_batch, q),
+            same!(Arm7x8, inverse_dynamics, inverse_dynamics_batch, q, v, a),
+            same!(Arm7x8, forward_dynamics, forward_dynamics_batch, q, v, a),
+        ],
+        1e-14,
+    );
+    // `f32`: the lanes' sines and cosines are those of `f64` rounded, within an ulp of the
+    // scalar code's `libm::sincosf`; what follows carries that ulp.
+    let f32s =
+        |x: &[SVector<f64, 7>]| -> Vec<SVector<f32, 7>> { x.iter().map(|x| x.cast()).collect() };
+    let (qf, vf, af) = (f32s(&q), f32s(&v), f32s(&a));
+    assert_within(
+        "arm7 (f32, 16 lanes)",
+        &[
+            same!(
+                Arm7f32x16,
+                inverse_dynamics,
+                inverse_dynamics_batch,
+                qf,
+                vf,
+                af
+            ),
+            same!(
+                Arm7f32x16,
+                forward_dynamics,
+                forward_dynamics_batch,
+                qf,
+                vf,
+                af
+            ),
+        ],
+        1e-4,
+    );
+    assert_within(
+        "arm7 (f32, 4 lanes)",
+        &[
+            same!(Arm7f32x4, mass_matrix, mass_matrix_batch, qf),
+            same!(
+                Arm7f32x4,
+                inverse_dynamics,
+                inverse_dynamics_batch,
+                qf,
+                vf,
+                af
+            ),
+            same!(
+                Arm7f32x4,
+                forward_dynamics,
+                forward_dynamics_batch,
+                qf,
+                vf,
+                af
+            ),
+        ],
+        1e-4,
+    );
+    let (q, v, a) = (
+        states::<{ Tree::NQ }>(N, 8),
+        states::<{ Tree::NV }>(N, 9),
+        states::<{ Tree::NV }>(N, 10),
+    );
+    assert_within(
+        "tree (f64, 2 lanes)",
+        &[
+            same!(Tree, mass_matrix, mass_matrix_batch, q),
+            same!(Tree, inverse_dynamics, inverse_dynamics_batch, q, v, a),
+            same!(Tree, forward_dynamics, forward_dynamics_batch, q, v, a),
+            same!(
+                Tree,
+                centroidal_momentum_matrix,
+                centroidal_momentum_matrix_batch,
+                q
+            ),
+            same!(Tree, kinetic_energy, kinetic_energy_batch, q, v),
+        ],
+        1e-14,
+    );
+    let f32s6 =
+        |x: Vec<SVector<f64, 6>>| -> Vec<SVector<f32, 6>> { x.iter().map(|x| x.cast()).collect() };
+    let (q, v, a) = (
+        f32s6(states(N, 11)),
+        f32s6(states(N, 12)),
+        f32s6(states(N, 13)),
+    );
+    assert_within(
+        "two-link (f32, 8 lanes)",
+        &[
+            same!(TwoLinkF32, mass_matrix, mass_matrix_batch, q),
+            same!(
+                TwoLinkF32,
+                inverse_dynamics,
+                inverse_dynamics_batch,
+                q,
+                v,
+                a
+            ),
+            same!(
+                TwoLinkF32,
+                forward_dynamics,
+                forward_dynamics_batch,
+                q,
+                v,
+                a
+            ),
+            same!(TwoLinkF32, center_of_mass, center_of_mass_batch, q),
+            same!(TwoLinkF32, coriolis_matrix, coriolis_matrix_batch, q, v),
+        ],
+        1e-4,
+    );
+}
+
+#[test]
+fn frames_and_a_floating_base_in_lanes_are_the_scalar_functions() {
+    let (q, v, a) = (
+        states::<{ TwoLinkFoot::NQ }>(N, 14),
+        states::<{ TwoLinkFoot::NV }>(N, 15),
+        states::<{ TwoLinkFoot::NV }>(N, 16),
+    );
+    assert_within(
+        "two-link on a foot (f64, 4 lanes)",
+        &[
+            same!(TwoLinkFoot, frame_placements, frame_placements_batch, q),
+            same!(
+                TwoLinkFoot,
+                frame_jacobians_local,
+                frame_jacobians_local_batch,
+                q
+            ),
+            same!(TwoLinkFoot, frame_velocities, frame_velocities_batch, q, v),
+            same!(
+                TwoLinkFoot,
+                frame_accelerations,
+                frame_accelerations_batch,
+                q,
+                v,
+                a
+            ),
+            same!(
+                TwoLinkFoot,
+                mass_matrix_and_nonlinear_effects,
+                mass_matrix_and_nonlinear_effects_batch,
+                q,
+                v
+            ),
+        ],
+        1e-14,
+    );
+    let (q, v, a) = (
+        states::<{ Humanoid::NQ }>(N, 17),
+        states::<{ Humanoid::NV }>(N, 18),
+        states::<{ Humanoid::NV }>(N, 19),
+    );
+    assert_within(
+        "humanoid (f64, 4 lanes)",
+        &[
+            same!(Humanoid, mass_matrix, mass_matrix_batch, q),
+            same!(Humanoid, inverse_dynamics, inverse_dynamics_batch, q, v, a),
+            same!(Humanoid, forward_dynamics, forward_dynamics_batch, q, v, a),
+        ],
+        1e-14,
+    );
+}
+
+#[test]
+fn batches_without_lanes_run_state_by_state() {
+    let (q, v, a) = (states::<6>(N, 20), states::<6>(N, 21), states::<6>(N, 22));
+    assert_within(
+        "two-link (generic scalar)",
+        &[
+            same!(TwoLinkGeneric, mass_matrix, mass_matrix_batch, q),
+            same!(
+                TwoLinkGeneric,
+                forward_dynamics,
+                forward_dynamics_batch,
+                q,
+                v,
+                a
+            ),
+        ],
+        0.0,
+    );
+    // The kept matrix: no lane code, the provided method.
+    let q = states::<7>(N, 23);
+    let mut kept = vec![KeptMassMatrix::<Arm7, f64, 7>::new(); N];
+    Arm7::mass_matrix_update_batch(&q, &mut kept).unwrap();
+    for (k, q) in kept.iter().zip(&q) {
+        assert_eq!(*k.matrix(), Arm7::mass_matrix(q));
+    }
+}
+
+#[test]
+fn a_state_that_fails_gets_its_error_and_its_neighbours_their_values() {
+    // State 5 has a NaN torque: its accelerations are not finite, so its forward dynamics is an
+    // error at the first velocity whose acceleration is NaN; the others are unaffected.
+    let (q, v, mut tau) = (states::<7>(N, 24), states::<7>(N, 25), states::<7>(N, 26));
+    tau[5][3] = f64::NAN;
+    let mut out = vec![Ok(SVector::<f64, 7>::zeros()); N];
+    Arm7::forward_dynamics_batch(&q, &v, &tau, &mut out).unwrap();
+    for i in 0..N {
+        assert_eq!(
+            out[i],
+            Arm7::forward_dynamics(&q[i], &v[i], &tau[i]),
+            "state {i}"
+        );
+        assert_eq!(out[i].is_err(), i == 5, "state {i}");
+    }
+}
+
+#[test]
+fn arguments_of_another_length_are_refused() {
+    let (q, v, a) = (
+        states::<7>(N, 27),
+        states::<7>(N, 28),
+        states::<7>(N - 1, 29),
+    );
+    let mut out = vec![SVector::<f64, 7>::zeros(); N];
+    let err = Arm7::inverse_dynamics_batch(&q, &v, &a, &mut out).unwrap_err();
+    assert_eq!(
+        err,
+        BatchLengths {
+            argument: "a",
+            expected: N,
+            found: N - 1
+        }
+    );
+    assert!(err.to_string().contains("`a` holds 10 states"), "{err}");
+    // Nothing was written.
+    assert!(out.iter().all(|x| *x == SVector::<f64, 7>::zeros()));
+    let mut out = vec![SVector::<f64, 7>::zeros(); N - 1];
+    let err = Arm7::gravity_batch(&q, &mut out).unwrap_err();
+    assert_eq!((err.argument, err.found, err.expected), ("q", N, N - 1));
+}
+
+#[test]
+fn batches_on_every_thread_are_the_batches() {
+    // 1000 states: 15 whole groups of `PAR_CHUNK` and a partial one, over rayon's threads.
+    let n = 1000;
+    let (q, v, a) = (states::<7>(n, 30), states::<7>(n, 31), states::<7>(n, 32));
+    let mut serial = vec![Ok(SVector::<f64, 7>::zeros()); n];
+    let mut parallel = serial.clone();
+    Arm7::forward_dynamics_batch(&q, &v, &a, &mut serial).unwrap();
+    Arm7::forward_dynamics_par_batch(&q, &v, &a, &mut parallel).unwrap();
+    assert_eq!(serial, parallel);
+    let mut m = vec![Arm7::mass_matrix(&q[0]); n];
+    Arm7::mass_matrix_par_batch(&q, &mut m).unwrap();
+    for (m, q) in m.iter().zip(&q) {
+        assert_eq!(*m, Arm7::mass_matrix(q));
+    }
+    let short = &a[..n - 1];
+    let mut out = vec![SVector::<f64, 7>::zeros(); n];
+    assert!(Arm7::inverse_dynamics_par_batch(&q, &v, short, &mut out).is_err());
+}
