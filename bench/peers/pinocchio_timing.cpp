@@ -130,6 +130,11 @@
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/parsers/urdf.hpp>
+#ifdef _OPENMP
+#include <omp.h>
+#include <pinocchio/algorithm/parallel/aba.hpp>
+#include <pinocchio/algorithm/parallel/rnea.hpp>
+#endif
 
 namespace {
 
@@ -142,7 +147,9 @@ const char *const USAGE =
     "       pinocchio_timing --urdf FILE [--floating] [--frames F,G] [--contacts C,D] --states "
     "FILE --time [--batches N] [--batch-ms T] MODEL\n"
     "       pinocchio_timing --urdf FILE [--floating] [--frames F,G] [--contacts C,D] --states "
-    "FILE --calls K MODEL OUTPUT";
+    "FILE --calls K MODEL OUTPUT\n"
+    "       pinocchio_timing --urdf FILE [--floating] --states FILE --throughput T1,T2 "
+    "[--batch B] [--rounds R] MODEL   (built with -fopenmp)";
 
 // Tells the compiler that memory (the result in data, the inputs) is read and written here.
 inline void clobber() { asm volatile("" ::: "memory"); }
@@ -513,10 +520,86 @@ std::string values(const pinocchio::Model &model, pinocchio::Data &data, Frames 
   return out + "}";
 }
 
+#ifdef _OPENMP
+// --throughput: states per second at each thread count, over `batch` states (the file's,
+// repeated), the best of `rounds` timings of enough calls to take about 50 ms. Forward and
+// inverse dynamics by Pinocchio's own parallel algorithms, abaInParallel and rneaInParallel
+// (a ModelPool, one Data per thread, OpenMP); the outputs it does not parallelize by the same
+// OpenMP loop with one Data per thread. One thread is the same loop on one thread.
+std::string throughput(const pinocchio::Model &model, const std::vector<State> &states,
+                       const std::vector<int> &threads, long batch, int rounds) {
+  const long n = batch;
+  Eigen::MatrixXd Q(model.nq, n), V(model.nv, n), A(model.nv, n), T(model.nv, n),
+      OUT(model.nv, n);
+  for (long i = 0; i < n; ++i) {
+    const State &s = states[i % states.size()];
+    Q.col(i) = s.q;
+    V.col(i) = s.v;
+    A.col(i) = s.a;
+    T.col(i) = s.tau;
+  }
+  std::string json;
+  for (int t : threads) {
+    pinocchio::ModelPool pool(model, t);
+    std::vector<pinocchio::Data> datas(t, pinocchio::Data(model));
+    auto loop = [&](auto &&f) {
+#pragma omp parallel for num_threads(t) schedule(static)
+      for (long i = 0; i < n; ++i) f(datas[omp_get_thread_num()], i);
+    };
+    auto time = [&](const char *name, auto &&call) {
+      call();
+      long reps = 1;
+      for (;;) {
+        auto start = Clock::now();
+        for (long r = 0; r < reps; ++r) call();
+        double s = std::chrono::duration<double>(Clock::now() - start).count();
+        if (s > 0.05 || reps > (1L << 20)) break;
+        reps *= 2;
+      }
+      double best = 1e300;
+      for (int k = 0; k < rounds; ++k) {
+        auto start = Clock::now();
+        for (long r = 0; r < reps; ++r) call();
+        best = std::min(best, std::chrono::duration<double>(Clock::now() - start).count());
+      }
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "%s{\"output\": \"%s\", \"threads\": %d, \"states_per_second\": %.6g}",
+                    json.empty() ? "" : ", ", name, t, double(n * reps) / best);
+      json += buf;
+    };
+    time("mass_matrix", [&] {
+      loop([&](pinocchio::Data &d, long i) { pinocchio::crba(model, d, Q.col(i)); });
+    });
+    time("nonlinear_effects", [&] {
+      loop([&](pinocchio::Data &d, long i) {
+        pinocchio::nonLinearEffects(model, d, Q.col(i), V.col(i));
+      });
+    });
+    time("inverse_dynamics", [&] { pinocchio::rneaInParallel(t, pool, Q, V, A, OUT); });
+    time("forward_dynamics", [&] { pinocchio::abaInParallel(t, pool, Q, V, T, OUT); });
+    time("inverse_dynamics_derivatives", [&] {
+      loop([&](pinocchio::Data &d, long i) {
+        pinocchio::computeRNEADerivatives(model, d, Q.col(i), V.col(i), A.col(i));
+      });
+    });
+    time("forward_dynamics_derivatives", [&] {
+      loop([&](pinocchio::Data &d, long i) {
+        pinocchio::computeABADerivatives(model, d, Q.col(i), V.col(i), T.col(i));
+      });
+    });
+  }
+  return "[" + json + "]";
+}
+#endif
+
 int run(int argc, char **argv) {
   std::string urdf, states_path, frame_names, contact_names;
   bool floating = false, do_values = false, do_time = false, do_calls = false;
   Runner runner;
+  std::string throughput_threads;  // --throughput: the thread counts
+  long throughput_batch = 256;
+  int throughput_rounds = 7;
   std::vector<std::string> rest;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
@@ -534,12 +617,16 @@ int run(int argc, char **argv) {
     else if (a == "--calls") do_calls = true, runner.calls = std::stol(next());
     else if (a == "--batches") runner.batches = std::max(1, std::stoi(next()));
     else if (a == "--batch-ms") runner.batch_s = std::stod(next()) * 1e-3;
+    else if (a == "--throughput") throughput_threads = next();
+    else if (a == "--batch") throughput_batch = std::stol(next());
+    else if (a == "--rounds") throughput_rounds = std::stoi(next());
     else if (a == "-h" || a == "--help") {
       std::puts(USAGE);
       return 0;
     } else rest.push_back(a);
   }
-  if (urdf.empty() || states_path.empty() || do_values + do_time + do_calls != 1 ||
+  const bool do_throughput = !throughput_threads.empty();
+  if (urdf.empty() || states_path.empty() || do_values + do_time + do_calls + do_throughput != 1 ||
       rest.size() != (do_calls ? 2u : 1u))
     throw std::runtime_error(USAGE);
 
@@ -557,6 +644,23 @@ int run(int argc, char **argv) {
   if (do_values) {
     std::printf("%s\n", values(model, data, frames, contacts, states[0]).c_str());
     return 0;
+  }
+  if (do_throughput) {
+#ifdef _OPENMP
+    std::vector<int> threads;
+    size_t start = 0;
+    while (start < throughput_threads.size()) {
+      size_t end = throughput_threads.find(',', start);
+      if (end == std::string::npos) end = throughput_threads.size();
+      threads.push_back(std::stoi(throughput_threads.substr(start, end - start)));
+      start = end + 1;
+    }
+    std::printf("%s\n",
+                throughput(model, states, threads, throughput_batch, throughput_rounds).c_str());
+    return 0;
+#else
+    throw std::runtime_error("--throughput needs a build with -fopenmp");
+#endif
   }
   std::vector<Ref> q, v, a, tau;
   for (const auto &s : states) {

@@ -792,7 +792,105 @@ def fmt_ratio(x):
     return "–" if x is None else f"{x:.1f}×"
 
 
-def report(env, models, ops, results, instr, checks, args, load_end):
+# The states per second (`throughput`): our binary and Pinocchio's OpenMP build, at one thread
+# and at every thread of the machine; the models of `bench/src/bin/throughput.rs`.
+THROUGHPUT_MODELS = [("arm7", "models/arm7.urdf", False), ("humanoid", "models/humanoid.urdf", True)]
+THROUGHPUT_OUTPUTS = [
+    "mass_matrix", "nonlinear_effects", "inverse_dynamics", "forward_dynamics",
+    "inverse_dynamics_derivatives", "forward_dynamics_derivatives",
+]
+
+
+def throughput(nproc):
+    """States per second: ours (`throughput`: the scalar loop, lanes, lanes and the scalar loop on
+    every thread) and Pinocchio's (`pinocchio_omp --throughput`: rneaInParallel, abaInParallel,
+    and an OpenMP loop with one Data per thread for the rest), at 1 and `nproc` threads."""
+    threads = sorted({1, nproc})
+    tlist = ",".join(map(str, threads))
+    path = os.path.join(OUT, "throughput.json")
+    log(f"states per second, ours, threads {tlist}")
+    subprocess.run(
+        [os.path.join(OUT, "rust-v3", "release", "throughput"), "--threads", tlist, "--json", path],
+        check=True,
+    )
+    with open(path) as f:
+        ours = json.load(f)
+    pin = {}
+    for name, urdf, floating in THROUGHPUT_MODELS:
+        log(f"states per second, Pinocchio (OpenMP), {name}, threads {tlist}")
+        cmd = [os.path.join(OUT, "bin", "pinocchio_omp"), "--urdf", os.path.join(ROOT, urdf)]
+        cmd += ["--floating"] if floating else []
+        cmd += ["--states", os.path.join(OUT, "states", f"{name}.pin.txt"), "--throughput", tlist, name]
+        pin[name] = run_json(cmd)
+    return dict(threads=threads, ours=ours, pinocchio=pin)
+
+
+def throughput_report(w, thr):
+    """The section "Many states per call" from `throughput`'s figures."""
+    if not thr:
+        return
+    w("")
+    w("## Many states per call")
+    w("")
+    w("States per second (millions). **scalar**: our generated function called state by state;")
+    w("**lanes**: its batch function (`inverse_dynamics_batch`, …) in lanes of four states in `f64`,")
+    w("eight in `f32` (`lanes: 4`, `articulated::lanes`; the gathering of the states from the")
+    w("caller's slices into lanes and the scattering of the results included); **lanes, T threads**:")
+    w("the same batch on T threads (`_par_batch`, rayon); **scalar, T threads**: the scalar loop on")
+    w("T threads. **Pinocchio** is `rneaInParallel` and `abaInParallel` (OpenMP, a `ModelPool`) for")
+    w("inverse and forward dynamics, and the same OpenMP loop with one `Data` per thread for the")
+    w("others, which it does not parallelize (`pinocchio_timing --throughput`, built with")
+    w("`-O3 -march=x86-64-v3 -fopenmp`). Ours built for x86-64-v3 (`bench/src/bin/throughput.rs`);")
+    w("256 states per call, best of 7 rounds. Ratios: lanes over the scalar loop on one thread;")
+    w("ours over Pinocchio at the same thread count, per state.")
+    threads = thr["threads"]
+    top = max(threads)
+    ours = thr["ours"]
+
+    def get(model, output, prec, mode, t):
+        for f in ours:
+            if (f["model"], f["output"], f["scalar"], f["mode"], f["threads"]) == (model, output, prec, mode, t):
+                return f["states_per_second"]
+        return None
+
+    def pin(model, output, t):
+        for f in thr["pinocchio"].get(model, []):
+            if (f["output"], f["threads"]) == (output, t):
+                return f["states_per_second"]
+        return None
+
+    def m(x):
+        return "–" if x is None else f"{x / 1e6:.2f}"
+
+    def r(a, b):
+        return "–" if a is None or b is None else f"{a / b:.1f}×"
+
+    for model, _, _ in THROUGHPUT_MODELS:
+        w("")
+        w(f"### {model}")
+        w("")
+        w(f"| output | scalar | lanes | lanes / scalar | Pinocchio, 1 thread | lanes / Pinocchio | "
+          f"lanes, {top} threads | scalar, {top} threads | Pinocchio, {top} threads | ours / Pinocchio, {top} threads |")
+        w("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        for prec in ("f64", "f32"):
+            for output in THROUGHPUT_OUTPUTS:
+                sc = get(model, output, prec, "scalar", 1)
+                if sc is None:
+                    continue
+                ln = get(model, output, prec, "lanes", 1)
+                lt = get(model, output, prec, "lanes_threads", top)
+                st = get(model, output, prec, "scalar_threads", top)
+                p1 = pin(model, output, 1) if prec == "f64" else None
+                pt = pin(model, output, top) if prec == "f64" else None
+                label = f"`{output}`" + (" (f32)" if prec == "f32" else "")
+                w(f"| {label} | {m(sc)} | {m(ln)} | {r(ln, sc)} | {m(p1)} | {r(ln, p1)} | "
+                  f"{m(lt)} | {m(st)} | {m(pt)} | {r(lt, pt)} |")
+    w("")
+    w(f"This machine has {top} threads; the scaling to 16 cores is in `docs/throughput.md`")
+    w("where a session measured it. Pinocchio has no `f32` build here (its wheel is `double`).")
+
+
+def report(env, models, ops, results, instr, checks, args, load_end, thr=None):
     L = []
     w = L.append
     w("# Benchmarks: `articulated` against Pinocchio and MuJoCo")
@@ -934,6 +1032,7 @@ def report(env, models, ops, results, instr, checks, args, load_end):
     frames_report(w, models, ops, results, instr, checks)
     constrained_report(w, models, ops, results, instr, checks)
     native_report(w, models, ops, results, env)
+    throughput_report(w, thr)
     bytes_report(w, models, results, code_bytes(os.path.join(OUT, "rust-v3", "release", "peers")))
     w("")
     w(WHAT)
@@ -1586,9 +1685,23 @@ def main():
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--batches", type=int, default=200)
     ap.add_argument("--quick", action="store_true", help="2 rounds of 20 batches, no callgrind (a dry run)")
+    ap.add_argument(
+        "--throughput-only", action="store_true",
+        help="measure the states per second only, and rewrite BENCHMARKS.md with the other figures of the last full run",
+    )
     args = ap.parse_args()
     if args.quick:
         args.rounds, args.batches = 2, 20
+    if args.throughput_only:
+        with open(os.path.join(OUT, "last_run.json")) as f:
+            d = json.load(f)
+        d["thr"] = throughput(int(d["env"]["nproc"]))
+        d["env"]["commit"] = environment()["commit"]
+        with open(os.path.join(OUT, "last_run.json"), "w") as f:
+            json.dump(d, f)
+        args.rounds, args.batches = d.get("rounds", 7), d.get("batches", 200)
+        write_report(report(d["env"], MODELS, d["ops"], d["results"], d["instr"], d["checks"], args, d["load_end"], d["thr"]))
+        return
     env = environment()
     progs, ops, checks = {}, {}, {}
     for entry in MODELS:
@@ -1618,6 +1731,7 @@ def main():
             layout["contacts"],
         )
     results = time_all(MODELS, progs, args.rounds, args.batches)
+    thr = throughput(int(env["nproc"]))
     instr = {}
     if not args.quick:
         def which(name):
@@ -1641,8 +1755,13 @@ def main():
     load_end = open("/proc/loadavg").read().split()[:3]
     # The raw figures, should the report need redoing (target/, not committed).
     with open(os.path.join(OUT, "last_run.json"), "w") as f:
-        json.dump(dict(env=env, ops=ops, results=results, instr=instr, checks=checks, load_end=load_end), f)
-    text = report(env, MODELS, ops, results, instr, checks, args, load_end)
+        json.dump(dict(env=env, ops=ops, results=results, instr=instr, checks=checks, load_end=load_end,
+                       thr=thr, rounds=args.rounds, batches=args.batches), f)
+    write_report(report(env, MODELS, ops, results, instr, checks, args, load_end, thr))
+
+
+def write_report(text):
+    """BENCHMARKS.md, written whole (a temporary file renamed into place)."""
     target = os.path.join(ROOT, "BENCHMARKS.md")
     fd, tmp = tempfile.mkstemp(dir=ROOT, prefix=".BENCHMARKS.", suffix=".tmp")
     with os.fdopen(fd, "w") as f:

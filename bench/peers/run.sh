@@ -6,11 +6,13 @@
 # 1. a Python venv in target/peers/venv with the pinned wheels (Pinocchio's C++ headers and
 #    libraries come with `pin` under site-packages/cmeel.prefix; MuJoCo's C header and library
 #    with `mujoco`);
-# 2. the timing programs: bench/peers/pinocchio_timing.cpp three times (algorithms compiled
-#    here for x86-64-v3 and for this machine's CPU; calls into the wheel's prebuilt library),
+# 2. the timing programs: bench/peers/pinocchio_timing.cpp four times (algorithms compiled
+#    here for x86-64-v3 and for this machine's CPU; calls into the wheel's prebuilt library;
+#    with OpenMP for the states per second),
 #    bench/peers/mujoco_timing.c, and our bench/src/bin/peers.rs three times (x86-64-v3, this
 #    machine's CPU, default target; with the feature humanoid-derivatives, the humanoid's
-#    derivative outputs), each rebuilt only when its source or flags changed;
+#    derivative outputs) and bench/src/bin/throughput.rs (x86-64-v3), each rebuilt only when
+#    its source or flags changed;
 # 3. bench/peers/run.py: values check, timing, callgrind, BENCHMARKS.md.
 # Everything it builds or installs stays under target/peers/ (ignored by git).
 set -euo pipefail
@@ -90,7 +92,7 @@ EOF
 )
 PIN_INC="-I$PREFIX/include -I$PREFIX/include/eigen3 -I$PREFIX/include/urdfdom_headers"
 PIN_LIBS="-L$PREFIX/lib -Wl,-rpath,$PREFIX/lib -lpinocchio_parsers -lpinocchio_default"
-step "Pinocchio: three builds of its headers, a few minutes each when the source changed"
+step "Pinocchio: four builds of its headers, a few minutes each when the source changed"
 # v3: Pinocchio's algorithms compiled here. The model comes from the wheel's parser library
 # (built for baseline x86-64), so Eigen keeps that build's alignment and allocator.
 build "$BIN/pinocchio_v3" bench/peers/pinocchio_timing.cpp "g++ -std=c++17 -O3 -DNDEBUG $CPU_FLAGS -DEIGEN_MAX_ALIGN_BYTES=16 \
@@ -104,12 +106,16 @@ build "$BIN/pinocchio_native" bench/peers/pinocchio_timing.cpp "g++ -std=c++17 -
 build "$BIN/pinocchio_wheel" bench/peers/pinocchio_timing.cpp "g++ -std=c++17 -O3 -DNDEBUG \
   -DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION $PIN_DEFS $PIN_INC bench/peers/pinocchio_timing.cpp \
   -o $BIN/pinocchio_wheel $PIN_LIBS"
+# omp: the states per second (--throughput), Pinocchio's parallel algorithms (OpenMP).
+build "$BIN/pinocchio_omp" bench/peers/pinocchio_timing.cpp "g++ -std=c++17 -O3 -DNDEBUG $CPU_FLAGS -fopenmp -DEIGEN_MAX_ALIGN_BYTES=16 \
+  -DEIGEN_MALLOC_ALREADY_ALIGNED=1 $PIN_DEFS $PIN_INC bench/peers/pinocchio_timing.cpp \
+  -o $BIN/pinocchio_omp $PIN_LIBS"
 build "$BIN/mujoco_timing" bench/peers/mujoco_timing.c "gcc -std=c11 -O3 -DNDEBUG $CPU_FLAGS -Wall -I$MJ/include \
   bench/peers/mujoco_timing.c -o $BIN/mujoco_timing $MJLIB -Wl,-rpath,$MJ"
 
 step "building ours for x86-64-v3 (cargo, target/peers/rust-v3)"
 RUSTFLAGS="-C target-cpu=x86-64-v3" CARGO_TARGET_DIR=$OUT/rust-v3 \
-  cargo build --release --quiet -p articulated-bench --bin peers --features humanoid-derivatives
+  cargo build --release --quiet -p articulated-bench --bin peers --bin throughput --features humanoid-derivatives
 step "building ours for this machine's CPU (cargo, target/peers/rust-native)"
 RUSTFLAGS="-C target-cpu=native" CARGO_TARGET_DIR=$OUT/rust-native \
   cargo build --release --quiet -p articulated-bench --bin peers --features humanoid-derivatives

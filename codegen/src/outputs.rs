@@ -1206,22 +1206,18 @@ pub fn runtime_traits() -> TokenStream {
             let par_with = format_ident!("{}_par_batch_with", s.name);
             let par_plain = format_ident!("{}_par_batch", s.name);
             let doc_par_with = format!(
-                " [`{batch_with}`](Self::{batch_with}) spread over threads (rayon's global pool), \
-                 in groups of [`PAR_CHUNK`](crate::lanes::PAR_CHUNK) states: the same groups, \
-                 so the same results, whatever the number of threads."
+                " [`{batch_with}`](Self::{batch_with}) spread over threads (rayon's current pool), \
+                 in groups of states ([`par_chunk`](crate::lanes::par_chunk)). Each state's \
+                 result is computed in its own lane, whatever its group: the results are the \
+                 same whatever the number of threads."
             );
             let doc_par = format!(
                 " [`{par_with}`](Self::{par_with}) with the default parameters."
             );
             // `((out, q), v)` over `par_chunks` of every slice.
             let (zipped, pattern) = args.iter().fold(
-                (quote!(out.par_chunks_mut(crate::lanes::PAR_CHUNK)), quote!(out)),
-                |(z, p), a| {
-                    (
-                        quote!(#z.zip(#a.par_chunks(crate::lanes::PAR_CHUNK))),
-                        quote!((#p, #a)),
-                    )
-                },
+                (quote!(out.par_chunks_mut(chunk)), quote!(out)),
+                |(z, p), a| (quote!(#z.zip(#a.par_chunks(chunk))), quote!((#p, #a))),
             );
             quote! {
                 #[cfg(feature = "rayon")]
@@ -1241,6 +1237,7 @@ pub fn runtime_traits() -> TokenStream {
                 {
                     use rayon::prelude::*;
                     crate::lanes::check_lengths(out.len(), &[#((#names, #args.len())),*])?;
+                    let chunk = crate::lanes::par_chunk(out.len());
                     #zipped.for_each(|#pattern| {
                         // The lengths agree chunk by chunk, as they did whole.
                         let _ = Self::#batch_with(#(#args,)* p, out);

@@ -679,7 +679,22 @@ pub fn check_lengths(expected: usize, args: &[(&'static str, usize)]) -> Result<
     }
 }
 
-/// The states one thread takes at a time in the `_par_batch` functions: a multiple of every
-/// lane count, so that the groups of lanes, and so the results, do not depend on the number of
-/// threads; large enough that a group's work dwarfs handing it out.
+/// The fewest states one thread takes at a time in the `_par_batch` functions
+/// ([`par_chunk`]): a multiple of every lane count.
 pub const PAR_CHUNK: usize = 64;
+
+/// The states one thread takes at a time in a `_par_batch` function over `n` states: about four
+/// groups per thread of the current rayon pool, a multiple of 16 (every lane count), at least
+/// [`PAR_CHUNK`].
+///
+/// Why not a fixed size: handing a group to a thread costs about a microsecond, and 64 states of
+/// the arm's inverse dynamics in lanes take about as long, so on 16 threads fixed groups of 64
+/// spent most of the time handing them out. A state's result does not depend on its group (each
+/// lane is computed on its own), so neither do the results on the number of threads.
+#[cfg(feature = "rayon")]
+pub fn par_chunk(n: usize) -> usize {
+    let groups = 4 * rayon::current_num_threads();
+    n.div_ceil(groups.max(1))
+        .next_multiple_of(16)
+        .max(PAR_CHUNK)
+}

@@ -393,7 +393,7 @@ fn arguments_of_another_length_are_refused() {
 
 #[test]
 fn batches_on_every_thread_are_the_batches() {
-    // 1000 states: 15 whole groups of `PAR_CHUNK` and a partial one, over rayon's threads.
+    // 1000 states: whole groups and a partial one (`lanes::par_chunk`), over rayon's threads.
     let n = 1000;
     let (q, v, a) = (states::<7>(n, 30), states::<7>(n, 31), states::<7>(n, 32));
     let mut serial = vec![Ok(SVector::<f64, 7>::zeros()); n];
@@ -409,4 +409,72 @@ fn batches_on_every_thread_are_the_batches() {
     let short = &a[..n - 1];
     let mut out = vec![SVector::<f64, 7>::zeros(); n];
     assert!(Arm7::inverse_dynamics_par_batch(&q, &v, short, &mut out).is_err());
+}
+
+/// `n` random states of the humanoid: positions in `[-2, 2]` with a unit base quaternion.
+fn humanoid_states(n: usize, seed: u64) -> Vec<SVector<f64, { Humanoid::NQ }>> {
+    states::<{ Humanoid::NQ }>(n, seed)
+        .into_iter()
+        .map(|mut q| {
+            let r = q.fixed_rows::<4>(3).normalize();
+            q.fixed_rows_mut::<4>(3).copy_from(&r);
+            q
+        })
+        .collect()
+}
+
+#[test]
+fn an_ensemble_steps_each_copy_as_rk4_steps_it_alone() {
+    use articulated::integrate::{ControlledChain, Ensemble, Integrator, Rk4, State};
+    // The humanoid: a quaternion base, so the Munthe-Kaas stages on its manifold; 11 copies,
+    // three groups of four lanes per stage; the seventh with a NaN force.
+    let (mut q, mut v) = (humanoid_states(N, 33), states::<{ Humanoid::NV }>(N, 34));
+    let mut tau = states::<{ Humanoid::NV }>(N, 35);
+    tau[6][10] = f64::NAN;
+    let (q0, v0) = (q.clone(), v.clone());
+    let mut faults = vec![None; N];
+    let mut ensemble = Ensemble::new();
+    let h = 1e-3;
+    for _ in 0..3 {
+        ensemble
+            .rk4::<Humanoid>(&mut q, &mut v, &tau, &(), h, &mut faults)
+            .unwrap();
+    }
+    for i in 0..N {
+        let t = tau[i];
+        let mut alone = ControlledChain::<f64, Humanoid, _>::new(move |_t: f64, _q: &_, _v: &_| t);
+        let mut state = State::new(0.0, q0[i], v0[i]);
+        let mut result = Ok(());
+        for step in 0..3 {
+            result = Rk4.advance(&mut alone, &mut state, h * (step + 1) as f64, step);
+            if result.is_err() {
+                break;
+            }
+        }
+        match result {
+            Ok(()) => {
+                assert!(faults[i].is_none(), "copy {i}: {:?}", faults[i]);
+                let d = common::batch::difference(state.q.as_slice(), q[i].as_slice()).max(
+                    common::batch::difference(state.v.as_slice(), v[i].as_slice()),
+                );
+                assert!(
+                    d <= 1e-15,
+                    "copy {i}: the ensemble differs from Rk4 by {d:e}"
+                );
+            }
+            Err(_) => {
+                assert_eq!(i, 6);
+                assert!(faults[i].is_some());
+                assert_eq!(
+                    (q[i], v[i]),
+                    (q0[i], v0[i]),
+                    "a faulty copy is left as it was"
+                );
+            }
+        }
+    }
+    let mut short = vec![None; N - 1];
+    assert!(ensemble
+        .rk4::<Humanoid>(&mut q, &mut v, &tau, &(), h, &mut short)
+        .is_err());
 }

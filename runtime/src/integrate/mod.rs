@@ -44,6 +44,8 @@
 //! known only at run time (`Dyn`, with `alloc`): the CLI's reference engine.
 
 mod dopri5;
+#[cfg(feature = "alloc")]
+mod ensemble;
 mod euler;
 mod midpoint;
 mod rk4;
@@ -56,6 +58,8 @@ use nalgebra::allocator::Allocator;
 use nalgebra::{Const, DefaultAllocator, Dim, OVector, RealField, SVector, Scalar, U1};
 
 pub use dopri5::{Dopri5, Dopri5Stats};
+#[cfg(feature = "alloc")]
+pub use ensemble::Ensemble;
 pub use euler::{Euler, SymplecticEuler};
 pub use midpoint::{ImplicitMidpoint, MidpointStats};
 pub use rk4::Rk4;
