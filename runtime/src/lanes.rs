@@ -586,40 +586,27 @@ impl<S: Split, const K: usize> Split for [S; K] {
     }
 }
 
-impl<A: Split, B: Split> Split for (A, B) {
-    type State = (A::State, B::State);
-    #[inline(always)]
-    fn zero() -> Self::State {
-        (A::zero(), B::zero())
-    }
-    #[inline(always)]
-    fn scatter_with<O>(
-        &self,
-        out: &mut [O],
-        place: impl for<'a> Fn(&'a mut O) -> Option<&'a mut Self::State>,
-    ) {
-        self.0.scatter_with(out, |o| place(o).map(|t| &mut t.0));
-        self.1.scatter_with(out, |o| place(o).map(|t| &mut t.1));
-    }
+/// [`Split`] for the tuples results are made of: part by part.
+macro_rules! tuples {
+    ($(($($part:ident $index:tt),+)),+) => {$(
+        impl<$($part: Split),+> Split for ($($part,)+) {
+            type State = ($($part::State,)+);
+            #[inline(always)]
+            fn zero() -> Self::State {
+                ($($part::zero(),)+)
+            }
+            #[inline(always)]
+            fn scatter_with<O>(
+                &self,
+                out: &mut [O],
+                place: impl for<'a> Fn(&'a mut O) -> Option<&'a mut Self::State>,
+            ) {
+                $(self.$index.scatter_with(out, |o| place(o).map(|t| &mut t.$index));)+
+            }
+        }
+    )+};
 }
-
-impl<A: Split, B: Split, C: Split> Split for (A, B, C) {
-    type State = (A::State, B::State, C::State);
-    #[inline(always)]
-    fn zero() -> Self::State {
-        (A::zero(), B::zero(), C::zero())
-    }
-    #[inline(always)]
-    fn scatter_with<O>(
-        &self,
-        out: &mut [O],
-        place: impl for<'a> Fn(&'a mut O) -> Option<&'a mut Self::State>,
-    ) {
-        self.0.scatter_with(out, |o| place(o).map(|t| &mut t.0));
-        self.1.scatter_with(out, |o| place(o).map(|t| &mut t.1));
-        self.2.scatter_with(out, |o| place(o).map(|t| &mut t.2));
-    }
-}
+tuples!((A 0, B 1), (A 0, B 1, C 2));
 
 /// The results of a fallible output in lanes (forward dynamics): the values, and per lane the
 /// first check that failed, into one `Result` per state.

@@ -51,6 +51,27 @@ struct TwoLinkFoot;
 #[chain(file = "../models/humanoid.chain", outputs = [dynamics], lanes = 4)]
 struct Humanoid;
 
+// The other shipped models, their dynamics in four lanes.
+#[derive(articulated::Chain)]
+#[chain(file = "../models/inverted_pendulum.chain", outputs = [dynamics], lanes = 4)]
+struct InvertedPendulum;
+
+#[derive(articulated::Chain)]
+#[chain(file = "../models/double_pendulum.chain", outputs = [dynamics], lanes = 4)]
+struct DoublePendulum;
+
+#[derive(articulated::Chain)]
+#[chain(file = "../models/biped.chain", outputs = [dynamics], lanes = 4)]
+struct Biped;
+
+#[derive(articulated::Chain)]
+#[chain(file = "../models/falling_cat.chain", outputs = [dynamics], lanes = 4)]
+struct FallingCat;
+
+#[derive(articulated::Chain)]
+#[chain(file = "../models/four_bar.chain", outputs = [dynamics, frames], lanes = 4)]
+struct FourBar;
+
 /// 11 states: two whole groups of four and a partial one (three of eight, of sixteen).
 const N: usize = 11;
 
@@ -477,4 +498,34 @@ fn an_ensemble_steps_each_copy_as_rk4_steps_it_alone() {
     assert!(ensemble
         .rk4::<Humanoid>(&mut q, &mut v, &tau, &(), h, &mut short)
         .is_err());
+}
+
+#[test]
+fn every_shipped_model_in_lanes_is_its_scalar_functions() {
+    macro_rules! model {
+        ($c:ty, $seed:expr) => {{
+            let (q, v, a) = (
+                states::<{ <$c>::NQ }>(N, $seed),
+                states::<{ <$c>::NV }>(N, $seed + 1),
+                states::<{ <$c>::NV }>(N, $seed + 2),
+            );
+            assert_within(
+                stringify!($c),
+                &[
+                    same!($c, mass_matrix, mass_matrix_batch, q),
+                    same!($c, bias, bias_batch, q, v),
+                    same!($c, gravity, gravity_batch, q),
+                    same!($c, inverse_dynamics, inverse_dynamics_batch, q, v, a),
+                    same!($c, forward_dynamics, forward_dynamics_batch, q, v, a),
+                    same!($c, nonlinear_effects, nonlinear_effects_batch, q, v),
+                ],
+                1e-14,
+            );
+        }};
+    }
+    model!(InvertedPendulum, 40);
+    model!(DoublePendulum, 43);
+    model!(Biped, 46);
+    model!(FallingCat, 49);
+    model!(FourBar, 52);
 }

@@ -285,69 +285,80 @@ fn run() -> Result<(), String> {
         args.rounds, args.batches
     );
 
+    // The four dynamics outputs of one chain at the states `(q, v, a)`, `NV` velocities.
+    macro_rules! dynamics {
+        ($model:literal, $prec:literal, $c:ty, $t:ty, $nv:literal, $q:ident, $v:ident, $a:ident) => {{
+            let (vz, mz) = (
+                SVector::<$t, $nv>::zeros(),
+                SMatrix::<$t, $nv, $nv>::zeros(),
+            );
+            time_output!(
+                figures,
+                args,
+                pools,
+                $model,
+                $prec,
+                $c,
+                mass_matrix,
+                mass_matrix_batch,
+                mass_matrix_par_batch,
+                mz,
+                $q
+            );
+            time_output!(
+                figures,
+                args,
+                pools,
+                $model,
+                $prec,
+                $c,
+                nonlinear_effects,
+                nonlinear_effects_batch,
+                nonlinear_effects_par_batch,
+                vz,
+                $q,
+                $v
+            );
+            time_output!(
+                figures,
+                args,
+                pools,
+                $model,
+                $prec,
+                $c,
+                inverse_dynamics,
+                inverse_dynamics_batch,
+                inverse_dynamics_par_batch,
+                vz,
+                $q,
+                $v,
+                $a
+            );
+            time_output!(
+                figures,
+                args,
+                pools,
+                $model,
+                $prec,
+                $c,
+                forward_dynamics,
+                forward_dynamics_batch,
+                forward_dynamics_par_batch,
+                Ok(vz),
+                $q,
+                $v,
+                $a
+            );
+        }};
+    }
+
     let (q, v, a) = (
         states::<f64, 7>(n, 1, None),
-        states::<f64, 7>(n, 2, None),
-        states::<f64, 7>(n, 3, None),
+        states(n, 2, None),
+        states(n, 3, None),
     );
-    let (v7, m7) = (SVector::<f64, 7>::zeros(), SMatrix::<f64, 7, 7>::zeros());
-    time_output!(
-        figures,
-        args,
-        pools,
-        "arm7",
-        "f64",
-        Arm7,
-        mass_matrix,
-        mass_matrix_batch,
-        mass_matrix_par_batch,
-        m7,
-        q
-    );
-    time_output!(
-        figures,
-        args,
-        pools,
-        "arm7",
-        "f64",
-        Arm7,
-        nonlinear_effects,
-        nonlinear_effects_batch,
-        nonlinear_effects_par_batch,
-        v7,
-        q,
-        v
-    );
-    time_output!(
-        figures,
-        args,
-        pools,
-        "arm7",
-        "f64",
-        Arm7,
-        inverse_dynamics,
-        inverse_dynamics_batch,
-        inverse_dynamics_par_batch,
-        v7,
-        q,
-        v,
-        a
-    );
-    time_output!(
-        figures,
-        args,
-        pools,
-        "arm7",
-        "f64",
-        Arm7,
-        forward_dynamics,
-        forward_dynamics_batch,
-        forward_dynamics_par_batch,
-        Ok(v7),
-        q,
-        v,
-        a
-    );
+    dynamics!("arm7", "f64", Arm7, f64, 7, q, v, a);
+    let m7 = SMatrix::<f64, 7, 7>::zeros();
     time_output!(
         figures,
         args,
@@ -378,199 +389,25 @@ fn run() -> Result<(), String> {
         v,
         a
     );
-
     let (q, v, a) = (
         states::<f32, 7>(n, 1, None),
-        states::<f32, 7>(n, 2, None),
-        states::<f32, 7>(n, 3, None),
+        states(n, 2, None),
+        states(n, 3, None),
     );
-    let (v7, m7) = (SVector::<f32, 7>::zeros(), SMatrix::<f32, 7, 7>::zeros());
-    time_output!(
-        figures,
-        args,
-        pools,
-        "arm7",
-        "f32",
-        Arm7F32,
-        mass_matrix,
-        mass_matrix_batch,
-        mass_matrix_par_batch,
-        m7,
-        q
-    );
-    time_output!(
-        figures,
-        args,
-        pools,
-        "arm7",
-        "f32",
-        Arm7F32,
-        nonlinear_effects,
-        nonlinear_effects_batch,
-        nonlinear_effects_par_batch,
-        v7,
-        q,
-        v
-    );
-    time_output!(
-        figures,
-        args,
-        pools,
-        "arm7",
-        "f32",
-        Arm7F32,
-        inverse_dynamics,
-        inverse_dynamics_batch,
-        inverse_dynamics_par_batch,
-        v7,
-        q,
-        v,
-        a
-    );
-    time_output!(
-        figures,
-        args,
-        pools,
-        "arm7",
-        "f32",
-        Arm7F32,
-        forward_dynamics,
-        forward_dynamics_batch,
-        forward_dynamics_par_batch,
-        Ok(v7),
-        q,
-        v,
-        a
-    );
-
+    dynamics!("arm7", "f32", Arm7F32, f32, 7, q, v, a);
     // The humanoid's base is a quaternion at q[3..7].
     let (q, v, a) = (
         states::<f64, 38>(n, 4, Some(3)),
-        states::<f64, 37>(n, 5, None),
-        states::<f64, 37>(n, 6, None),
+        states(n, 5, None),
+        states(n, 6, None),
     );
-    let (v37, m37) = (SVector::<f64, 37>::zeros(), SMatrix::<f64, 37, 37>::zeros());
-    time_output!(
-        figures,
-        args,
-        pools,
-        "humanoid",
-        "f64",
-        Humanoid,
-        mass_matrix,
-        mass_matrix_batch,
-        mass_matrix_par_batch,
-        m37,
-        q
-    );
-    time_output!(
-        figures,
-        args,
-        pools,
-        "humanoid",
-        "f64",
-        Humanoid,
-        nonlinear_effects,
-        nonlinear_effects_batch,
-        nonlinear_effects_par_batch,
-        v37,
-        q,
-        v
-    );
-    time_output!(
-        figures,
-        args,
-        pools,
-        "humanoid",
-        "f64",
-        Humanoid,
-        inverse_dynamics,
-        inverse_dynamics_batch,
-        inverse_dynamics_par_batch,
-        v37,
-        q,
-        v,
-        a
-    );
-    time_output!(
-        figures,
-        args,
-        pools,
-        "humanoid",
-        "f64",
-        Humanoid,
-        forward_dynamics,
-        forward_dynamics_batch,
-        forward_dynamics_par_batch,
-        Ok(v37),
-        q,
-        v,
-        a
-    );
-
+    dynamics!("humanoid", "f64", Humanoid, f64, 37, q, v, a);
     let (q, v, a) = (
         states::<f32, 38>(n, 4, Some(3)),
-        states::<f32, 37>(n, 5, None),
-        states::<f32, 37>(n, 6, None),
+        states(n, 5, None),
+        states(n, 6, None),
     );
-    let (v37, m37) = (SVector::<f32, 37>::zeros(), SMatrix::<f32, 37, 37>::zeros());
-    time_output!(
-        figures,
-        args,
-        pools,
-        "humanoid",
-        "f32",
-        HumanoidF32,
-        mass_matrix,
-        mass_matrix_batch,
-        mass_matrix_par_batch,
-        m37,
-        q
-    );
-    time_output!(
-        figures,
-        args,
-        pools,
-        "humanoid",
-        "f32",
-        HumanoidF32,
-        nonlinear_effects,
-        nonlinear_effects_batch,
-        nonlinear_effects_par_batch,
-        v37,
-        q,
-        v
-    );
-    time_output!(
-        figures,
-        args,
-        pools,
-        "humanoid",
-        "f32",
-        HumanoidF32,
-        inverse_dynamics,
-        inverse_dynamics_batch,
-        inverse_dynamics_par_batch,
-        v37,
-        q,
-        v,
-        a
-    );
-    time_output!(
-        figures,
-        args,
-        pools,
-        "humanoid",
-        "f32",
-        HumanoidF32,
-        forward_dynamics,
-        forward_dynamics_batch,
-        forward_dynamics_par_batch,
-        Ok(v37),
-        q,
-        v,
-        a
-    );
+    dynamics!("humanoid", "f32", HumanoidF32, f32, 37, q, v, a);
 
     if let Some(path) = &args.json {
         let text = serde_json::to_string_pretty(&figures).map_err(|e| e.to_string())?;
