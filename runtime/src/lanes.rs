@@ -674,9 +674,9 @@ pub const PAR_CHUNK: usize = 64;
 /// groups per thread of the current rayon pool, a multiple of 16 (every lane count), at least
 /// [`PAR_CHUNK`].
 ///
-/// Why not a fixed size: handing a group to a thread costs about a microsecond, and 64 states of
-/// the arm's inverse dynamics in lanes take about as long, so on 16 threads fixed groups of 64
-/// spent most of the time handing them out. A state's result does not depend on its group (each
+/// Why not a fixed size: 64 states of the arm's inverse dynamics in lanes take about as long as
+/// handing a group to a thread, so on 16 threads fixed groups of 64 spent most of the time
+/// handing them out (`docs/throughput.md` has the scaling since). A state's result does not depend on its group (each
 /// lane is computed on its own), so neither do the results on the number of threads.
 #[cfg(feature = "rayon")]
 pub fn par_chunk(n: usize) -> usize {
