@@ -1114,6 +1114,12 @@ impl Spec {
         )
     }
 
+    /// The batch twin with parameters per state, `mass_matrix_batch_with_each`: the one
+    /// generated code with lanes implements.
+    pub fn batch_each_name(&self) -> Ident {
+        format_ident!("{}_batch_with_each", self.name)
+    }
+
     /// The batch twin's slice of results: the results, or for a kept output the kept matrices.
     pub fn batch_out_type(&self, t: &Types) -> TokenStream {
         let (k, scalar, nv) = (&t.krate, &t.scalar, &t.nv);
@@ -1154,156 +1160,17 @@ pub fn runtime_traits() -> TokenStream {
         } else {
             quote!(<T, const NQ: usize, const NV: usize>)
         };
-        let args: Vec<Ident> = s.args.iter().map(|a| format_ident!("{}", a.name())).collect();
-        let types: Vec<TokenStream> = s.args.iter().map(|&a| s.arg_type(a, &t)).collect();
-        let kept = s.kept_arg(&t).map(|k| quote!(, #k));
-        let kept_name = kept.as_ref().map(|_| quote!(, kept));
-        let into = if kept.is_some() { ", into `kept`" } else { "" };
-        let ret = s.ret(&t);
-        let (with, plain) = (s.with_name(), format_ident!("{}", s.name));
-        let errors = s.fallible.then(|| {
-            quote! {
-                #[doc = ""]
-                #[doc = " # Errors"]
-                #[doc = " [`SingularMassMatrix`](crate::SingularMassMatrix) where `M(q)` is singular or the result is not finite."]
-            }
-        });
-        let doc_with = format!(" {} for the parameters `p`{into}.", s.value);
-        let doc_plain = format!(" {} with the default parameters{into}.", s.value);
         let trait_doc = s.trait_doc.split('\n').map(|l| format!(" {l}"));
-        let (batch, batch_with) = s.batch_names();
-        let out_ty = s.batch_out_type(&t);
-        let names: Vec<&str> = s.args.iter().map(|a| a.name()).collect();
-        // `out.iter_mut().zip(q).zip(v)` and its pattern `((out, q), v)`.
-        let (zipped, pattern) = args.iter().fold(
-            (quote!(out.iter_mut()), quote!(out)),
-            |(z, p), a| (quote!(#z.zip(#a)), quote!((#p, #a))),
-        );
-        let call = if kept.is_some() {
-            quote!(Self::#with(#(#args,)* p, out);)
-        } else {
-            quote!(*out = Self::#with(#(#args,)* p);)
-        };
-        let what = if kept.is_some() { "kept matrices" } else { "results" };
-        let doc_batch_with = format!(
-            " {} at every state, for the parameters `p`: `out[i]` for the `i`-th entry of \
-             each argument. Where the chain asks for lanes (`lanes: N`), `N` states at a time \
-             in one pass of the generated code (`articulated::lanes`); otherwise state by \
-             state. Each state's {what} are the same as one call's.",
-            s.value
-        );
-        let doc_batch = format!(" {} at every state, with the default parameters.", s.value);
-        let batch_errors = format!(
-            " [`BatchLengths`](crate::lanes::BatchLengths) where an argument's length is not \
-             `out`'s (nothing is computed).{}",
-            if s.fallible {
-                " A singular state's entry is its `Err`, its neighbours' their values."
-            } else {
-                ""
-            }
-        );
-        let par = (kept.is_none()).then(|| {
-            let par_with = format_ident!("{}_par_batch_with", s.name);
-            let par_plain = format_ident!("{}_par_batch", s.name);
-            let doc_par_with = format!(
-                " [`{batch_with}`](Self::{batch_with}) spread over threads (rayon's current pool), \
-                 in groups of states ([`par_chunk`](crate::lanes::par_chunk)). Each state's \
-                 result is computed in its own lane, whatever its group: the results are the \
-                 same whatever the number of threads."
-            );
-            let doc_par = format!(
-                " [`{par_with}`](Self::{par_with}) with the default parameters."
-            );
-            // `((out, q), v)` over `par_chunks` of every slice.
-            let (zipped, pattern) = args.iter().fold(
-                (quote!(out.par_chunks_mut(chunk)), quote!(out)),
-                |(z, p), a| (quote!(#z.zip(#a.par_chunks(chunk))), quote!((#p, #a))),
-            );
-            quote! {
-                #[cfg(feature = "rayon")]
-                #[doc = #doc_par_with]
-                #[doc = ""]
-                #[doc = " # Errors"]
-                #[doc = #batch_errors]
-                #[allow(clippy::type_complexity)]
-                fn #par_with(
-                    #(#args: &[#types],)*
-                    p: &Self::Params,
-                    out: &mut [#out_ty],
-                ) -> ::core::result::Result<(), crate::lanes::BatchLengths>
-                where
-                    T: Send + Sync,
-                    Self::Params: Sync,
-                {
-                    use rayon::prelude::*;
-                    crate::lanes::check_lengths(out.len(), &[#((#names, #args.len())),*])?;
-                    let chunk = crate::lanes::par_chunk(out.len());
-                    #zipped.for_each(|#pattern| {
-                        // The lengths agree chunk by chunk, as they did whole.
-                        let _ = Self::#batch_with(#(#args,)* p, out);
-                    });
-                    Ok(())
-                }
-                #[cfg(feature = "rayon")]
-                #[doc = #doc_par]
-                #[doc = ""]
-                #[doc = " # Errors"]
-                #[doc = #batch_errors]
-                #[allow(clippy::type_complexity)]
-                fn #par_plain(
-                    #(#args: &[#types],)*
-                    out: &mut [#out_ty],
-                ) -> ::core::result::Result<(), crate::lanes::BatchLengths>
-                where
-                    T: Send + Sync,
-                    Self::Params: Sync,
-                {
-                    Self::#par_with(#(#args,)* &Self::default_params(), out)
-                }
-            }
-        });
+        let one = one_state_methods(s, &t);
+        let batch = batch_methods(s, &t);
+        // Kept outputs fill the caller's matrices in place: no threads over them.
+        let par = (s.kept_arg(&t).is_none()).then(|| par_batch_methods(s, &t));
         quote! {
             #(#[doc = #trait_doc])*
             pub trait #name #generics: crate::Chain<T> {
-                #[doc = #doc_with]
-                #errors
-                #[allow(clippy::type_complexity)]
-                fn #with(#(#args: &#types,)* p: &Self::Params #kept) #ret;
-                #[doc = #doc_plain]
-                #errors
-                #[allow(clippy::type_complexity)]
-                fn #plain(#(#args: &#types),* #kept) #ret {
-                    Self::#with(#(#args,)* &Self::default_params() #kept_name)
-                }
-                #[doc = #doc_batch_with]
-                #[doc = ""]
-                #[doc = " # Errors"]
-                #[doc = #batch_errors]
-                #[allow(clippy::type_complexity)]
-                fn #batch_with(
-                    #(#args: &[#types],)*
-                    p: &Self::Params,
-                    out: &mut [#out_ty],
-                ) -> ::core::result::Result<(), crate::lanes::BatchLengths> {
-                    crate::lanes::check_lengths(out.len(), &[#((#names, #args.len())),*])?;
-                    for #pattern in #zipped {
-                        #call
-                    }
-                    Ok(())
-                }
-                #[doc = #doc_batch]
-                #[doc = ""]
-                #[doc = " # Errors"]
-                #[doc = #batch_errors]
-                #[allow(clippy::type_complexity)]
-                fn #batch(
-                    #(#args: &[#types],)*
-                    out: &mut [#out_ty],
-                ) -> ::core::result::Result<(), crate::lanes::BatchLengths> {
-                    Self::#batch_with(#(#args,)* &Self::default_params(), out)
-                }
+                #one
+                #batch
                 #par
-
             }
         }
     });
@@ -1352,6 +1219,256 @@ pub fn runtime_traits() -> TokenStream {
         #[doc(hidden)]
         pub mod output_traits {
             pub use super::{#(#names),*};
+        }
+    }
+}
+
+/// An output's arguments in a trait's signatures: their names (`q`, `v`), their types for one
+/// state, and the names as strings (for [`crate::lanes::BatchLengths`]'s message).
+struct Arguments {
+    idents: Vec<Ident>,
+    types: Vec<TokenStream>,
+    names: Vec<&'static str>,
+}
+
+impl Arguments {
+    fn of(s: &Spec, t: &Types) -> Self {
+        Arguments {
+            idents: s
+                .args
+                .iter()
+                .map(|a| format_ident!("{}", a.name()))
+                .collect(),
+            types: s.args.iter().map(|&a| s.arg_type(a, t)).collect(),
+            names: s.args.iter().map(|a| a.name()).collect(),
+        }
+    }
+
+    /// `out.iter_mut().zip(q).zip(v)` (from `start`, the iterator over `out`) and its pattern
+    /// `((out, q), v)`; `each` maps an argument to what is zipped (`q`, `q.par_chunks(chunk)`).
+    fn zipped(
+        &self,
+        start: TokenStream,
+        each: impl Fn(&Ident) -> TokenStream,
+    ) -> (TokenStream, TokenStream) {
+        self.idents.iter().fold((start, quote!(out)), |(z, p), a| {
+            let e = each(a);
+            (quote!(#z.zip(#e)), quote!((#p, #a)))
+        })
+    }
+}
+
+/// The method for one state with the parameters (`mass_matrix_with(q, p)`), which generated
+/// code implements, and the one with the defaults (`mass_matrix(q)`).
+fn one_state_methods(s: &Spec, t: &Types) -> TokenStream {
+    let Arguments { idents, types, .. } = Arguments::of(s, t);
+    let kept = s.kept_arg(t).map(|k| quote!(, #k));
+    let kept_name = kept.as_ref().map(|_| quote!(, kept));
+    let into = if kept.is_some() { ", into `kept`" } else { "" };
+    let ret = s.ret(t);
+    let (with, plain) = (s.with_name(), format_ident!("{}", s.name));
+    let errors = s.fallible.then(|| {
+        quote! {
+            #[doc = ""]
+            #[doc = " # Errors"]
+            #[doc = " [`SingularMassMatrix`](crate::SingularMassMatrix) where `M(q)` is singular or the result is not finite."]
+        }
+    });
+    let doc_with = format!(" {} for the parameters `p`{into}.", s.value);
+    let doc_plain = format!(" {} with the default parameters{into}.", s.value);
+    quote! {
+        #[doc = #doc_with]
+        #errors
+        #[allow(clippy::type_complexity)]
+        fn #with(#(#idents: &#types,)* p: &Self::Params #kept) #ret;
+        #[doc = #doc_plain]
+        #errors
+        #[allow(clippy::type_complexity)]
+        fn #plain(#(#idents: &#types),* #kept) #ret {
+            Self::#with(#(#idents,)* &Self::default_params() #kept_name)
+        }
+    }
+}
+
+/// The `# Errors` section of a batch method.
+fn batch_errors(s: &Spec) -> TokenStream {
+    let text = format!(
+        " [`BatchLengths`](crate::lanes::BatchLengths) where an argument's length is not \
+         `out`'s, or `p` holds neither one parameter set nor one per state (nothing is \
+         computed).{}",
+        if s.fallible {
+            " A singular state's entry is its `Err`, its neighbours' their values."
+        } else {
+            ""
+        }
+    );
+    quote! {
+        #[doc = ""]
+        #[doc = " # Errors"]
+        #[doc = #text]
+    }
+}
+
+/// The batch twins: `_batch_with_each` (the parameters per state, or one set for all), which
+/// generated code with lanes overrides, and `_batch_with` and `_batch` through it.
+fn batch_methods(s: &Spec, t: &Types) -> TokenStream {
+    let args = Arguments::of(s, t);
+    let Arguments {
+        idents,
+        types,
+        names,
+    } = &args;
+    let (batch, batch_with) = s.batch_names();
+    let each = s.batch_each_name();
+    let out_ty = s.batch_out_type(t);
+    let with = s.with_name();
+    // `out.iter_mut().enumerate().zip(q).zip(v)` and its pattern `(((i, out), q), v)`.
+    let (zipped, pattern) = idents.iter().fold(
+        (quote!(out.iter_mut().enumerate()), quote!((i, out))),
+        |(z, p), a| (quote!(#z.zip(#a)), quote!((#p, #a))),
+    );
+    let call = if s.kept_arg(t).is_some() {
+        quote!(Self::#with(#(#idents,)* p, out);)
+    } else {
+        quote!(*out = Self::#with(#(#idents,)* p);)
+    };
+    let what = if s.kept_arg(t).is_some() {
+        "kept matrices"
+    } else {
+        "results"
+    };
+    let doc_each = format!(
+        " {} at every state, state `i` with the parameters `p[i]` (or `p[0]` for all where `p` \
+         holds one set): `out[i]` for the `i`-th entry of each argument. Where the chain asks \
+         for lanes (`lanes: N`), `N` states at a time in one pass of the generated code \
+         (`articulated::lanes`), each lane with its own parameters; otherwise state by state. \
+         Each state's {what} are the same as one call's with its parameters.",
+        s.value
+    );
+    let doc_with =
+        format!(" [`{each}`](Self::{each}) with the same parameters `p` for every state.");
+    let doc_batch = format!(" {} at every state, with the default parameters.", s.value);
+    let errors = batch_errors(s);
+    quote! {
+        #[doc = #doc_each]
+        #errors
+        #[allow(clippy::type_complexity)]
+        fn #each(
+            #(#idents: &[#types],)*
+            p: &[Self::Params],
+            out: &mut [#out_ty],
+        ) -> ::core::result::Result<(), crate::lanes::BatchLengths> {
+            crate::lanes::check_batch(out.len(), &[#((#names, #idents.len())),*], p.len())?;
+            for #pattern in #zipped {
+                let p = crate::lanes::params_of(p, i);
+                #call
+            }
+            Ok(())
+        }
+        #[doc = #doc_with]
+        #errors
+        #[allow(clippy::type_complexity)]
+        fn #batch_with(
+            #(#idents: &[#types],)*
+            p: &Self::Params,
+            out: &mut [#out_ty],
+        ) -> ::core::result::Result<(), crate::lanes::BatchLengths> {
+            Self::#each(#(#idents,)* ::core::slice::from_ref(p), out)
+        }
+        #[doc = #doc_batch]
+        #errors
+        #[allow(clippy::type_complexity)]
+        fn #batch(
+            #(#idents: &[#types],)*
+            out: &mut [#out_ty],
+        ) -> ::core::result::Result<(), crate::lanes::BatchLengths> {
+            Self::#batch_with(#(#idents,)* &Self::default_params(), out)
+        }
+    }
+}
+
+/// The batch twins spread over threads (runtime feature `rayon`): `_par_batch_with_each`, and
+/// `_par_batch_with` and `_par_batch` through it.
+fn par_batch_methods(s: &Spec, t: &Types) -> TokenStream {
+    let args = Arguments::of(s, t);
+    let Arguments {
+        idents,
+        types,
+        names,
+    } = &args;
+    let each = s.batch_each_name();
+    let out_ty = s.batch_out_type(t);
+    let par_each = format_ident!("{}_par_batch_with_each", s.name);
+    let par_with = format_ident!("{}_par_batch_with", s.name);
+    let par_plain = format_ident!("{}_par_batch", s.name);
+    let doc_par_each = format!(
+        " [`{each}`](Self::{each}) spread over threads (rayon's current pool), in groups of \
+         states ([`par_chunk`](crate::lanes::par_chunk)). Each state's result is computed in \
+         its own lane, whatever its group: the results are the same whatever the number of \
+         threads."
+    );
+    let doc_par_with =
+        format!(" [`{par_each}`](Self::{par_each}) with the same parameters `p` for every state.");
+    let doc_par = format!(" [`{par_with}`](Self::{par_with}) with the default parameters.");
+    let errors = batch_errors(s);
+    // `((out, q), v)` over `par_chunks` of every slice, numbered.
+    let (zipped, pattern) = args.zipped(
+        quote!(out.par_chunks_mut(chunk)),
+        |a| quote!(#a.par_chunks(chunk)),
+    );
+    quote! {
+        #[cfg(feature = "rayon")]
+        #[doc = #doc_par_each]
+        #errors
+        #[allow(clippy::type_complexity)]
+        fn #par_each(
+            #(#idents: &[#types],)*
+            p: &[Self::Params],
+            out: &mut [#out_ty],
+        ) -> ::core::result::Result<(), crate::lanes::BatchLengths>
+        where
+            T: Send + Sync,
+            Self::Params: Sync,
+        {
+            use rayon::prelude::*;
+            crate::lanes::check_batch(out.len(), &[#((#names, #idents.len())),*], p.len())?;
+            let chunk = crate::lanes::par_chunk(out.len());
+            let n = out.len();
+            #zipped.enumerate().for_each(|(k, #pattern)| {
+                let p = crate::lanes::params_chunk(p, n, k * chunk, out.len());
+                // The lengths agree chunk by chunk, as they did whole.
+                let _ = Self::#each(#(#idents,)* p, out);
+            });
+            Ok(())
+        }
+        #[cfg(feature = "rayon")]
+        #[doc = #doc_par_with]
+        #errors
+        #[allow(clippy::type_complexity)]
+        fn #par_with(
+            #(#idents: &[#types],)*
+            p: &Self::Params,
+            out: &mut [#out_ty],
+        ) -> ::core::result::Result<(), crate::lanes::BatchLengths>
+        where
+            T: Send + Sync,
+            Self::Params: Sync,
+        {
+            Self::#par_each(#(#idents,)* ::core::slice::from_ref(p), out)
+        }
+        #[cfg(feature = "rayon")]
+        #[doc = #doc_par]
+        #errors
+        #[allow(clippy::type_complexity)]
+        fn #par_plain(
+            #(#idents: &[#types],)*
+            out: &mut [#out_ty],
+        ) -> ::core::result::Result<(), crate::lanes::BatchLengths>
+        where
+            T: Send + Sync,
+            Self::Params: Sync,
+        {
+            Self::#par_with(#(#idents,)* &Self::default_params(), out)
         }
     }
 }

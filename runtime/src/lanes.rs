@@ -639,6 +639,14 @@ pub struct BatchLengths {
 
 impl core::fmt::Display for BatchLengths {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        if self.argument == "p" {
+            return write!(
+                f,
+                "batch argument `p` holds {} parameter sets, but `out` has room for {} states: \
+                 give one set for all of them or one for each",
+                self.found, self.expected
+            );
+        }
         write!(
             f,
             "batch argument `{}` holds {} states, but `out` has room for {}: they must be equal",
@@ -664,6 +672,62 @@ pub fn check_lengths(expected: usize, args: &[(&'static str, usize)]) -> Result<
         }),
         None => Ok(()),
     }
+}
+
+/// [`check_lengths`], and `params` (the number of parameter sets) either 1 (one set for every
+/// state) or `expected` (one per state).
+///
+/// # Errors
+/// [`BatchLengths`] for the first argument of another length, then for `p`.
+#[inline]
+pub fn check_batch(
+    expected: usize,
+    args: &[(&'static str, usize)],
+    params: usize,
+) -> Result<(), BatchLengths> {
+    check_lengths(expected, args)?;
+    if params == 1 || params == expected {
+        Ok(())
+    } else {
+        Err(BatchLengths {
+            argument: "p",
+            expected,
+            found: params,
+        })
+    }
+}
+
+/// State `i`'s parameters: `p[i]`, or `p[0]` where `p` holds one set for all.
+#[inline(always)]
+pub fn params_of<P>(p: &[P], i: usize) -> &P {
+    if p.len() == 1 {
+        &p[0]
+    } else {
+        &p[i]
+    }
+}
+
+/// The parameters of the `len` states from `start` of a batch of `n` ([`check_batch`]'s
+/// lengths): `p` itself where it holds one set for all.
+#[inline]
+pub fn params_chunk<P>(p: &[P], n: usize, start: usize, len: usize) -> &[P] {
+    if p.len() == 1 && n != 1 {
+        p
+    } else {
+        &p[start..start + len]
+    }
+}
+
+/// The runtime parameters of up to `L::LANES` states in lanes: entry `k` of lane `l` is
+/// `fields(&params[l])[k]`, the last set repeated in the lanes past its end (whose results are
+/// dropped). One set gives the same parameters in every lane.
+#[inline(always)]
+pub fn gather_params<L: Simd, P, const K: usize>(
+    params: &[P],
+    fields: impl Fn(&P) -> [L::Element; K],
+) -> [L; K] {
+    let last = params.len() - 1;
+    core::array::from_fn(|k| L::from_fn(|l| fields(&params[l.min(last)])[k]))
 }
 
 /// The fewest states one thread takes at a time in the `_par_batch` functions

@@ -1,14 +1,15 @@
 //! Batch functions (`C::x_batch`, `C::x_par_batch`) against the scalar function of the same
 //! output, state by state (`common::batch`): in lanes (`lanes: N`) for every lane type, and state
-//! by state (a generic chain, and the outputs no lane code is generated for). The random trees'
-//! batches are checked in `generated_random.rs`.
+//! by state (a generic chain, and the outputs no lane code is generated for); runtime parameters
+//! per state. The shipped models' batches are checked in `batch_models.rs` (a crate of its own,
+//! so that the two build side by side), the random trees' in `generated_random.rs`.
 
 mod common;
 
 use articulated::lanes::BatchLengths;
 use articulated::nalgebra::SVector;
 use articulated::prelude::*;
-use common::batch::{same, states};
+use common::batch::{assert_within, same, states};
 
 #[derive(articulated::Chain)]
 #[chain(
@@ -42,48 +43,38 @@ struct TwoLinkF32;
 #[chain(file = "../models/two_link.chain", outputs = [dynamics], scalar = generic)]
 struct TwoLinkGeneric;
 
-// Its own outputs: the frames' placements, Jacobians, velocities and accelerations.
-#[derive(articulated::Chain)]
-#[chain(file = "../models/two_link_foot.chain", lanes = 4)]
-struct TwoLinkFoot;
+articulated::chain! {
+    /// A two-link arm carrying a payload whose mass, centre of mass and inertia, the upper
+    /// link's length and the gravity's strength are runtime parameters (`generated_models.rs`
+    /// checks them against the reference), in four lanes.
+    chain Payload {
+        lanes: 4;
+        param payload = 2.5;
+        param reach = 0.3;
+        param payload_izz = 0.04;
+        param upper_length = 0.6;
+        param g = -9.81;
+        gravity: [0.0, 0.0, g];
 
-#[derive(articulated::Chain)]
-#[chain(file = "../models/humanoid.chain", outputs = [dynamics], lanes = 4)]
-struct Humanoid;
+        body upper { mass: 3.0, com: [0.3, 0.0, 0.0], inertia: diag(0.01, 0.09, 0.09) }
+        body hand {
+            mass: payload,
+            com: [reach, 0.0, 0.02],
+            inertia: [[0.02, 0.001, 0.0], [0.001, 0.03, 0.0], [0.0, 0.0, payload_izz]],
+        }
 
-// The other shipped models, their dynamics in four lanes.
-#[derive(articulated::Chain)]
-#[chain(file = "../models/inverted_pendulum.chain", outputs = [dynamics], lanes = 4)]
-struct InvertedPendulum;
-
-#[derive(articulated::Chain)]
-#[chain(file = "../models/double_pendulum.chain", outputs = [dynamics], lanes = 4)]
-struct DoublePendulum;
-
-#[derive(articulated::Chain)]
-#[chain(file = "../models/biped.chain", outputs = [dynamics], lanes = 4)]
-struct Biped;
-
-#[derive(articulated::Chain)]
-#[chain(file = "../models/falling_cat.chain", outputs = [dynamics], lanes = 4)]
-struct FallingCat;
-
-#[derive(articulated::Chain)]
-#[chain(file = "../models/four_bar.chain", outputs = [dynamics, frames], lanes = 4)]
-struct FourBar;
+        joint yaw: revolute(z) { parent: world, child: upper, xyz: [0.0, 0.0, 0.5] }
+        joint pitch: revolute([0.0, 1.0, 0.0]) {
+            parent: upper,
+            child: hand,
+            xyz: [upper_length, 0.0, 0.0],
+            rpy: [0.1, 0.0, 0.0],
+        }
+    }
+}
 
 /// 11 states: two whole groups of four and a partial one (three of eight, of sixteen).
 const N: usize = 11;
-
-/// Every `(output, difference)` at most `tol`.
-fn assert_within(label: &str, results: &[(&str, f64)], tol: f64) {
-    for (output, d) in results {
-        assert!(
-            *d <= tol,
-            "{label} {output}: batch differs from the scalar function by {d:e}"
-        );
-    }
-}
 
 #[test]
 fn arm7_batches_in_four_lanes_are_the_scalar_functions() {
@@ -291,58 +282,6 @@ fn batches_in_every_lane_type_are_the_scalar_functions() {
 }
 
 #[test]
-fn frames_and_a_floating_base_in_lanes_are_the_scalar_functions() {
-    let (q, v, a) = (
-        states::<{ TwoLinkFoot::NQ }>(N, 14),
-        states::<{ TwoLinkFoot::NV }>(N, 15),
-        states::<{ TwoLinkFoot::NV }>(N, 16),
-    );
-    assert_within(
-        "two-link on a foot (f64, 4 lanes)",
-        &[
-            same!(TwoLinkFoot, frame_placements, frame_placements_batch, q),
-            same!(
-                TwoLinkFoot,
-                frame_jacobians_local,
-                frame_jacobians_local_batch,
-                q
-            ),
-            same!(TwoLinkFoot, frame_velocities, frame_velocities_batch, q, v),
-            same!(
-                TwoLinkFoot,
-                frame_accelerations,
-                frame_accelerations_batch,
-                q,
-                v,
-                a
-            ),
-            same!(
-                TwoLinkFoot,
-                mass_matrix_and_nonlinear_effects,
-                mass_matrix_and_nonlinear_effects_batch,
-                q,
-                v
-            ),
-        ],
-        1e-14,
-    );
-    let (q, v, a) = (
-        states::<{ Humanoid::NQ }>(N, 17),
-        states::<{ Humanoid::NV }>(N, 18),
-        states::<{ Humanoid::NV }>(N, 19),
-    );
-    assert_within(
-        "humanoid (f64, 4 lanes)",
-        &[
-            same!(Humanoid, mass_matrix, mass_matrix_batch, q),
-            same!(Humanoid, inverse_dynamics, inverse_dynamics_batch, q, v, a),
-            same!(Humanoid, forward_dynamics, forward_dynamics_batch, q, v, a),
-        ],
-        1e-14,
-    );
-}
-
-#[test]
 fn batches_without_lanes_run_state_by_state() {
     let (q, v, a) = (states::<6>(N, 20), states::<6>(N, 21), states::<6>(N, 22));
     assert_within(
@@ -432,100 +371,111 @@ fn batches_on_every_thread_are_the_batches() {
     assert!(Arm7::inverse_dynamics_par_batch(&q, &v, short, &mut out).is_err());
 }
 
-/// `n` random states of the humanoid: positions in `[-2, 2]` with a unit base quaternion.
-fn humanoid_states(n: usize, seed: u64) -> Vec<SVector<f64, { Humanoid::NQ }>> {
-    states::<{ Humanoid::NQ }>(n, seed)
-        .into_iter()
-        .map(|mut q| {
-            let r = q.fixed_rows::<4>(3).normalize();
-            q.fixed_rows_mut::<4>(3).copy_from(&r);
-            q
+/// `n` parameter sets of the payload arm, each different in every field.
+fn payload_sweep(n: usize) -> Vec<PayloadParams> {
+    (0..n)
+        .map(|i| {
+            let x = i as f64;
+            PayloadParams {
+                payload: 0.5 + 0.75 * x,
+                reach: 0.1 + 0.05 * x,
+                payload_izz: 0.01 + 0.003 * x,
+                upper_length: 0.4 + 0.02 * x,
+                g: -9.81 + 0.1 * x,
+            }
         })
         .collect()
 }
 
 #[test]
-fn an_ensemble_steps_each_copy_as_rk4_steps_it_alone() {
-    use articulated::integrate::{ControlledChain, Ensemble, Integrator, Rk4, State};
-    // The humanoid: a quaternion base, so the Munthe-Kaas stages on its manifold; 11 copies,
-    // three groups of four lanes per stage; the seventh with a NaN force.
-    let (mut q, mut v) = (humanoid_states(N, 33), states::<{ Humanoid::NV }>(N, 34));
-    let mut tau = states::<{ Humanoid::NV }>(N, 35);
-    tau[6][10] = f64::NAN;
-    let (q0, v0) = (q.clone(), v.clone());
-    let mut faults = vec![None; N];
-    let mut ensemble = Ensemble::new();
-    let h = 1e-3;
-    for _ in 0..3 {
-        ensemble
-            .rk4::<Humanoid>(&mut q, &mut v, &tau, &(), h, &mut faults)
-            .unwrap();
-    }
+fn a_parameter_sweep_in_lanes_gives_each_state_its_own_parameters() {
+    // Eleven states, each with its own payload, reach, inertia, length and gravity: a lane
+    // that read its neighbour's parameters (or the first set's) would differ from the scalar
+    // function at its own.
+    let (q, v, a) = (states::<2>(N, 40), states::<2>(N, 41), states::<2>(N, 42));
+    let ps = payload_sweep(N);
+    let mut tau = vec![SVector::<f64, 2>::zeros(); N];
+    Payload::inverse_dynamics_batch_with_each(&q, &v, &a, &ps, &mut tau).unwrap();
+    let mut acc = vec![Ok(SVector::<f64, 2>::zeros()); N];
+    Payload::forward_dynamics_batch_with_each(&q, &v, &tau, &ps, &mut acc).unwrap();
+    let mut m = vec![Payload::mass_matrix(&q[0]); N];
+    Payload::mass_matrix_batch_with_each(&q, &ps, &mut m).unwrap();
+    let mut g = vec![SVector::<f64, 2>::zeros(); N];
+    Payload::gravity_par_batch_with_each(&q, &ps, &mut g).unwrap();
     for i in 0..N {
-        let t = tau[i];
-        let mut alone = ControlledChain::<f64, Humanoid, _>::new(move |_t: f64, _q: &_, _v: &_| t);
-        let mut state = State::new(0.0, q0[i], v0[i]);
-        let mut result = Ok(());
-        for step in 0..3 {
-            result = Rk4.advance(&mut alone, &mut state, h * (step + 1) as f64, step);
-            if result.is_err() {
-                break;
-            }
-        }
-        match result {
-            Ok(()) => {
-                assert!(faults[i].is_none(), "copy {i}: {:?}", faults[i]);
-                let d = common::batch::difference(state.q.as_slice(), q[i].as_slice()).max(
-                    common::batch::difference(state.v.as_slice(), v[i].as_slice()),
-                );
-                assert!(
-                    d <= 1e-15,
-                    "copy {i}: the ensemble differs from Rk4 by {d:e}"
-                );
-            }
-            Err(_) => {
-                assert_eq!(i, 6);
-                assert!(faults[i].is_some());
-                assert_eq!(
-                    (q[i], v[i]),
-                    (q0[i], v0[i]),
-                    "a faulty copy is left as it was"
-                );
-            }
+        let p = &ps[i];
+        assert_eq!(
+            tau[i],
+            Payload::inverse_dynamics_with(&q[i], &v[i], &a[i], p),
+            "{i}"
+        );
+        assert_eq!(
+            acc[i],
+            Payload::forward_dynamics_with(&q[i], &v[i], &tau[i], p),
+            "{i}"
+        );
+        assert_eq!(m[i], Payload::mass_matrix_with(&q[i], p), "{i}");
+        assert_eq!(g[i], Payload::gravity_with(&q[i], p), "{i}");
+        // And the sweep is one: neighbouring payloads give other torques.
+        if i > 0 {
+            assert_ne!(g[i], Payload::gravity_with(&q[i], &ps[i - 1]), "{i}");
         }
     }
-    let mut short = vec![None; N - 1];
-    assert!(ensemble
-        .rk4::<Humanoid>(&mut q, &mut v, &tau, &(), h, &mut short)
-        .is_err());
+    // One set for all: the same as `_batch_with`, and as each state's scalar call.
+    let one = [ps[3]];
+    let mut each = vec![SVector::<f64, 2>::zeros(); N];
+    Payload::inverse_dynamics_batch_with_each(&q, &v, &a, &one, &mut each).unwrap();
+    for i in 0..N {
+        assert_eq!(
+            each[i],
+            Payload::inverse_dynamics_with(&q[i], &v[i], &a[i], &ps[3])
+        );
+    }
+    // Neither one set nor one per state: refused, nothing computed.
+    let mut out = vec![SVector::<f64, 2>::zeros(); N];
+    let err =
+        Payload::inverse_dynamics_batch_with_each(&q, &v, &a, &ps[..2], &mut out).unwrap_err();
+    assert_eq!((err.argument, err.found, err.expected), ("p", 2, N));
+    assert!(err.to_string().contains("holds 2 parameter sets"), "{err}");
+    assert!(out.iter().all(|x| *x == SVector::<f64, 2>::zeros()));
 }
 
 #[test]
-fn every_shipped_model_in_lanes_is_its_scalar_functions() {
-    macro_rules! model {
-        ($c:ty, $seed:expr) => {{
-            let (q, v, a) = (
-                states::<{ <$c>::NQ }>(N, $seed),
-                states::<{ <$c>::NV }>(N, $seed + 1),
-                states::<{ <$c>::NV }>(N, $seed + 2),
-            );
-            assert_within(
-                stringify!($c),
-                &[
-                    same!($c, mass_matrix, mass_matrix_batch, q),
-                    same!($c, bias, bias_batch, q, v),
-                    same!($c, gravity, gravity_batch, q),
-                    same!($c, inverse_dynamics, inverse_dynamics_batch, q, v, a),
-                    same!($c, forward_dynamics, forward_dynamics_batch, q, v, a),
-                    same!($c, nonlinear_effects, nonlinear_effects_batch, q, v),
-                ],
-                1e-14,
-            );
-        }};
+fn an_ensemble_sweeps_a_payload_as_each_copy_alone() {
+    use articulated::integrate::{ControlledChain, Ensemble, Integrator, Rk4, State};
+    // Eleven copies of the arm released from one state, each with its own payload: each lands
+    // where Rk4 takes it alone with its parameters.
+    let ps = payload_sweep(N);
+    let (q0, v0) = (
+        SVector::<f64, 2>::new(0.3, -0.7),
+        SVector::<f64, 2>::new(0.5, 0.2),
+    );
+    let (mut q, mut v) = (vec![q0; N], vec![v0; N]);
+    let tau = vec![SVector::<f64, 2>::zeros(); N];
+    let mut faults = vec![None; N];
+    let mut ensemble = Ensemble::new();
+    let h = 1e-3;
+    for _ in 0..20 {
+        ensemble
+            .rk4::<Payload>(&mut q, &mut v, &tau, &ps, h, &mut faults)
+            .unwrap();
     }
-    model!(InvertedPendulum, 40);
-    model!(DoublePendulum, 43);
-    model!(Biped, 46);
-    model!(FallingCat, 49);
-    model!(FourBar, 52);
+    for i in 0..N {
+        let mut alone =
+            ControlledChain::<f64, Payload, _>::with_params(ps[i], |_t: f64, _q: &_, _v: &_| {
+                SVector::<f64, 2>::zeros()
+            });
+        let mut state = State::new(0.0, q0, v0);
+        for step in 0..20 {
+            Rk4.advance(&mut alone, &mut state, h * (step + 1) as f64, step)
+                .unwrap();
+        }
+        let d = common::batch::difference(state.q.as_slice(), q[i].as_slice()).max(
+            common::batch::difference(state.v.as_slice(), v[i].as_slice()),
+        );
+        assert!(d <= 1e-15, "copy {i}: {d:e}");
+        assert!(faults[i].is_none());
+    }
+    // The payloads spread the copies apart.
+    assert!((q[0] - q[N - 1]).norm() > 1e-4);
 }

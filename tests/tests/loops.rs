@@ -294,6 +294,26 @@ fn a_body_welded_by_a_loop_holds_its_weight() {
         assert!(a.amax() < 1e-12, "{what}: q̈ = {a:?}");
         assert!(e_w < 1e-13, "{what}: {w:?}, expected {expected:?}");
     }
+
+    // The batch twin: each state's own solve, a state with a NaN velocity its error alone.
+    let mut vs = [v, v, v];
+    vs[1][2] = f64::NAN;
+    let mut taus = [tau; 3];
+    taus[2][0] = 5.0;
+    let mut out = [Ok((SVector::zeros(), SVector::zeros())); 3];
+    Welded::constrained_forward_dynamics_batch(&[q; 3], &vs, &taus, &mut out).unwrap();
+    for (k, out) in out.iter().enumerate() {
+        assert_eq!(
+            *out,
+            Welded::constrained_forward_dynamics(&q, &vs[k], &taus[k]),
+            "{k}"
+        );
+    }
+    assert_eq!(out[1], Err(constraint::ConstraintError::NonFinite));
+    assert_ne!(out[0], out[2]);
+    let err =
+        Welded::constrained_forward_dynamics_batch(&[q; 2], &vs, &[tau; 3], &mut out).unwrap_err();
+    assert_eq!((err.argument, err.found, err.expected), ("q", 2, 3));
 }
 
 /// Impacts on loops (`constraint::impulse_dynamics_of`): at each loop case's states without

@@ -94,7 +94,14 @@ pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Vec<(&'static str
         all_ops.push((super::CONSTRAINED_DERIVATIVES, ops));
         let ops_const = super::ops_const(super::CONSTRAINED_DERIVATIVES, &ops);
         let function = derivatives_function(cx, &traced, &constraints)?;
-        quote!(#ops_const #function)
+        let nv = Literal::usize_unsuffixed(cx.nv);
+        let rows = Literal::usize_unsuffixed(options.constraint_rows());
+        let batch = batch(
+            cx,
+            "constrained_forward_dynamics_derivatives",
+            quote!(::articulated::constraint::derivatives::Derivatives<#nv, #rows>),
+        );
+        quote!(#ops_const #function #batch)
     } else {
         quote!()
     };
@@ -108,6 +115,8 @@ pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Vec<(&'static str
         six-dimensional contact."
         .to_string()]));
     let ops_const = super::ops_const(super::CONSTRAINED, &ops);
+    let (v_ty, r_ty) = (vector_type(cx, cx.nv), vector_type(cx, rows));
+    let batch = batch(cx, super::CONSTRAINED, quote!((#v_ty, #r_ty)));
     let name = &cx.name;
     let tokens = quote! {
         impl #name {
@@ -119,10 +128,47 @@ pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Vec<(&'static str
             pub const CONSTRAINT_ROWS: usize = #r;
             #ops_const
             #function
+            #batch
             #derivatives
         }
     };
     Ok((tokens, all_ops))
+}
+
+/// The batch twin of the constrained function `name` (`constrained_forward_dynamics_batch`),
+/// whose `Ok` value is `value`: state by state (the solve has no lane code: its checks would
+/// need a lane's first error among the constraints' rows).
+fn batch(cx: &Context, name: &str, value: TokenStream) -> TokenStream {
+    let function = quote::format_ident!("{name}");
+    let batch = quote::format_ident!("{name}_batch");
+    let (q_ty, v_ty) = (vector_type(cx, cx.nq), vector_type(cx, cx.nv));
+    let generics = &cx.impl_generics;
+    let doc = format!(
+        " [`{name}`](Self::{name}) at every state: `out[i]` for `(q[i], v[i], tau[i])`, state \
+         by state (no lane code for the constrained solve)."
+    );
+    quote! {
+        #[doc = #doc]
+        #[doc = ""]
+        #[doc = " # Errors"]
+        #[doc = " [`BatchLengths`](::articulated::lanes::BatchLengths) where an argument's length is not `out`'s (nothing is computed). A state whose solve fails has its `Err` in `out`, its neighbours their values."]
+        #[allow(clippy::type_complexity)]
+        pub fn #batch #generics(
+            q: &[#q_ty],
+            v: &[#v_ty],
+            tau: &[#v_ty],
+            out: &mut [::core::result::Result<#value, ::articulated::constraint::ConstraintError>],
+        ) -> ::core::result::Result<(), ::articulated::lanes::BatchLengths> {
+            ::articulated::lanes::check_lengths(
+                out.len(),
+                &[("q", q.len()), ("v", v.len()), ("tau", tau.len())],
+            )?;
+            for (((out, q), v), tau) in out.iter_mut().zip(q).zip(v).zip(tau) {
+                *out = Self::#function(q, v, tau);
+            }
+            Ok(())
+        }
+    }
 }
 
 /// The statements shared by the constrained functions: the inputs checked finite, bound, the

@@ -110,15 +110,16 @@ fn function(
     ))
 }
 
-/// The batch twin of an output (`inverse_dynamics_batch_with`) over lanes of `n` states: the
-/// output's statements in `Lanes<f64, n>` (`articulated::lanes`) as an inner function, run on
-/// each group of `n` states gathered from the slices, its results scattered into `out`.
+/// The batch twin of an output (`inverse_dynamics_batch_with_each`) over lanes of `n` states:
+/// the output's statements in `F64x4` (`articulated::lanes`) as an inner function, run on each
+/// group of `n` states gathered from the slices, with their runtime parameters in lanes, its
+/// results scattered into `out`.
 fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
     let lanes = cx.with_lanes(n);
     let (args, p_arg, body) = function(&lanes, traced)?;
     let spec = traced.output.spec();
     let t = cx.types();
-    let (_, batch_with) = spec.batch_names();
+    let each = spec.batch_each_name();
     let out_ty = spec.batch_out_type(&t);
     let lane_value = spec.value_type(&lanes.types());
     let n_lit = Literal::usize_unsuffixed(n);
@@ -134,8 +135,14 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
         .collect();
     let strs: Vec<&str> = spec.args.iter().map(|a| a.name()).collect();
     let types: Vec<TokenStream> = spec.args.iter().map(|&a| spec.arg_type(a, &t)).collect();
+    let np = cx.param_idents.len();
+    // The group's number, read only to gather its parameters.
+    let k = if np == 0 { quote!(_) } else { quote!(k) };
     let (zipped, pattern) = names.iter().fold(
-        (quote!(out.chunks_mut(#n_lit)), quote!(out)),
+        (
+            quote!(out.chunks_mut(#n_lit).enumerate()),
+            quote!((#k, out)),
+        ),
         |(z, p), a| (quote!(#z.zip(#a.chunks(#n_lit))), quote!((#p, #a))),
     );
     let scatter = if spec.fallible {
@@ -143,7 +150,28 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
     } else {
         quote!(::articulated::lanes::Split::scatter(&values, out);)
     };
-    let params_ty = &cx.params_ty;
+    let (params_ty, element, lane) = (&cx.params_ty, &cx.element, &lanes.scalar);
+    let np_lit = Literal::usize_unsuffixed(np);
+    // The parameters in lanes: each group's own where `p` holds one set per state, the same
+    // set in every lane (gathered once) where it holds one for all. None: an empty array.
+    let (params, group_params) = if np == 0 {
+        (quote!(let lanes_p: [#lane; 0] = [];), quote!())
+    } else {
+        let fields = &cx.param_idents;
+        (
+            quote! {
+                let fields = |p: &#params_ty| -> [#element; #np_lit] { [#(p.#fields),*] };
+                let once = (p.len() == 1)
+                    .then(|| ::articulated::lanes::gather_params::<#lane, _, #np_lit>(p, fields));
+            },
+            quote! {
+                let lanes_p = match once {
+                    Some(p) => p,
+                    None => ::articulated::lanes::gather_params(&p[k * #n_lit..], fields),
+                };
+            },
+        )
+    };
     let allow = match traced.output {
         Output::KineticEnergy | Output::PotentialEnergy => {
             quote!(#[allow(clippy::let_and_return)])
@@ -160,21 +188,23 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
     Ok(quote! {
         #[allow(clippy::type_complexity)]
         #[inline(never)]
-        fn #batch_with(
+        fn #each(
             #(#names: &[#types],)*
-            p: &#params_ty,
+            p: &[#params_ty],
             out: &mut [#out_ty],
         ) -> ::core::result::Result<(), ::articulated::lanes::BatchLengths> {
             #[doc = #doc]
             #allow
             #[allow(clippy::type_complexity)]
             #[inline(always)]
-            fn lanes(#(#args)* #p_arg: &#params_ty) #ret {
+            fn lanes(#(#args)* #p_arg: &[#lane; #np_lit]) #ret {
                 #body
             }
-            ::articulated::lanes::check_lengths(out.len(), &[#((#strs, #names.len())),*])?;
+            ::articulated::lanes::check_batch(out.len(), &[#((#strs, #names.len())),*], p.len())?;
+            #params
             for #pattern in #zipped {
-                let values = lanes(#(&::articulated::lanes::gather(#names),)* p);
+                #group_params
+                let values = lanes(#(&::articulated::lanes::gather(#names),)* &lanes_p);
                 #scatter
             }
             Ok(())

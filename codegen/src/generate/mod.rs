@@ -234,6 +234,11 @@ impl<'a> Context<'a> {
             Var::A(i) => format_ident!("a{}", i),
             Var::Tau(i) => format_ident!("tau{}", i),
             Var::Base(i) => format_ident!("base{}", i),
+            // In lanes, the parameters are an array of lanes (`generate::function::batch`).
+            Var::Param(i) if self.lanes.is_some() => {
+                let i = proc_macro2::Literal::usize_unsuffixed(i);
+                return quote!(p[#i]);
+            }
             Var::Param(i) => {
                 let id = &self.param_idents[i];
                 return quote!(p.#id);

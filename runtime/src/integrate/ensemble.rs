@@ -1,6 +1,6 @@
 //! Many copies of one chain stepped together: [`Ensemble`], the classic Runge–Kutta step of
 //! [`Rk4`](super::Rk4) for every state of a batch, each stage's accelerations from one call of
-//! the chain's batch forward dynamics (`C::forward_dynamics_batch_with`, in lanes where the
+//! the chain's batch forward dynamics (`C::forward_dynamics_batch_with_each`, in lanes where the
 //! chain asks for them: `lanes: 4`).
 //!
 //! For ensembles, Monte Carlo runs and rollouts: thousands of copies of a robot, each with its
@@ -15,7 +15,7 @@ use nalgebra::{RealField, SVector};
 
 use super::k;
 use crate::configuration;
-use crate::lanes::{check_lengths, BatchLengths};
+use crate::lanes::{check_batch, BatchLengths};
 use crate::{ForwardDynamics, SingularMassMatrix};
 
 /// The scratch of an ensemble's steps: the stages of every copy, kept from one step to the next
@@ -37,7 +37,7 @@ use crate::{ForwardDynamics, SingularMassMatrix};
 /// let tau: Vec<_> = (0..10).map(|i| SVector::<f64, 1>::new(0.01 * i as f64)).collect();
 /// let mut faults = vec![None; 10];
 /// let mut ensemble = Ensemble::new();
-/// ensemble.rk4::<Pendulum>(&mut q, &mut v, &tau, &(), 0.01, &mut faults).unwrap();
+/// ensemble.rk4::<Pendulum>(&mut q, &mut v, &tau, &[()], 0.01, &mut faults).unwrap();
 ///
 /// // The seventh, stepped alone, lands where it did in the ensemble.
 /// let mut alone = ControlledChain::<f64, Pendulum, _>::new(|_t: f64, _q: &_, _v: &_| tau[7]);
@@ -72,8 +72,9 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Ensemble<T, NQ, NV> 
     }
 
     /// One step of size `h` of [`Rk4`](super::Rk4) for every copy: `(q[i], v[i])` advanced
-    /// under the joint forces `tau[i]`, held over the step, with the parameters `p` (one set
-    /// for all copies).
+    /// under the joint forces `tau[i]`, held over the step, with the parameters `p[i]` (or
+    /// `p[0]` for every copy where `p` holds one set: a sweep gives each copy its own payload,
+    /// in lanes with its neighbours).
     ///
     /// A copy whose forward dynamics fails at a stage (a singular `M`, a non-finite
     /// acceleration: a NaN in its state or its forces), or whose result is not finite, is left
@@ -81,22 +82,23 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Ensemble<T, NQ, NV> 
     /// are not affected.
     ///
     /// # Errors
-    /// [`BatchLengths`] where `v`, `tau` or `faults` is not as long as `q` (nothing is
-    /// stepped).
+    /// [`BatchLengths`] where `v`, `tau` or `faults` is not as long as `q`, or `p` holds
+    /// neither one set nor one per copy (nothing is stepped).
     #[allow(clippy::too_many_arguments)]
     pub fn rk4<C: ForwardDynamics<T, NQ, NV>>(
         &mut self,
         q: &mut [SVector<T, NQ>],
         v: &mut [SVector<T, NV>],
         tau: &[SVector<T, NV>],
-        p: &C::Params,
+        p: &[C::Params],
         h: T,
         faults: &mut [Option<SingularMassMatrix>],
     ) -> Result<(), BatchLengths> {
         let n = q.len();
-        check_lengths(
+        check_batch(
             n,
             &[("v", v.len()), ("tau", tau.len()), ("faults", faults.len())],
+            p.len(),
         )?;
         let coords = C::COORDINATES;
         let vector_space = configuration::is_vector_space(coords);
@@ -130,7 +132,7 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Ensemble<T, NQ, NV> 
             kv: [kv1, kv2, kv3, kv4],
         } = self;
         // Stage 1 at θ = 0, where dexp⁻¹ is the identity.
-        C::forward_dynamics_batch_with(q, v, tau, p, kv1)?;
+        C::forward_dynamics_batch_with_each(q, v, tau, p, kv1)?;
         for (kq, v) in kq1.iter_mut().zip(v.iter()) {
             *kq = *v;
         }
@@ -153,7 +155,7 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Ensemble<T, NQ, NV> 
                 for ((kq, theta), vel) in kq_next.iter_mut().zip(theta.iter()).zip(vel.iter()) {
                     *kq = local_velocity(theta, vel);
                 }
-                C::forward_dynamics_batch_with(q_stage, vel, tau, p, kv_next)
+                C::forward_dynamics_batch_with_each(q_stage, vel, tau, p, kv_next)
             };
         stage(kq1, kv1, half, kq2, kv2)?;
         stage(kq2, kv2, half, kq3, kv3)?;

@@ -134,3 +134,13 @@ macro_rules! same {
 }
 #[allow(unused_imports)]
 pub(crate) use same;
+
+/// Every `(output, difference)` at most `tol`.
+pub fn assert_within(label: &str, results: &[(&str, f64)], tol: f64) {
+    for (output, d) in results {
+        assert!(
+            *d <= tol,
+            "{label} {output}: batch differs from the scalar function by {d:e}"
+        );
+    }
+}
