@@ -815,6 +815,18 @@ def throughput(nproc):
     )
     with open(path) as f:
         ours = json.load(f)
+    # The same binary for the default target and for this machine's CPU, one thread: what lanes
+    # give without AVX2 (two-lane SSE2 halves) and with all this CPU has.
+    targets = {}
+    for target in ("default", "native"):
+        binary = os.path.join(OUT, f"rust-{target}", "release", "throughput")
+        if not os.path.exists(binary):
+            continue
+        tpath = os.path.join(OUT, f"throughput-{target}.json")
+        log(f"states per second, ours, {target} target, one thread")
+        subprocess.run([binary, "--threads", "1", "--json", tpath], check=True)
+        with open(tpath) as f:
+            targets[target] = json.load(f)
     pin = {}
     for name, urdf, floating in THROUGHPUT_MODELS:
         log(f"states per second, Pinocchio (OpenMP), {name}, threads {tlist}")
@@ -822,7 +834,7 @@ def throughput(nproc):
         cmd += ["--floating"] if floating else []
         cmd += ["--states", os.path.join(OUT, "states", f"{name}.pin.txt"), "--throughput", tlist, name]
         pin[name] = run_json(cmd)
-    return dict(threads=threads, ours=ours, pinocchio=pin)
+    return dict(threads=threads, ours=ours, pinocchio=pin, targets=targets)
 
 
 def throughput_report(w, thr):
@@ -885,6 +897,38 @@ def throughput_report(w, thr):
                 label = f"`{output}`" + (" (f32)" if prec == "f32" else "")
                 w(f"| {label} | {m(sc)} | {m(ln)} | {r(ln, sc)} | {m(p1)} | {r(ln, p1)} | "
                   f"{m(lt)} | {m(st)} | {m(pt)} | {r(lt, pt)} |")
+    targets = thr.get("targets", {})
+    if targets:
+        w("")
+        w("### By target, one thread")
+        w("")
+        w("The same binary built for the default target (`x86-64`: SSE2, each lane type in two-lane")
+        w("halves), for x86-64-v3 (AVX2 and FMA, the tables above) and for this machine's CPU")
+        w("(`-C target-cpu=native`): states per second (millions) of the scalar loop and of lanes.")
+        w("")
+        cols = [t for t in ("default", "v3", "native") if t == "v3" or t in targets]
+        w("| model | output | " + " | ".join(f"scalar, {t} | lanes, {t} | lanes / scalar, {t}" for t in cols) + " |")
+        w("|---|---|" + "---:|---:|---:|" * len(cols))
+
+        def get_in(figures, model, output, prec, mode):
+            for f in figures:
+                if (f["model"], f["output"], f["scalar"], f["mode"], f["threads"]) == (model, output, prec, mode, 1):
+                    return f["states_per_second"]
+            return None
+
+        for model, _, _ in THROUGHPUT_MODELS:
+            for prec in ("f64", "f32"):
+                for output in THROUGHPUT_OUTPUTS:
+                    cells = []
+                    for t in cols:
+                        figures = ours if t == "v3" else targets[t]
+                        sc = get_in(figures, model, output, prec, "scalar")
+                        ln = get_in(figures, model, output, prec, "lanes")
+                        cells += [m(sc), m(ln), r(ln, sc)]
+                    if all(c == "–" for c in cells):
+                        continue
+                    label = f"`{output}`" + (" (f32)" if prec == "f32" else "")
+                    w(f"| {model} | {label} | " + " | ".join(cells) + " |")
     w("")
     w(f"This machine has {top} threads; the scaling to 16 cores is in `docs/throughput.md`")
     w("where a session measured it. Pinocchio has no `f32` build here (its wheel is `double`).")

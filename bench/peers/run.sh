@@ -118,10 +118,10 @@ RUSTFLAGS="-C target-cpu=x86-64-v3" CARGO_TARGET_DIR=$OUT/rust-v3 \
   cargo build --release --quiet -p articulated-bench --bin peers --bin throughput --features humanoid-derivatives
 step "building ours for this machine's CPU (cargo, target/peers/rust-native)"
 RUSTFLAGS="-C target-cpu=native" CARGO_TARGET_DIR=$OUT/rust-native \
-  cargo build --release --quiet -p articulated-bench --bin peers --features humanoid-derivatives
+  cargo build --release --quiet -p articulated-bench --bin peers --bin throughput --features humanoid-derivatives
 step "building ours for the default target (cargo, target/peers/rust-default)"
 env -u RUSTFLAGS CARGO_TARGET_DIR="$OUT/rust-default" \
-  cargo build --release --quiet -p articulated-bench --bin peers --features humanoid-derivatives
+  cargo build --release --quiet -p articulated-bench --bin peers --bin throughput --features humanoid-derivatives
 
 # --- 3. values check, timing, instructions, BENCHMARKS.md -----------------------------------
 step "running bench/peers/run.py $*"

@@ -113,13 +113,15 @@ pub trait Simd:
     /// The lanes that are neither infinite nor NaN.
     fn finite(self) -> Mask;
     /// `out[l][e] = values[e].lane(l)` for each lane `l` whose `out[l]` is `Some`: the inverse
-    /// of [`Simd::gather`], by `LANES × LANES` transposes of blocks of entries.
+    /// of [`Simd::gather`], by `LANES × LANES` transposes of blocks of entries where the target
+    /// transposes in registers, lane by lane otherwise.
     fn scatter_entries(values: &[Self], out: &mut [Option<&mut [Self::Element]>]);
 }
 
 /// One lane type and its operators, over a vector of `wide`.
 macro_rules! lane_type {
-    ($(#[$doc:meta])* $name:ident($wide:ty, $t:ty, $n:literal), |$x:ident| $sincos:expr) => {
+    ($(#[$doc:meta])* $name:ident($wide:ty, $t:ty, $n:literal), transpose: $transpose:expr,
+     |$x:ident| $sincos:expr) => {
         $(#[$doc])*
         #[derive(Clone, Copy, Debug, PartialEq)]
         #[repr(transparent)]
@@ -187,8 +189,17 @@ macro_rules! lane_type {
             }
             #[inline(always)]
             fn scatter_entries(values: &[Self], out: &mut [Option<&mut [$t]>]) {
-                let blocks = values.chunks_exact($n);
-                let rest = blocks.remainder();
+                // Where `wide` has no transpose in registers for this target, its transpose
+                // builds each vector from scalars through memory, and the vector loads that
+                // follow the scalar stores stall (on the default target, `f32` lanes of eight
+                // scattered the humanoid's `M` slower than the scalar loop computed it): each
+                // lane's entries are stored straight into its state's result instead.
+                let blocks = if $transpose {
+                    values.chunks_exact($n)
+                } else {
+                    values[..0].chunks_exact($n)
+                };
+                let whole = blocks.len() * $n;
                 for (b, block) in blocks.enumerate() {
                     let at = b * $n;
                     let rows: [$wide; $n] = core::array::from_fn(|e| block[e].0);
@@ -198,10 +209,10 @@ macro_rules! lane_type {
                         }
                     }
                 }
-                let at = values.len() - rest.len();
+                let rest = &values[whole..];
                 for (l, o) in out.iter_mut().enumerate().take($n) {
                     if let Some(o) = o.as_deref_mut() {
-                        for (d, v) in o.iter_mut().skip(at).zip(rest) {
+                        for (d, v) in o.iter_mut().skip(whole).zip(rest) {
                             *d = v.lane(l);
                         }
                     }
@@ -338,27 +349,41 @@ fn sincos_f32<const N: usize>(x: [f32; N]) -> ([f32; N], [f32; N]) {
 
 lane_type!(
     /// Two `f64` states (`lanes: 2`): one 128-bit vector.
-    F64x2(wide::f64x2, f64, 2), |x| sincos_f64(x, |v| v.to_array(), wide::f64x2::new)
+    F64x2(wide::f64x2, f64, 2),
+    transpose: cfg!(any(
+        target_feature = "sse2",
+        all(target_feature = "neon", target_arch = "aarch64"),
+        target_feature = "simd128"
+    )),
+    |x| sincos_f64(x, |v| v.to_array(), wide::f64x2::new)
 );
 lane_type!(
     /// Four `f64` states (`lanes: 4`): one 256-bit vector with AVX, two 128-bit ones without.
-    F64x4(wide::f64x4, f64, 4), |x| sincos_f64(x, |v| v.to_array(), wide::f64x4::new)
+    F64x4(wide::f64x4, f64, 4),
+    transpose: cfg!(target_feature = "avx"),
+    |x| sincos_f64(x, |v| v.to_array(), wide::f64x4::new)
 );
 lane_type!(
     /// Eight `f64` states (`lanes: 8`): one 512-bit vector with AVX-512, two 256-bit ones with
     /// AVX.
-    F64x8(wide::f64x8, f64, 8), |x| sincos_f64(x, |v| v.to_array(), wide::f64x8::new)
+    F64x8(wide::f64x8, f64, 8),
+    transpose: false,
+    |x| sincos_f64(x, |v| v.to_array(), wide::f64x8::new)
 );
 lane_type!(
     /// Four `f32` states (`lanes: 4` in `f32`): one 128-bit vector.
-    F32x4(wide::f32x4, f32, 4), |x| {
+    F32x4(wide::f32x4, f32, 4),
+    transpose: cfg!(target_feature = "sse"),
+    |x| {
         let (s, c) = sincos_f32(x.to_array());
         (wide::f32x4::new(s), wide::f32x4::new(c))
     }
 );
 lane_type!(
     /// Eight `f32` states (`lanes: 8` in `f32`): one 256-bit vector with AVX.
-    F32x8(wide::f32x8, f32, 8), |x| {
+    F32x8(wide::f32x8, f32, 8),
+    transpose: cfg!(target_feature = "avx"),
+    |x| {
         let (s, c) = sincos_f32(x.to_array());
         (wide::f32x8::new(s), wide::f32x8::new(c))
     }
@@ -366,7 +391,9 @@ lane_type!(
 lane_type!(
     /// Sixteen `f32` states (`lanes: 16` in `f32`): one 512-bit vector with AVX-512, two
     /// 256-bit ones with AVX.
-    F32x16(wide::f32x16, f32, 16), |x| {
+    F32x16(wide::f32x16, f32, 16),
+    transpose: false,
+    |x| {
         let (s, c) = sincos_f32(x.to_array());
         (wide::f32x16::new(s), wide::f32x16::new(c))
     }
