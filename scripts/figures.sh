@@ -8,6 +8,11 @@
 #   scripts/figures.sh hemami_two_link drives # just these
 #
 # `trade` and `drift` put wall-clock times in their pages: run them with nothing else running.
+# The examples are built with every function aligned to 64 bytes (their own target folder,
+# target/figures): the time of a generated function then does not depend on where the linker
+# put it. Without it, the two-link's forward dynamics in the trade study, the same machine code,
+# ran in 91 ns at a 64-byte boundary and 179 ns at a 32-byte one (a Zen 5 core), which made the
+# "fastest" option slower than the "robust" one.
 # docs/figures/op_counts.svg comes from the bench crate:
 # `cargo run --release -p articulated-bench --bin op_counts`.
 set -eu
@@ -15,5 +20,6 @@ cd "$(dirname "$0")/.."
 examples="${*:-hemami_two_link hemami_standing drives operational_space four_bar falling_cat walking_rotation drift extremes trade}"
 for example in $examples; do
     echo "== $example" >&2
-    cargo run --release -q -p articulated-examples --example "$example" -- docs
+    RUSTFLAGS="${RUSTFLAGS:-} -C llvm-args=-align-all-functions=6" CARGO_TARGET_DIR=target/figures \
+        cargo run --release -q -p articulated-examples --example "$example" -- docs
 done
