@@ -73,8 +73,15 @@ fn function(
         cx.lanes.map(|_| &cx.scalar),
     )?;
     let used = Used::of(traced, &outputs(cx, traced), cx.nq, cx.nv);
-    let declare = sunk.as_ref().map(|k| k.declare.clone()).unwrap_or_default();
-    let result = result(cx, traced, &emitted, sunk.as_ref().map(|k| &k.names[..]));
+    // A staged matrix ([`staged`]) is the caller's: neither declared nor returned here.
+    let (declare, result) = if staged(cx, traced).is_some() {
+        (TokenStream::new(), TokenStream::new())
+    } else {
+        (
+            sunk.as_ref().map(|k| k.declare.clone()).unwrap_or_default(),
+            result(cx, traced, &emitted, sunk.as_ref().map(|k| &k.names[..])),
+        )
+    };
     // Each argument, and the `let` that binds the entries the function reads.
     let types = cx.types();
     let (args, inputs): (Vec<TokenStream>, Vec<TokenStream>) = traced
@@ -123,8 +130,11 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
     let out_ty = spec.batch_out_type(&t);
     let lane_value = spec.value_type(&lanes.types());
     let n_lit = Literal::usize_unsuffixed(n);
+    let staged = staged(&lanes, traced);
     let ret = if spec.fallible {
         quote!(-> (#lane_value, [::core::option::Option<::articulated::SingularMassMatrix>; #n_lit]))
+    } else if staged.is_some() {
+        TokenStream::new()
     } else {
         quote!(-> #lane_value)
     };
@@ -145,12 +155,44 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
         ),
         |(z, p), a| (quote!(#z.zip(#a.chunks(#n_lit))), quote!((#p, #a))),
     );
-    let scatter = if spec.fallible {
-        quote!(::articulated::lanes::scatter_results(&values.0, &values.1, out);)
-    } else {
-        quote!(::articulated::lanes::Split::scatter(&values, out);)
+    let lane = &lanes.scalar;
+    let zero = quote!(<#lane as ::articulated::lanes::Simd>::ZERO);
+    // The staged matrix: declared once per call, zero where the function never stores, passed
+    // to each group by `&mut` and scattered from there.
+    let (stage, stage_param, stage_arg) = match &staged {
+        Some((name, r, c)) => {
+            let (r, c) = (Literal::usize_unsuffixed(*r), Literal::usize_unsuffixed(*c));
+            let ty = quote!(::articulated::nalgebra::SMatrix::<#lane, #r, #c>);
+            (
+                quote! {
+                    let mut #name = #ty::from_array_storage(
+                        ::articulated::nalgebra::ArrayStorage([[#zero; #r]; #c])
+                    );
+                },
+                quote!(#name: &mut #ty,),
+                quote!(&mut #name,),
+            )
+        }
+        None => (quote!(), quote!(), quote!()),
     };
-    let (params_ty, element, lane) = (&cx.params_ty, &cx.element, &lanes.scalar);
+    let call = quote!(lanes(#(&::articulated::lanes::gather(#names),)* &lanes_p, #stage_arg));
+    let (call, scatter) = if spec.fallible {
+        (
+            quote!(let values = #call;),
+            quote!(::articulated::lanes::scatter_results(&values.0, &values.1, out);),
+        )
+    } else if let Some((name, ..)) = &staged {
+        (
+            quote!(#call;),
+            quote!(::articulated::lanes::Split::scatter(&#name, out);),
+        )
+    } else {
+        (
+            quote!(let values = #call;),
+            quote!(::articulated::lanes::Split::scatter(&values, out);),
+        )
+    };
+    let (params_ty, element) = (&cx.params_ty, &cx.element);
     let np_lit = Literal::usize_unsuffixed(np);
     // The parameters in lanes: each group's own where `p` holds one set per state, the same
     // set in every lane (gathered once) where it holds one for all. None: an empty array.
@@ -197,19 +239,36 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
             #allow
             #[allow(clippy::type_complexity)]
             #[inline(always)]
-            fn lanes(#(#args)* #p_arg: &[#lane; #np_lit]) #ret {
+            fn lanes(#(#args)* #p_arg: &[#lane; #np_lit], #stage_param) #ret {
                 #body
             }
             ::articulated::lanes::check_batch(out.len(), &[#((#strs, #names.len())),*], p.len())?;
             #params
+            #stage
             for #pattern in #zipped {
                 #group_params
-                let values = lanes(#(&::articulated::lanes::gather(#names),)* &lanes_p);
+                #call
                 #scatter
             }
             Ok(())
         }
     })
+}
+
+/// In lanes, the one matrix of a sunk output that solves nothing (`M`, its lower triangle,
+/// the Coriolis and centroidal momentum matrices) as (name, rows, columns): the batch function
+/// declares it once and the lane function stores into it through `&mut`, where returning a
+/// new one per group of states zeroed and copied the humanoid's 37×37 lanes (43 KB in
+/// `F64x4`) for every four states.
+fn staged(cx: &Context, traced: &Traced) -> Option<(proc_macro2::Ident, usize, usize)> {
+    cx.lanes?;
+    if traced.output.is_kept() || traced.output.spec().fallible {
+        return None;
+    }
+    match sunk_layout(cx, traced)?.0[..] {
+        [(name, rows, cols)] => Some((format_ident!("{name}"), rows, cols)),
+        _ => None,
+    }
 }
 
 /// The matrices of an output's result, each stored into as soon as its entries are computed
