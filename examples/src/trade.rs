@@ -272,20 +272,27 @@ where
     T: RealField + Copy + Into<f64>,
     C: ForwardDynamics<T, NQ, NV>,
 {
+    let (result, best) = best_time(|| integrate_once::<T, C, NQ, NV>(s, method, dt));
+    (result, best / T_END)
+}
+
+/// `once` repeated for 50 ms (at least twice, and not after a run that stopped): its last
+/// result and its least wall time in seconds.
+fn best_time<R>(mut once: impl FnMut() -> Option<R>) -> (Option<R>, f64) {
     let start = Instant::now();
     let mut repetitions = 0u32;
     let mut result = None;
     let mut best = f64::INFINITY;
     while repetitions < 2 || start.elapsed().as_secs_f64() < 0.05 {
         let t0 = Instant::now();
-        result = integrate_once::<T, C, NQ, NV>(s, method, dt);
+        result = once();
         best = best.min(t0.elapsed().as_secs_f64());
         repetitions += 1;
         if result.is_none() {
             break;
         }
     }
-    (result, best / T_END)
+    (result, best)
 }
 
 /// The copies of an ensemble option ([`ENSEMBLE`]).
@@ -327,19 +334,7 @@ where
         }
         Some(q[0].iter().copied().collect::<Vec<f64>>())
     };
-    let start = Instant::now();
-    let mut repetitions = 0u32;
-    let mut result = None;
-    let mut best = f64::INFINITY;
-    while repetitions < 2 || start.elapsed().as_secs_f64() < 0.05 {
-        let t0 = Instant::now();
-        result = once(&mut ensemble);
-        best = best.min(t0.elapsed().as_secs_f64());
-        repetitions += 1;
-        if result.is_none() {
-            break;
-        }
-    }
+    let (result, best) = best_time(|| once(&mut ensemble));
     (result, best / T_END / COPIES as f64)
 }
 

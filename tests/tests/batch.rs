@@ -43,35 +43,10 @@ struct TwoLinkF32;
 #[chain(file = "../models/two_link.chain", outputs = [dynamics], scalar = generic)]
 struct TwoLinkGeneric;
 
-articulated::chain! {
-    /// A two-link arm carrying a payload whose mass, centre of mass and inertia, the upper
-    /// link's length and the gravity's strength are runtime parameters (`generated_models.rs`
-    /// checks them against the reference), in four lanes.
-    chain Payload {
-        lanes: 4;
-        param payload = 2.5;
-        param reach = 0.3;
-        param payload_izz = 0.04;
-        param upper_length = 0.6;
-        param g = -9.81;
-        gravity: [0.0, 0.0, g];
-
-        body upper { mass: 3.0, com: [0.3, 0.0, 0.0], inertia: diag(0.01, 0.09, 0.09) }
-        body hand {
-            mass: payload,
-            com: [reach, 0.0, 0.02],
-            inertia: [[0.02, 0.001, 0.0], [0.001, 0.03, 0.0], [0.0, 0.0, payload_izz]],
-        }
-
-        joint yaw: revolute(z) { parent: world, child: upper, xyz: [0.0, 0.0, 0.5] }
-        joint pitch: revolute([0.0, 1.0, 0.0]) {
-            parent: upper,
-            child: hand,
-            xyz: [upper_length, 0.0, 0.0],
-            rpy: [0.1, 0.0, 0.0],
-        }
-    }
-}
+/// The payload arm, its five runtime parameters in four lanes.
+#[derive(articulated::Chain)]
+#[chain(file = "../models/payload.chain", lanes = 4)]
+struct Payload;
 
 /// 11 states: two whole groups of four and a partial one (three of eight, of sixteen).
 const N: usize = 11;

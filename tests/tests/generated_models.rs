@@ -126,52 +126,16 @@ fn every_shipped_model_matches_the_reference() {
     }
 }
 
-/// Expands to the chain (through `chain!`) and to its text (for the reference), so the two
-/// cannot drift apart.
-macro_rules! chain_and_text {
-    ($text:ident: $($t:tt)*) => {
-        articulated::chain! { $($t)* }
-        const $text: &str = stringify!($($t)*);
-    };
-}
-
-chain_and_text! { PAYLOAD_TEXT:
-    /// A two-link arm on a yaw and a pitch joint, carrying a payload whose mass, centre of mass
-    /// and inertia, the upper link's length and the gravity's strength are runtime parameters.
-    pub chain Payload {
-        // Generic so that it compiles: an f64 chain with parameters emits
-        // `struct PayloadParams<T = f64> { payload: f64, … }`, which rustc rejects (E0392, `T` is
-        // never used). Switch to `scalar: f64;` once the generator is fixed.
-        scalar: generic;
-        param payload = 2.5;
-        param reach = 0.3;
-        param payload_izz = 0.04;
-        param upper_length = 0.6;
-        param g = -9.81;
-        gravity: [0.0, 0.0, g];
-
-        body upper { mass: 3.0, com: [0.3, 0.0, 0.0], inertia: diag(0.01, 0.09, 0.09) }
-        body hand {
-            mass: payload,
-            com: [reach, 0.0, 0.02],
-            inertia: [[0.02, 0.001, 0.0], [0.001, 0.03, 0.0], [0.0, 0.0, payload_izz]],
-        }
-
-        joint yaw: revolute(z) { parent: world, child: upper, xyz: [0.0, 0.0, 0.5] }
-        joint pitch: revolute([0.0, 1.0, 0.0]) {
-            parent: upper,
-            child: hand,
-            xyz: [upper_length, 0.0, 0.0],
-            rpy: [0.1, 0.0, 0.0],
-        }
-    }
-}
+/// `models/payload.chain` in a generic scalar: its runtime parameters are fields of
+/// `PayloadParams<T>`.
+#[derive(articulated::Chain)]
+#[chain(file = "../models/payload.chain", scalar = generic)]
+pub struct Payload;
 
 #[test]
 fn runtime_parameters_match_the_reference_with_params() {
-    let model = articulated_codegen::load::parse_chain_str(PAYLOAD_TEXT, Path::new("Payload"))
-        .unwrap_or_else(|e| panic!("{e}"))
-        .model;
+    let model =
+        load_model(Path::new("../models/payload.chain"), false).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(model.params.len(), 5);
     let defaults = PayloadParams::<f64>::defaults();
     assert_eq!(
