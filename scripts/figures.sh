@@ -11,10 +11,7 @@
 # The examples are built with every function aligned to 64 bytes (their own target folder,
 # target/figures): the time of a generated function then does not depend on where the linker
 # put it. Without it, the two-link's forward dynamics in the trade study, the same machine code,
-# ran in 91 ns at a 64-byte boundary and 179 ns at a 32-byte one (a Zen 5 core), which made the
-# "fastest" option slower than the "robust" one.
-# docs/figures/op_counts.svg comes from the bench crate:
-# `cargo run --release -p articulated-bench --bin op_counts`.
+# ran twice as long at a 32-byte boundary as at a 64-byte one (commit ed9a878 has the figures).
 set -eu
 cd "$(dirname "$0")/.."
 examples="${*:-hemami_two_link hemami_standing drives operational_space four_bar falling_cat walking_rotation drift extremes trade}"

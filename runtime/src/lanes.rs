@@ -191,9 +191,8 @@ macro_rules! lane_type {
             fn scatter_entries(values: &[Self], out: &mut [Option<&mut [$t]>]) {
                 // Where `wide` has no transpose in registers for this target, its transpose
                 // builds each vector from scalars through memory, and the vector loads that
-                // follow the scalar stores stall (on the default target, `f32` lanes of eight
-                // scattered the humanoid's `M` slower than the scalar loop computed it): each
-                // lane's entries are stored straight into its state's result instead.
+                // follow the scalar stores stall (commit 633ba16 has the figures): each lane's
+                // entries are stored straight into its state's result instead.
                 let blocks = if $transpose {
                     values.chunks_exact($n)
                 } else {

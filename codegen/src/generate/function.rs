@@ -261,11 +261,11 @@ const STAGED_ENTRIES: usize = 256;
 /// In lanes, the one matrix of a sunk output that solves nothing (`M`, its lower triangle,
 /// the Coriolis and centroidal momentum matrices) as (name, rows, columns), where it has at
 /// least [`STAGED_ENTRIES`] entries: the batch function declares it once and the lane function
-/// stores into it through `&mut`. Returning a new one per group of states zeroed and copied
-/// the humanoid's 37×37 lanes (43 KB in `F64x4`) for every four states; staged, its `M` in
-/// lanes ran 20 % faster. A small matrix is returned by value: the optimizer keeps it in
-/// registers, which a matrix that lives across groups cannot be (arm7's 7×7 `M` in `f32`
-/// lanes ran half as fast staged on the default target, and no faster on x86-64-v3).
+/// stores into it through `&mut`, rather than zeroing and copying a new one (43 KB for the
+/// humanoid's `M` in `F64x4`) for every group of states. A small matrix is returned by value:
+/// the optimizer keeps it in registers, which a matrix that lives across groups cannot be
+/// (staged, arm7's 7×7 `M` in `f32` lanes was slower on the default target). The figures
+/// are in commits e12e0ab and c635335.
 fn staged(cx: &Context, traced: &Traced) -> Option<(proc_macro2::Ident, usize, usize)> {
     cx.lanes?;
     if traced.output.is_kept() || traced.output.spec().fallible {
