@@ -1289,7 +1289,7 @@ fn finite<'a>(mut x: impl Iterator<Item = &'a f64>) -> bool {
 
 /// `L` with `M = L·Lᵀ` (lower triangle), refusing a pivot below `pivot_tolerance` times its
 /// unreduced value (or a non-finite one).
-fn factor<N: Dim>(
+pub(crate) fn factor<N: Dim>(
     m: &OMatrix<f64, N, N>,
     settings: &Settings,
 ) -> Result<OMatrix<f64, N, N>, ConstraintError>
@@ -1367,7 +1367,7 @@ where
 }
 
 /// `M⁻¹·b` from `M`'s factor.
-fn solve_m<N: Dim>(l: &OMatrix<f64, N, N>, b: &OVector<f64, N>) -> OVector<f64, N>
+pub(crate) fn solve_m<N: Dim>(l: &OMatrix<f64, N, N>, b: &OVector<f64, N>) -> OVector<f64, N>
 where
     DefaultAllocator: Allocator<N, N> + Allocator<N>,
 {

@@ -139,6 +139,7 @@ pub mod configuration;
 // against `NF` first.
 #[allow(clippy::indexing_slicing)]
 pub mod constraint;
+pub mod contact;
 // Exceptions to the panics audit (the crate denies indexing below): dense linear algebra on
 // matrices whose sizes the types fix (`SMatrix<_, N, N>`, or `n × n` built here), indexed by
 // loop counters below them.

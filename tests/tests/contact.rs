@@ -1,0 +1,405 @@
+//! Simulation with contacts (`articulated::contact`) against closed forms, at 1 ms steps: a box
+//! on a slope that sticks and one that slides, a box dropped flat without and with restitution,
+//! a sphere rolling down a slope, a box pushed along the ground, and Painlevé's rod.
+//!
+//! Each expectation comes from Newtonian mechanics, not from the stepper: a block on an incline
+//! sticks when `tan θ ≤ μ` and otherwise slides with `a = g·(sin θ − μ·cos θ)`; a solid sphere
+//! rolls without slipping with `a = (5/7)·g·sin θ`; a block sliding on flat ground stops after
+//! `v²/(2μg)`.
+
+use articulated::contact::{ContactError, Ground, Settings, Sphere, StepReport, TimeStepper};
+use articulated::integrate::State;
+use articulated::nalgebra::{SVector, Vector3};
+use articulated::MassMatrixAndNonlinearEffects;
+
+const G: f64 = 9.81;
+const H: f64 = 1e-3;
+/// The block's half side (m); a cube of 1 kg.
+const A: f64 = 0.1;
+
+articulated::chain! {
+    /// A 1 kg cube of side 0.2 m on a free base, its centre at the frame's origin.
+    chain Block {
+        gravity: [0.0, 0.0, -9.81];
+        outputs: [mass_matrix_and_nonlinear_effects, frame_placements, frame_jacobians_local];
+        frames: [block];
+        body block { mass: 1.0, com: [0.0, 0.0, 0.0],
+                     inertia: diag(0.006666666666666667, 0.006666666666666667, 0.006666666666666667) }
+        joint base: free(quaternion) { parent: world, child: block }
+    }
+}
+
+articulated::chain! {
+    /// A solid ball of 1 kg and radius 0.1 m on a free base (`I = 2/5·m·r²`).
+    chain Ball {
+        gravity: [0.0, 0.0, -9.81];
+        outputs: [mass_matrix_and_nonlinear_effects, frame_placements, frame_jacobians_local];
+        frames: [ball];
+        body ball { mass: 1.0, com: [0.0, 0.0, 0.0], inertia: diag(0.004, 0.004, 0.004) }
+        joint base: free(quaternion) { parent: world, child: ball }
+    }
+}
+
+articulated::chain! {
+    /// A thin rod of 1 kg and 1 m along its x axis on a free base.
+    chain Rod {
+        gravity: [0.0, 0.0, -9.81];
+        outputs: [mass_matrix_and_nonlinear_effects, frame_placements, frame_jacobians_local];
+        frames: [rod];
+        body rod { mass: 1.0, com: [0.0, 0.0, 0.0], inertia: diag(0.0001, 0.08333333333333333, 0.08333333333333333) }
+        joint base: free(quaternion) { parent: world, child: rod }
+    }
+}
+
+type State13 = State<f64, articulated::nalgebra::Const<7>, articulated::nalgebra::Const<6>>;
+
+/// The block's eight corners as points with friction `mu` and restitution `e`.
+fn corners(mu: f64, e: f64) -> [Sphere; 8] {
+    core::array::from_fn(|k| Sphere {
+        frame: 0,
+        offset: [
+            if k & 1 == 0 { -A } else { A },
+            if k & 2 == 0 { -A } else { A },
+            if k & 4 == 0 { -A } else { A },
+        ],
+        radius: 0.0,
+        friction: mu,
+        restitution: e,
+    })
+}
+
+/// A slope through the origin rising towards −x at `theta`: its normal, and the way down it.
+fn slope(theta: f64) -> (Vector3<f64>, Vector3<f64>) {
+    let (s, c) = theta.sin_cos();
+    (Vector3::new(s, 0.0, c), Vector3::new(c, 0.0, -s))
+}
+
+/// A free body resting on the slope `theta` (turned about y by `theta`) with its centre
+/// `height` above it along the normal.
+fn on_slope(theta: f64, height: f64) -> State13 {
+    let (n, _) = slope(theta);
+    let p = n * height;
+    let half = 0.5 * theta;
+    let q = SVector::from([p.x, p.y, p.z, half.cos(), 0.0, half.sin(), 0.0]);
+    State::new(0.0, q, SVector::zeros())
+}
+
+fn unforced(_t: f64, _q: &SVector<f64, 7>, _v: &SVector<f64, 6>) -> SVector<f64, 6> {
+    SVector::zeros()
+}
+
+/// Steps `state` for `seconds`, asserting each step converged; `each` sees every new state.
+fn run<C, const P: usize>(
+    stepper: &mut TimeStepper<'_, C, Unforced, 7, 6, 1, P>,
+    state: &mut State13,
+    seconds: f64,
+    mut each: impl FnMut(&State13, &StepReport),
+) where
+    C: articulated::contact::ContactOutputs<7, 6, 1>,
+{
+    let steps = (seconds / H).round() as usize;
+    for k in 0..steps {
+        let report = stepper.step(state, H).unwrap();
+        assert!(report.converged, "step {k}: {report:?}");
+        each(state, &report);
+    }
+}
+
+type Unforced = fn(f64, &SVector<f64, 7>, &SVector<f64, 6>) -> SVector<f64, 6>;
+
+fn block<'a>(
+    grounds: &'a [Ground],
+    spheres: &'a [Sphere],
+) -> TimeStepper<'a, Block, Unforced, 7, 6, 1, 8> {
+    TimeStepper::new(grounds, spheres, Settings::default(), unforced as Unforced).unwrap()
+}
+
+/// The lowest corner's distance from a ground of normal `n` through the origin.
+fn lowest(state: &State13, n: &Vector3<f64>) -> f64 {
+    let q = &state.q;
+    let r = articulated::nalgebra::UnitQuaternion::from_quaternion(
+        articulated::nalgebra::Quaternion::new(q[3], q[4], q[5], q[6]),
+    );
+    let centre = Vector3::new(q[0], q[1], q[2]);
+    corners(0.0, 0.0)
+        .iter()
+        .map(|s| n.dot(&(centre + r * Vector3::from(s.offset))))
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn a_block_sticks_on_a_slope_below_its_friction_angle() {
+    let mu: f64 = 0.5;
+    let theta = (0.8 * mu).atan();
+    let (n, down) = slope(theta);
+    let grounds = [Ground::new(n.into(), 0.0).unwrap()];
+    let spheres = corners(mu, 0.0);
+    let mut stepper = block(&grounds, &spheres);
+    let mut state = on_slope(theta, A);
+    let start = Vector3::new(state.q[0], state.q[1], state.q[2]);
+    run(&mut stepper, &mut state, 1.0, |s, _| {
+        assert!(lowest(s, &n).abs() <= 1e-6, "height {}", lowest(s, &n));
+    });
+    let moved = Vector3::new(state.q[0], state.q[1], state.q[2]) - start;
+    assert!(
+        moved.dot(&down).abs() <= 1e-6,
+        "drifted {:e} m",
+        moved.dot(&down)
+    );
+    // The ground carries the weight: the forces sum to m·g upwards.
+    let total: Vector3<f64> = stepper.forces().map(|f| Vector3::from(f.force)).sum();
+    assert!(
+        (total - Vector3::new(0.0, 0.0, G)).norm() <= 1e-6 * G,
+        "{total}"
+    );
+}
+
+#[test]
+fn a_block_slides_down_a_slope_steeper_than_its_friction_angle() {
+    let mu: f64 = 0.5;
+    let theta = (1.2 * mu).atan();
+    let (n, down) = slope(theta);
+    let grounds = [Ground::new(n.into(), 0.0).unwrap()];
+    let spheres = corners(mu, 0.0);
+    let mut stepper = block(&grounds, &spheres);
+    let mut state = on_slope(theta, A);
+    let start = Vector3::new(state.q[0], state.q[1], state.q[2]);
+    // A sliding contact keeps on the ground: the convex relaxation would lift it by
+    // μ·‖u_t‖·h each step, 0.3 mm per step at 1 m/s.
+    run(&mut stepper, &mut state, 1.0, |s, _| {
+        assert!(
+            lowest(s, &n).abs() <= 1e-6,
+            "height {:e} at t = {}",
+            lowest(s, &n),
+            s.t
+        );
+    });
+    let moved = (Vector3::new(state.q[0], state.q[1], state.q[2]) - start).dot(&down);
+    // Symplectic Euler from rest: s_N = a·h²·N(N + 1)/2.
+    let a = G * (theta.sin() - mu * theta.cos());
+    let expected = 0.5 * a * 1.0 * (1.0 + H);
+    assert!(
+        (moved - expected).abs() <= 0.01 * expected,
+        "{moved} against {expected}"
+    );
+}
+
+/// The block's total energy, `½·vᵀ·M·v + m·g·z`.
+fn energy(s: &State13) -> f64 {
+    let (m, _) = Block::mass_matrix_and_nonlinear_effects(&s.q, &s.v);
+    0.5 * s.v.dot(&(m * s.v)) + G * s.q[2]
+}
+
+#[test]
+fn a_block_dropped_flat_without_restitution_comes_to_rest_on_its_face() {
+    let drop = 0.5;
+    let up = Vector3::z();
+    let grounds = [Ground::new(up.into(), 0.0).unwrap()];
+    let spheres = corners(0.8, 0.0);
+    let mut stepper = block(&grounds, &spheres);
+    let mut state = on_slope(0.0, A + drop);
+    let mut e = energy(&state);
+    let mut deepest: f64 = 0.0;
+    run(&mut stepper, &mut state, 1.5, |s, _| {
+        let now = energy(s);
+        assert!(
+            now <= e + 1e-9 * G * drop,
+            "energy rose by {:e} at t = {}",
+            now - e,
+            s.t
+        );
+        e = now;
+        deepest = deepest.min(lowest(s, &up));
+    });
+    assert!(deepest >= -1e-3, "penetrated {deepest:e} m");
+    assert!(lowest(&state, &up).abs() <= 1e-6 && state.v.norm() <= 1e-6);
+    let total: f64 = stepper.forces().map(|f| f.force[2]).sum();
+    assert!((total - G).abs() <= 1e-6 * G, "normal forces {total}");
+}
+
+#[test]
+fn a_block_dropped_with_full_restitution_bounces_back_near_its_height_and_never_above() {
+    let drop = 0.5;
+    let up = Vector3::z();
+    let grounds = [Ground::new(up.into(), 0.0).unwrap()];
+    let spheres = corners(0.8, 1.0);
+    let mut stepper = block(&grounds, &spheres);
+    let mut state = on_slope(0.0, A + drop);
+    let (mut landed, mut apex) = (false, 0.0_f64);
+    run(&mut stepper, &mut state, 1.2, |s, _| {
+        let height = lowest(s, &up);
+        assert!(height <= drop + 1e-9, "rose to {height} at t = {}", s.t);
+        // It bounces within the step that would close its gap (speculative contact).
+        landed |= s.v[2] > 0.0;
+        if landed {
+            apex = apex.max(height);
+        }
+    });
+    assert!(
+        landed && apex >= 0.95 * drop,
+        "rebounded to {apex} of {drop}"
+    );
+}
+
+#[test]
+fn a_ball_rolls_down_a_slope_without_slipping() {
+    let theta: f64 = 0.3;
+    let (n, down) = slope(theta);
+    let grounds = [Ground::new(n.into(), 0.0).unwrap()];
+    let spheres = [Sphere {
+        radius: 0.1,
+        ..Sphere::point(0, 0.5)
+    }];
+    let mut stepper: TimeStepper<'_, Ball, Unforced, 7, 6, 1, 1> = TimeStepper::new(
+        &grounds,
+        &spheres,
+        Settings::default(),
+        unforced as Unforced,
+    )
+    .unwrap();
+    let mut state = on_slope(theta, 0.1);
+    let start = Vector3::new(state.q[0], state.q[1], state.q[2]);
+    run(&mut stepper, &mut state, 1.0, |_, _| {});
+    let moved = (Vector3::new(state.q[0], state.q[1], state.q[2]) - start).dot(&down);
+    let expected = 0.5 * (5.0 / 7.0) * G * theta.sin() * (1.0 + H);
+    assert!(
+        (moved - expected).abs() <= 0.01 * expected,
+        "{moved} against {expected}"
+    );
+    // Rolling: the contact point does not slip, ω·r equals the speed (v is in the ball's axes).
+    let speed = state.v.fixed_rows::<3>(0).norm();
+    let spin = state.v.fixed_rows::<3>(3).norm();
+    assert!(
+        (spin * 0.1 - speed).abs() <= 1e-6 * speed,
+        "{spin} rad/s at {speed} m/s"
+    );
+}
+
+#[test]
+fn a_block_pushed_along_the_ground_stops_where_friction_says() {
+    let (mu, v0) = (0.5, 2.0);
+    let up = Vector3::z();
+    let grounds = [Ground::new(up.into(), 0.0).unwrap()];
+    let spheres = corners(mu, 0.0);
+    let mut stepper = block(&grounds, &spheres);
+    let mut state = on_slope(0.0, A);
+    state.v[0] = v0;
+    let mut stopped = None;
+    run(&mut stepper, &mut state, 0.6, |s, _| {
+        if stopped.is_none() && s.v[0] <= 1e-9 {
+            stopped = Some((s.t, s.q[0]));
+        }
+        assert!(lowest(s, &up).abs() <= 1e-6);
+    });
+    let (t, x) = stopped.expect("it stops");
+    let (t_exact, x_exact) = (v0 / (mu * G), v0 * v0 / (2.0 * mu * G));
+    assert!(
+        (t - t_exact).abs() <= 0.01 * t_exact,
+        "stopped at {t} s, not {t_exact}"
+    );
+    assert!(
+        (x - x_exact).abs() <= 0.01 * x_exact,
+        "stopped after {x} m, not {x_exact}"
+    );
+    assert!(
+        (state.q[0] - x).abs() <= 1e-9,
+        "crept on from {x} to {}",
+        state.q[0]
+    );
+}
+
+#[test]
+fn painleves_rod_ends_finite_or_says_it_did_not_converge() {
+    // A rod leaning at 30° on one end, sliding towards it fast with a high friction coefficient:
+    // the configuration of Painlevé's paradox, where the rigid contact problem has no solution
+    // or several.
+    let up = Vector3::z();
+    let grounds = [Ground::new(up.into(), 0.0).unwrap()];
+    let spheres = [Sphere {
+        offset: [-0.5, 0.0, 0.0],
+        ..Sphere::point(0, 1.5)
+    }];
+    let settings = Settings {
+        max_iterations: 200,
+        ..Settings::default()
+    };
+    let mut stepper: TimeStepper<'_, Rod, Unforced, 7, 6, 1, 1> =
+        TimeStepper::new(&grounds, &spheres, settings, unforced as Unforced).unwrap();
+    let tilt: f64 = -30f64.to_radians();
+    let (s, c) = (0.5 * tilt).sin_cos();
+    let centre = [0.5 * tilt.cos().abs(), 0.0, 0.5 * tilt.sin().abs()];
+    let q = SVector::from([centre[0], centre[1], centre[2], c, 0.0, s, 0.0]);
+    // Moving towards −x, the foot of the rod first.
+    let v = SVector::from([-4.0 * tilt.cos(), 0.0, 4.0 * tilt.sin(), 0.0, 0.0, 0.0]);
+    let mut state = State::new(0.0, q, v);
+    for _ in 0..500 {
+        match stepper.step(&mut state, H) {
+            Ok(report) => assert!(report.residual.is_finite()),
+            Err(e) => panic!("{e}"),
+        }
+        assert!(state.q.iter().chain(state.v.iter()).all(|x| x.is_finite()));
+    }
+}
+
+#[test]
+fn bad_scenes_are_refused_by_name() {
+    assert_eq!(Ground::new([0.0; 3], 0.0), Err(ContactError::Ground));
+    assert_eq!(
+        Ground::new([0.0, 0.0, 1.0], f64::NAN),
+        Err(ContactError::Ground)
+    );
+    let grounds = [Ground::new([0.0, 0.0, 2.0], 0.0).unwrap()];
+    assert_eq!(grounds[0].normal(), [0.0, 0.0, 1.0]);
+    let far = [Sphere::point(3, 0.5)];
+    let err = TimeStepper::<Block, Unforced, 7, 6, 1, 1>::new(
+        &grounds,
+        &far,
+        Settings::default(),
+        unforced as Unforced,
+    )
+    .err();
+    assert_eq!(
+        err,
+        Some(ContactError::UnknownFrame {
+            sphere: 0,
+            frame: 3,
+            frames: 1
+        })
+    );
+    let bad = [Sphere {
+        restitution: 1.5,
+        ..Sphere::point(0, 0.5)
+    }];
+    let err = TimeStepper::<Block, Unforced, 7, 6, 1, 1>::new(
+        &grounds,
+        &bad,
+        Settings::default(),
+        unforced as Unforced,
+    )
+    .err();
+    assert_eq!(err, Some(ContactError::Sphere { sphere: 0 }));
+    // Four corners on the ground do not fit three pairs; the state stays as it was.
+    let spheres = corners(0.5, 0.0);
+    let mut small = TimeStepper::<Block, Unforced, 7, 6, 1, 3>::new(
+        &grounds,
+        &spheres,
+        Settings::default(),
+        unforced as Unforced,
+    )
+    .unwrap();
+    let mut state = on_slope(0.0, A);
+    let before = state;
+    assert_eq!(
+        small.step(&mut state, H),
+        Err(ContactError::Capacity {
+            needed: 4,
+            capacity: 3
+        })
+    );
+    assert_eq!(state, before);
+    // A NaN state is an error, not a NaN.
+    let mut state = on_slope(0.0, A);
+    state.v[2] = f64::NAN;
+    let mut stepper = block(&grounds, &spheres);
+    assert_eq!(stepper.step(&mut state, H), Err(ContactError::NonFinite));
+}
