@@ -26,6 +26,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 mod contacts;
 mod eval;
 mod expand;
+mod ground;
 mod invert;
 mod pinocchio;
 mod simulate;
@@ -181,10 +182,11 @@ pub struct SimulateArgs {
     /// Time step (s); for `dopri5`, the first step and the spacing of the recorded states.
     #[arg(long)]
     pub dt: f64,
-    /// `euler`, `symplectic-euler`, `rk4`, `dopri5` (adaptive, error-controlled) or
-    /// `implicit-midpoint` (long horizons: its energy error stays bounded).
-    #[arg(long, default_value = "rk4")]
-    pub integrator: String,
+    /// `euler`, `symplectic-euler`, `rk4` (the default), `dopri5` (adaptive, error-controlled)
+    /// or `implicit-midpoint` (long horizons: its energy error stays bounded). Not with
+    /// `--ground`, which steps with contacts.
+    #[arg(long)]
+    pub integrator: Option<String>,
     /// Initial positions, comma-separated (default: the neutral configuration).
     #[arg(long, allow_hyphen_values = true)]
     pub q0: Option<String>,
@@ -218,9 +220,37 @@ pub struct SimulateArgs {
     /// fault writes both (and the plot) up to its last good state, then fails.
     #[arg(long)]
     pub out: PathBuf,
-    /// An SVG plot of the positions and the energies against time.
+    /// An SVG plot of the positions and the energies against time (and the contact forces).
     #[arg(long)]
     pub plot: Option<PathBuf>,
+    /// A ground, the half-space `NX,NY,NZ,D` of the points `x` with `n·x ≥ D` (`n` made a unit
+    /// vector); repeat for several. With a ground the chain is stepped with contacts
+    /// (`articulated::contact`: semi-implicit Euler, unilateral contacts with exact Coulomb
+    /// cones) at `--dt`, the spheres of `--contact-points` against every ground.
+    #[arg(long, allow_hyphen_values = true)]
+    pub ground: Vec<String>,
+    /// The contact spheres' centres, comma-separated: `FRAME` (its origin) or `FRAME@X:Y:Z` (a
+    /// point in the frame's axes); any body or frame of the model.
+    #[arg(long, allow_hyphen_values = true)]
+    pub contact_points: Option<String>,
+    /// The contact spheres' radius (m); 0 makes them points.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub radius: f64,
+    /// The friction coefficient μ of every contact (needed with `--ground`).
+    #[arg(long, allow_hyphen_values = true)]
+    pub friction: Option<f64>,
+    /// The restitution e ∈ [0, 1] of every contact.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub restitution: f64,
+    /// Gravity `GX,GY,GZ` (m/s², world axes) in place of the description's: a slope is a flat
+    /// ground under a tilted gravity.
+    #[arg(long, allow_hyphen_values = true)]
+    pub gravity: Option<String>,
+    /// Add each contact point's force to the CSV, world axes in N (summed over the grounds,
+    /// over the step that ends at the row): columns `f.POINT.x`, `.y`, `.z`, `POINT` the
+    /// point's entry in `--contact-points`.
+    #[arg(long)]
+    pub contact_forces: bool,
 }
 
 /// Arguments of `articulated invert`.

@@ -82,7 +82,16 @@ const PLOT_POINTS: usize = 2000;
 /// good one, the sidecar (which names the fault) and the plot if asked; the error then says
 /// what was written.
 pub fn run(args: &SimulateArgs) -> Result<String, String> {
-    let (description, reference) = load_described(&args.model, args.base, args.params.as_deref())?;
+    let (mut description, mut reference) =
+        load_described(&args.model, args.base, args.params.as_deref())?;
+    if let Some(g) = &args.gravity {
+        let g = parse_vector(g, "gravity", 3)?;
+        description.model.gravity = Some(core::array::from_fn(|i| {
+            articulated::model::Value::Const(g.get(i).copied().unwrap_or(0.0))
+        }));
+        reference = Reference::with_params(&description.model, reference.params())
+            .map_err(|e| format!("error: --gravity: {e}"))?;
+    }
     let model = description.model.clone();
     let (nq, nv) = (reference.nq(), reference.nv());
     // `--q-order pinocchio`: the initial state as Pinocchio writes it; the trajectory is ours
@@ -99,10 +108,6 @@ pub fn run(args: &SimulateArgs) -> Result<String, String> {
         (None, _) => vec![0.0; nv],
     };
     articulated::reference::check_q(&model, &q0).map_err(|e| format!("error: --q0: {e}"))?;
-    let method: Method = args
-        .integrator
-        .parse()
-        .map_err(|e| format!("error: --integrator `{}`: {e}", args.integrator))?;
     let simulation = Simulation::new(0.0, args.t_end, args.dt);
     let steps = simulation.steps().map_err(|_| {
         format!(
@@ -111,6 +116,46 @@ pub fn run(args: &SimulateArgs) -> Result<String, String> {
             args.t_end, args.dt
         )
     })?;
+    let scene = crate::ground::Scene::of(args, &model)?;
+    let method: Method = match (&args.integrator, &scene) {
+        (Some(name), None) => name
+            .parse()
+            .map_err(|e| format!("error: --integrator `{name}`: {e}"))?,
+        (None, None) => Method::Rk4,
+        (Some(_), Some(_)) => {
+            return Err(
+                "error: --integrator: a run with --ground is stepped with contacts \
+                        (semi-implicit Euler at --dt); leave --integrator out"
+                    .into(),
+            )
+        }
+        (None, Some(scene)) => {
+            let drives = args.drives.then(|| ModelDrives::of(&model));
+            let run = crate::ground::simulate(
+                &reference,
+                drives.as_ref(),
+                scene,
+                q0,
+                v0,
+                &simulation,
+                steps,
+                progress_bar(steps),
+            );
+            return finish(
+                Run {
+                    args,
+                    model: &model,
+                    reference: &reference,
+                    drives: drives.as_ref(),
+                    integrator: crate::ground::INTEGRATOR.into(),
+                    forces: Some(&run.forces),
+                },
+                &run.trajectory,
+                run.fault,
+                &run.note,
+            );
+        }
+    };
     if args.drives {
         for warning in stiff_stops(&model, &reference, &q0, args.dt, method) {
             eprintln!("warning: {warning}");
@@ -150,20 +195,43 @@ pub fn run(args: &SimulateArgs) -> Result<String, String> {
             eprintln!("note: {note}");
         }
     }
-    let run = Run {
-        args,
-        model: &model,
-        reference: system.reference(),
-        drives: drives.as_ref(),
-        method,
-    };
-    let (written, failed) = run.write(&trajectory, &Outcome::of(&result));
+    let outcome = Outcome::of(&result);
+    let fault = result.err().map(|f| (outcome, f.to_string()));
+    finish(
+        Run {
+            args,
+            model: &model,
+            reference: system.reference(),
+            drives: drives.as_ref(),
+            integrator: method.name().into(),
+            forces: None,
+        },
+        &trajectory,
+        fault,
+        &format!("by {method}"),
+    )
+}
+
+/// Writes what a run produced and says how it went: the summary for stdout, or the error (the
+/// fault, where the last good state stood and what was written) for stderr. `how` completes
+/// the summary (`by rk4`).
+fn finish(
+    run: Run<'_>,
+    trajectory: &Trajectory<f64, Dyn, Dyn>,
+    fault: Option<(Outcome, String)>,
+    how: &str,
+) -> Result<String, String> {
+    let args = run.args;
+    let outcome = fault
+        .as_ref()
+        .map_or(Outcome::Completed, |(o, _)| o.clone());
+    let (written, failed) = run.write(trajectory, &outcome);
     let last = trajectory.states().last();
-    let Err(fault) = result else {
+    let Some((_, fault)) = fault else {
         return match failed {
             Some(e) => Err(e),
             None => Ok(format!(
-                "{} states from t = 0 to {} s by {method} written to {}",
+                "{} states from t = 0 to {} s {how} written to {}",
                 trajectory.len(),
                 last.map_or(0.0, |s| s.t),
                 args.out.display()
@@ -204,7 +272,10 @@ struct Run<'a> {
     model: &'a Model,
     reference: &'a Reference,
     drives: Option<&'a ModelDrives>,
-    method: Method,
+    /// The sidecar's name for how it was stepped.
+    integrator: String,
+    /// The contact forces, with `--ground`.
+    forces: Option<&'a crate::ground::Forces>,
 }
 
 impl Run<'_> {
@@ -232,6 +303,10 @@ impl Run<'_> {
         trajectory
             .write_csv(&mut csv, nq, nv)
             .map_err(|e| format!("error: {e}"))?;
+        let forces = self.forces.filter(|_| args.contact_forces);
+        if let Some(forces) = forces {
+            csv = forces.append_to_csv(&csv);
+        }
         write_atomically(&args.out, &csv)
             .map_err(|e| format!("{}: error: {e}", args.out.display()))?;
         written.push(args.out.display().to_string());
@@ -241,8 +316,16 @@ impl Run<'_> {
         let description = Sidecar {
             model: args.model.display().to_string(),
             name: chain_name(self.model, &args.model),
-            columns: Column::trajectory((&names.0, &units.0), (&names.1, &units.1)),
-            integrator: self.method.name().into(),
+            columns: {
+                let mut columns = Column::trajectory((&names.0, &units.0), (&names.1, &units.1));
+                columns.extend(
+                    forces
+                        .map(crate::ground::Forces::columns)
+                        .unwrap_or_default(),
+                );
+                columns
+            },
+            integrator: self.integrator.clone(),
             dt: args.dt,
             rows: trajectory.len(),
             t_last: trajectory.states().last().map(|s| s.t),
@@ -303,6 +386,9 @@ impl Run<'_> {
             }
         }
         let mut panels: Vec<Panel> = panels.into_iter().map(|(_, p)| p).collect();
+        if let Some(forces) = self.forces {
+            panels.push(forces.panel(&name, stride));
+        }
         panels.extend(energy_panel(
             &format!("{name}: energy"),
             self.reference,

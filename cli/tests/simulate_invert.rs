@@ -636,3 +636,195 @@ fn simulate_takes_pinocchios_layout() {
     let (ok, _, stderr) = simulate(&list(&scaled), "articulated", &dir.join("y.csv"));
     assert!(!ok && stderr.contains("has norm 2.0000"), "{stderr}");
 }
+
+/// The cube's eight corners in `--contact-points` form.
+fn block_corners() -> String {
+    let mut points = Vec::new();
+    for z in [-0.1, 0.1] {
+        for y in [-0.1, 0.1] {
+            for x in [-0.1, 0.1] {
+                points.push(format!("block@{x}:{y}:{z}"));
+            }
+        }
+    }
+    points.join(",")
+}
+
+/// `simulate --ground`: the cube on a flat ground under a gravity tilted by θ (a slope of
+/// angle θ, `tan θ = 1.2·μ`) slides with `a = g·(sin θ − μ·cos θ)`, and pushed along a level
+/// ground stops after `v²/(2μg)`; the contact forces written on request hold its weight.
+#[test]
+fn simulate_with_a_ground_slides_and_stops_as_friction_says() {
+    let dir = scratch("ground");
+    let out = dir.join("block.csv");
+    let corners = block_corners();
+    let (g, mu) = (9.81_f64, 0.5_f64);
+    let theta = (1.2 * mu).atan();
+    let gravity = format!("{},0,{}", g * theta.sin(), -g * theta.cos());
+    let common = |extra: &[&str]| {
+        let mut args = vec![
+            "models/block.chain",
+            "--t-end",
+            "0.5",
+            "--dt",
+            "0.001",
+            "--q0",
+            "0,0,0.1,1,0,0,0",
+            "--ground",
+            "0,0,1,0",
+            "--contact-points",
+            &corners,
+            "--friction",
+            "0.5",
+            "--contact-forces",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let (ok, stdout, stderr) = run("simulate", &args);
+        assert!(ok, "{stderr}");
+        assert!(stdout.contains("with contacts"), "{stdout}");
+        read_csv(&out)
+    };
+    let (header, rows) = common(&["--gravity", &gravity]);
+    assert_eq!(header.len(), 1 + 7 + 6 + 8 * 3);
+    assert_eq!(header[14], "f.block@-0.1:-0.1:-0.1.x");
+    let last = rows.last().unwrap();
+    let a = g * (theta.sin() - mu * theta.cos());
+    // Symplectic Euler from rest: x_N = a·h²·N(N + 1)/2.
+    let expected = 0.5 * a * 0.25 * (1.0 + 0.002);
+    assert!(
+        (last[1] - expected).abs() < 0.01 * expected,
+        "{} against {expected}",
+        last[1]
+    );
+    assert!((last[3] - 0.1).abs() < 1e-6, "height {}", last[3]);
+    // The ground pushes back the gravity's normal part: m·g·cos θ.
+    let normal: f64 = (0..8).map(|k| last[14 + 3 * k + 2]).sum();
+    assert!((normal - g * theta.cos()).abs() < 1e-6, "{normal}");
+
+    let (_, rows) = common(&["--v0", "2,0,0,0,0,0"]);
+    let stop = rows.iter().find(|r| r[8] <= 1e-9).unwrap();
+    let distance = 2.0 * 2.0 / (2.0 * mu * g);
+    assert!(
+        (stop[1] - distance).abs() < 0.01 * distance,
+        "stopped after {}",
+        stop[1]
+    );
+    assert!((rows.last().unwrap()[1] - stop[1]).abs() < 1e-9);
+
+    // Errors name their argument, and nothing is written.
+    std::fs::remove_file(&out).ok();
+    let o = out.to_str().unwrap();
+    let base = [
+        "models/block.chain",
+        "--t-end",
+        "0.1",
+        "--dt",
+        "0.001",
+        "--out",
+        o,
+    ];
+    let with = |extra: &[&str]| -> Vec<String> {
+        base.iter().chain(extra).map(|s| s.to_string()).collect()
+    };
+    for (extra, expected) in [
+        (
+            vec![
+                "--ground",
+                "0,0,0,0",
+                "--contact-points",
+                "block",
+                "--friction",
+                "1",
+            ],
+            "--ground",
+        ),
+        (
+            vec![
+                "--ground",
+                "0,0,1",
+                "--contact-points",
+                "block",
+                "--friction",
+                "1",
+            ],
+            "--ground",
+        ),
+        (
+            vec![
+                "--ground",
+                "0,0,1,0",
+                "--contact-points",
+                "heel",
+                "--friction",
+                "1",
+            ],
+            "`heel`",
+        ),
+        (
+            vec![
+                "--ground",
+                "0,0,1,0",
+                "--contact-points",
+                "block@1:2",
+                "--friction",
+                "1",
+            ],
+            "FRAME@X:Y:Z",
+        ),
+        (
+            vec!["--ground", "0,0,1,0", "--contact-points", "block"],
+            "--friction",
+        ),
+        (
+            vec!["--ground", "0,0,1,0", "--friction", "1"],
+            "--contact-points",
+        ),
+        (vec!["--contact-points", "block"], "--ground"),
+        (
+            vec![
+                "--ground",
+                "0,0,1,0",
+                "--contact-points",
+                "block",
+                "--friction",
+                "-1",
+            ],
+            "--friction",
+        ),
+        (
+            vec![
+                "--ground",
+                "0,0,1,0",
+                "--contact-points",
+                "block",
+                "--friction",
+                "1",
+                "--restitution",
+                "2",
+            ],
+            "--restitution",
+        ),
+        (
+            vec![
+                "--ground",
+                "0,0,1,0",
+                "--contact-points",
+                "block",
+                "--friction",
+                "1",
+                "--integrator",
+                "rk4",
+            ],
+            "--integrator",
+        ),
+        (vec!["--gravity", "0,0"], "gravity"),
+    ] {
+        let args = with(&extra);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let e = fails("simulate", &args, &out);
+        assert!(e.contains(expected), "{extra:?}: {e}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -14,6 +14,7 @@
 //! | [`BIPED`] | yes | no | a free-floating walker from de Leva's (1996) segments: hips, knees, shoulders about y |
 //! | [`TWO_LINK_FOOT`] | yes | no | Hemami's two-link system on a free foot, which a six-dimensional contact on its `sole` holds on the ground |
 //! | [`FOUR_BAR`] | yes | no | a four-bar linkage: an open chain whose frames `tip` and `ground` a loop constraint closes |
+//! | [`BLOCK`] | yes | no | a 1 kg cube on a free base: the box of the contact simulation, its corners as contact points |
 //!
 //! The two models for scale are written by `models/make_scale_models.py` (the numbers and their
 //! sources are documented there). `humanoid.chain` puts the pelvis on a free base with a
@@ -89,13 +90,17 @@ pub const TWO_LINK_FOOT: ModelFiles = model!("two_link_foot");
 /// `ground`): 3 positions, 3 velocities, one degree of freedom once closed.
 pub const FOUR_BAR: ModelFiles = model!("four_bar");
 
+/// A 1 kg cube of side 0.2 m on a free base: the box of the contact simulation
+/// (`articulated::contact`), 7 positions, 6 velocities.
+pub const BLOCK: ModelFiles = model!("block");
+
 /// The small models: Hemami's, the pendulums, the arm and the tree. Tests that compile the
 /// generated code of every model take these; the models for scale ([`HUMANOID`], [`CHAIN50`])
 /// have tests of their own.
 pub const SMALL: [ModelFiles; 5] = [TWO_LINK, INVERTED_PENDULUM, DOUBLE_PENDULUM, ARM7, TREE];
 
 /// Every model of this crate.
-pub const ALL: [ModelFiles; 11] = [
+pub const ALL: [ModelFiles; 12] = [
     TWO_LINK,
     INVERTED_PENDULUM,
     DOUBLE_PENDULUM,
@@ -107,4 +112,5 @@ pub const ALL: [ModelFiles; 11] = [
     BIPED,
     TWO_LINK_FOOT,
     FOUR_BAR,
+    BLOCK,
 ];

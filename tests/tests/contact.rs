@@ -10,24 +10,17 @@
 use articulated::contact::{ContactError, Ground, Settings, Sphere, StepReport, TimeStepper};
 use articulated::integrate::State;
 use articulated::nalgebra::{SVector, Vector3};
-use articulated::MassMatrixAndNonlinearEffects;
+use articulated::{Chain, MassMatrixAndNonlinearEffects};
 
 const G: f64 = 9.81;
 const H: f64 = 1e-3;
 /// The block's half side (m); a cube of 1 kg.
 const A: f64 = 0.1;
 
-articulated::chain! {
-    /// A 1 kg cube of side 0.2 m on a free base, its centre at the frame's origin.
-    chain Block {
-        gravity: [0.0, 0.0, -9.81];
-        outputs: [mass_matrix_and_nonlinear_effects, frame_placements, frame_jacobians_local];
-        frames: [block];
-        body block { mass: 1.0, com: [0.0, 0.0, 0.0],
-                     inertia: diag(0.006666666666666667, 0.006666666666666667, 0.006666666666666667) }
-        joint base: free(quaternion) { parent: world, child: block }
-    }
-}
+/// A 1 kg cube of side 0.2 m on a free base, its centre at the frame `block`'s origin.
+#[derive(Chain)]
+#[chain(file = "../models/block.chain")]
+struct Block;
 
 articulated::chain! {
     /// A solid ball of 1 kg and radius 0.1 m on a free base (`I = 2/5·m·r²`).
