@@ -319,6 +319,7 @@ pub fn simulate(
                         tau: &d.tau,
                         placements: &d.placements,
                         jacobians: &d.jacobians,
+                        damping: None,
                     },
                     &scene.grounds,
                     &scene.spheres,

@@ -49,19 +49,25 @@
 //!
 //! # The solver
 //! Projected Gauss–Seidel over the contacts (Jean and Moreau's nonsmooth contact dynamics,
-//! Bullet's and Pinocchio 3's `PGSContactSolver`): for each contact, the normal impulse
-//! `λ_n ← max(0, λ_n − (u_n − ξ)/G_nn)`, then the tangential one, solved with the contact's
-//! 2 × 2 block of the Delassus matrix `G = J·M⁻¹·Jᵀ` when that sticks inside the cone, else a
-//! projected step `λ_t ← proj_{‖·‖ ≤ μλ_n}(λ_t − u_t/α)`, `α` the block's largest eigenvalue.
-//! The velocities `v⁺` are kept up to date after each contact (`M⁻¹·Jᵢᵀ` is computed once per
-//! step from the Cholesky factor of `M`), so a sweep costs `O(contacts·nv)` and the full `G` is
-//! never formed. A fixed point of these updates satisfies the conditions above exactly. The
-//! impulses start from the last step's (warm start), so a resting or sticking contact
-//! converges in a few sweeps. The residual of a sweep is the largest correction it made, in
-//! m/s (the natural map of the conditions above, scaled by `G`'s diagonal blocks); the solve
-//! stops when it falls to [`Settings::tolerance`], and a step that reaches
-//! [`Settings::max_iterations`] first still moves on, its [`StepReport`] saying it did not
-//! converge and how far it got.
+//! Bullet's and Pinocchio 3's `PGSContactSolver`). For each contact in turn:
+//! - sticking first: the contact's three rows solved at once with its 3 × 3 block of the
+//!   Delassus matrix `G = J·M⁻¹·Jᵀ`, kept where the impulse lies inside the cone;
+//! - else the normal impulse `λ_n ← max(0, λ_n − (u_n − ξ)/G_nn)`, then the tangential one:
+//!   the 2 × 2 block's solve where that lies inside the cone, else a projected step
+//!   `λ_t ← proj_{‖·‖ ≤ μλ_n}(λ_t − u_t/α)`, `α` the block's largest eigenvalue.
+//!
+//! A fixed point of these updates satisfies the conditions above exactly. `M = Lᵀ·L` is
+//! factored along the kinematic tree (Featherstone's sparse factorization, where the
+//! coordinates are in tree order, which [`TimeStepper::new`] reads from `M`'s sparsity), and
+//! each contact keeps `Wᵢ = L⁻ᵀ·Jᵢᵀ`, non-zero only on the velocities that move it and their
+//! ancestors: `G = Wᵀ·W`, `uᵢ = Jᵢ·v_f + Wᵢᵀ·z` with `z = Σ Wⱼ·λⱼ` kept up to date, and
+//! `v⁺ = v_f + L⁻¹·z` once the impulses are found. A sweep costs `O(contacts·nv)`; the full `G`
+//! is never formed. The impulses start from the last step's (warm start), so a resting or
+//! sticking contact converges in a few sweeps. The residual of a sweep is the largest
+//! correction it made, in m/s (the natural map of the conditions above, scaled by `G`'s
+//! diagonal blocks); the solve stops when it falls to [`Settings::tolerance`], and a step that
+//! reaches [`Settings::max_iterations`] first still moves on, its [`StepReport`] saying it did
+//! not converge and how far it got.
 //!
 //! Everything in the stepping is allocation-free for at most `P` contacts at once
 //! ([`TimeStepper`], a const parameter; more is [`ContactError::Capacity`]).
@@ -106,7 +112,6 @@ use nalgebra::{
     DefaultAllocator, Dim, Matrix3, OMatrix, OVector, SMatrix, SVector, Vector3, U3, U6,
 };
 
-use crate::constraint::{factor, solve_m};
 use crate::integrate::State;
 use crate::{
     Chain, Coordinates, FrameJacobiansLocal, FramePlacement, FramePlacements,
@@ -366,10 +371,15 @@ where
     distance: f64,
     /// `J`: the contact point's velocity in the basis, `3 × nv`.
     jacobian: OMatrix<f64, U3, N>,
-    /// `M⁻¹·Jᵀ`, `nv × 3`.
+    /// `W = L⁻ᵀ·Jᵀ`, `nv × 3` (`M = Lᵀ·L`, so `J·M⁻¹·Jᵀ = Wᵀ·W`): non-zero only on the
+    /// velocities that move the contact and their ancestors.
     response: OMatrix<f64, N, U3>,
+    /// `J·v_f`, the contact's velocity without impulses.
+    free: Vector3<f64>,
     /// The Delassus block `J·M⁻¹·Jᵀ`.
     block: Matrix3<f64>,
+    /// Its inverse, where it has one.
+    inverse: Option<Matrix3<f64>>,
     friction: f64,
     /// The normal target `ξ`.
     target: f64,
@@ -392,7 +402,9 @@ where
             distance: 0.0,
             jacobian: OMatrix::zeros_generic(U3, n),
             response: OMatrix::zeros_generic(n, U3),
+            free: Vector3::zeros(),
             block: Matrix3::zeros(),
+            inverse: None,
             friction: 0.0,
             target: 0.0,
             impulse: Vector3::zeros(),
@@ -449,12 +461,202 @@ where
 }
 
 /// The scene and how to solve it.
-pub(crate) struct Problem<'a> {
+pub(crate) struct Problem<'a, N: Dim>
+where
+    DefaultAllocator: Allocator<N>,
+{
     pub(crate) coordinates: &'a [Coordinates],
+    /// Each velocity's parent in `M`'s sparsity ([`Tree`]); `None`: dense.
+    pub(crate) parents: Option<&'a [usize]>,
+    /// Joint damping taken implicitly (`M + h·D`), one entry per velocity.
+    pub(crate) damping: Option<&'a OVector<f64, N>>,
     pub(crate) grounds: &'a [Ground],
     pub(crate) spheres: &'a [Sphere],
     pub(crate) settings: &'a Settings,
     pub(crate) h: f64,
+}
+
+/// No parent.
+const ROOT: usize = usize::MAX;
+
+/// `M`'s factorization `M = Lᵀ·L` along the kinematic tree (Featherstone 2005, "Efficient
+/// factorization of the joint-space inertia matrix for branched kinematic trees", IJRR 24(6)):
+/// with each velocity's parent `λ(i) < i`, the entries `M_ij` (`j < i`) that can be non-zero
+/// are those of `i`'s ancestors `λ(i), λ(λ(i)), …`, and `L` has the same pattern, so the
+/// factorization and the solves cost the sum over velocities of their depths (squared for the
+/// factorization) rather than `nv³/6` and `nv²`: on the humanoid, whose legs and arms are
+/// branches, a fraction. Without parents the chain is taken as one branch (`λ(i) = i − 1`):
+/// the dense factorization.
+struct Tree<'a> {
+    parents: Option<&'a [usize]>,
+}
+
+impl Tree<'_> {
+    /// `λ(i)`.
+    fn parent(&self, i: usize) -> usize {
+        match self.parents {
+            Some(p) => p.get(i).copied().unwrap_or(ROOT),
+            None => i.checked_sub(1).unwrap_or(ROOT),
+        }
+    }
+
+    /// `L` (in the lower triangle, the pattern's entries) with `M = Lᵀ·L`, or the velocity
+    /// whose pivot is not above `1e-10` times its unreduced value.
+    fn factor<N: Dim>(&self, m: &OMatrix<f64, N, N>) -> Result<OMatrix<f64, N, N>, ContactError>
+    where
+        DefaultAllocator: Allocator<N, N>,
+    {
+        let n = m.nrows();
+        if !finite(m.iter()) {
+            return Err(ContactError::NonFinite);
+        }
+        let mut h = m.clone();
+        for k in (0..n).rev() {
+            let d = h[(k, k)];
+            if !(d.is_finite() && d > 1e-10 * m[(k, k)].abs()) {
+                return Err(ContactError::MassMatrix { velocity: k });
+            }
+            let a = libm::sqrt(d);
+            h[(k, k)] = a;
+            let mut i = self.parent(k);
+            while i != ROOT {
+                h[(k, i)] /= a;
+                i = self.parent(i);
+            }
+            let mut i = self.parent(k);
+            while i != ROOT {
+                let hki = h[(k, i)];
+                let mut j = i;
+                while j != ROOT {
+                    h[(i, j)] -= hki * h[(k, j)];
+                    j = self.parent(j);
+                }
+                i = self.parent(i);
+            }
+        }
+        Ok(h)
+    }
+
+    /// `M⁻¹·b = L⁻¹·L⁻ᵀ·b` from the factor.
+    fn solve<N: Dim>(&self, l: &OMatrix<f64, N, N>, x: OVector<f64, N>) -> OVector<f64, N>
+    where
+        DefaultAllocator: Allocator<N, N> + Allocator<N>,
+    {
+        self.solve_lower(l, self.solve_transposed(l, x))
+    }
+
+    /// `L⁻ᵀ·b`: zero but on the entries of `b` and their ancestors.
+    fn solve_transposed<N: Dim>(
+        &self,
+        l: &OMatrix<f64, N, N>,
+        mut x: OVector<f64, N>,
+    ) -> OVector<f64, N>
+    where
+        DefaultAllocator: Allocator<N, N> + Allocator<N>,
+    {
+        let n = x.nrows();
+        // `Lᵀ·y = b`, from the leaves: each `y_i` is final once its descendants are done.
+        for i in (0..n).rev() {
+            if x[i] == 0.0 {
+                continue;
+            }
+            x[i] /= l[(i, i)];
+            let xi = x[i];
+            let mut j = self.parent(i);
+            while j != ROOT {
+                x[j] -= l[(i, j)] * xi;
+                j = self.parent(j);
+            }
+        }
+        x
+    }
+
+    /// `L⁻¹·y`.
+    fn solve_lower<N: Dim>(&self, l: &OMatrix<f64, N, N>, mut x: OVector<f64, N>) -> OVector<f64, N>
+    where
+        DefaultAllocator: Allocator<N, N> + Allocator<N>,
+    {
+        // `L·x = y`, from the root.
+        for i in 0..x.nrows() {
+            let mut s = x[i];
+            let mut j = self.parent(i);
+            while j != ROOT {
+                s -= l[(i, j)] * x[j];
+                j = self.parent(j);
+            }
+            x[i] = s / l[(i, i)];
+        }
+        x
+    }
+}
+
+/// A configuration off every special pose: each coordinate from a fixed pseudo-random stream
+/// (`seed`), quaternions made unit.
+fn sample_configuration(coordinates: &[Coordinates], seed: u64, q: &mut [f64]) {
+    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        // 53 bits into [-1, 1).
+        (state >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    };
+    for x in q.iter_mut() {
+        *x = next();
+    }
+    crate::configuration::normalize(coordinates, q);
+}
+
+/// Each velocity's parent `λ(i)` in the sparsity of `M` ([`Tree`]), read from `M` at a few
+/// configurations (an entry zero at all of them is zero at every configuration: the coupling
+/// of two branches, or of a free base's linear velocities). The pattern is first filled as the
+/// factorization `M = Lᵀ·L` fills it (eliminating `k` couples every pair of its non-zeros
+/// `i, j < k`); then `λ(i)` is the last `j < i` of row `i`, and `false` says that some other
+/// entry of the row is not on `i`'s line of ancestors (coordinates not in tree order), where
+/// the dense factorization is used.
+pub(crate) fn tree_parents<N: Dim>(samples: &[OMatrix<f64, N, N>], parents: &mut [usize]) -> bool
+where
+    DefaultAllocator: Allocator<N, N>,
+{
+    let Some(first) = samples.first() else {
+        return false;
+    };
+    let n = parents.len();
+    if first.shape() != (n, n) {
+        return false;
+    }
+    let mut pattern = first.map(|_| false);
+    for m in samples {
+        pattern.zip_apply(m, |p, x| *p |= x != 0.0);
+    }
+    for k in (0..n).rev() {
+        for i in 0..k {
+            if pattern[(k, i)] {
+                for j in 0..i {
+                    if pattern[(k, j)] {
+                        pattern[(i, j)] = true;
+                    }
+                }
+            }
+        }
+    }
+    for (i, parent) in parents.iter_mut().enumerate() {
+        *parent = (0..i).rev().find(|&j| pattern[(i, j)]).unwrap_or(ROOT);
+    }
+    let tree = Tree {
+        parents: Some(parents),
+    };
+    let on_line = |i: usize, k: usize| {
+        let mut a = tree.parent(i);
+        while a != ROOT {
+            if a == k {
+                return true;
+            }
+            a = tree.parent(a);
+        }
+        false
+    };
+    (0..n).all(|i| (0..i).all(|k| !pattern[(i, k)] || on_line(i, k)))
 }
 
 /// Checks every sphere against `frames` generated frames.
@@ -480,7 +682,7 @@ pub(crate) fn check_scene(spheres: &[Sphere], frames: usize) -> Result<(), Conta
 pub(crate) fn step_velocity<N: Dim>(
     dynamics: &Dynamics<'_, N>,
     frames: &FrameRows<'_, N>,
-    problem: &Problem<'_>,
+    problem: &Problem<'_, N>,
     pairs: &mut [Pair<N>],
     warm: &[(usize, usize, Vector3<f64>)],
 ) -> Result<(OVector<f64, N>, usize, StepReport), ContactError>
@@ -497,13 +699,22 @@ where
     if !(h.is_finite() && h > 0.0 && finite(v.iter().chain(nle.iter()).chain(tau.iter()))) {
         return Err(ContactError::NonFinite);
     }
-    let l = factor(m, &crate::constraint::Settings::default()).map_err(|e| match e {
-        crate::constraint::ConstraintError::MassMatrix { velocity } => {
-            ContactError::MassMatrix { velocity }
+    let mut m = m.clone();
+    if let Some(d) = problem.damping {
+        if d.len() != v.len() || !finite(d.iter()) || d.iter().any(|d| *d < 0.0) {
+            return Err(ContactError::NonFinite);
         }
-        _ => ContactError::NonFinite,
-    })?;
-    let mut v_plus = v + solve_m(&l, &(tau - nle)) * h;
+        for (k, d) in d.iter().enumerate() {
+            if let Some(e) = m.get_mut((k, k)) {
+                *e += h * d;
+            }
+        }
+    }
+    let tree = Tree {
+        parents: problem.parents,
+    };
+    let l = tree.factor(&m)?;
+    let mut v_plus = v + tree.solve(&l, tau - nle) * h;
     for at in free_bases(problem.coordinates) {
         if let (Some(u), Some(w)) = (vector3(v, at), vector3(v, at + 3)) {
             let free = vector3(&v_plus, at).unwrap_or(u) + w.cross(&u) * h;
@@ -546,10 +757,12 @@ where
             let world = turned_v - delta.cross_matrix() * turned_w;
             pair.jacobian = b.transpose() * world;
             for c in 0..3 {
-                let column = solve_m(&l, &pair.jacobian.row(c).transpose());
+                let column = tree.solve_transposed(&l, pair.jacobian.row(c).transpose());
                 pair.response.set_column(c, &column);
             }
-            pair.block = &pair.jacobian * &pair.response;
+            pair.block = pair.response.tr_mul(&pair.response);
+            pair.free = &pair.jacobian * &v_plus;
+            pair.inverse = pair.block.try_inverse();
             pair.sphere = s;
             pair.ground = g;
             pair.basis = b;
@@ -589,8 +802,10 @@ where
         });
     }
     let active = pairs.get_mut(..count).unwrap_or_default();
+    // `z = Σ Wᵢ·λᵢ`, so that `v⁺ = v_f + L⁻¹·z` and `uᵢ = J·v_f + Wᵢᵀ·z`.
+    let mut z = v.map(|_| 0.0);
     for pair in active.iter() {
-        v_plus += &pair.response * pair.impulse;
+        z += &pair.response * pair.impulse;
     }
     let mut report = StepReport {
         contacts: count,
@@ -602,7 +817,7 @@ where
         report.converged = false;
         while report.iterations < settings.max_iterations {
             report.iterations += 1;
-            report.residual = sweep(active, &mut v_plus);
+            report.residual = sweep(active, &mut z);
             if !report.residual.is_finite() {
                 return Err(ContactError::NonFinite);
             }
@@ -611,6 +826,9 @@ where
                 break;
             }
         }
+    }
+    if count > 0 {
+        v_plus += tree.solve_lower(&l, z);
     }
     if !finite(v_plus.iter()) {
         return Err(ContactError::NonFinite);
@@ -695,16 +913,28 @@ fn disk(x: f64, y: f64, r: f64) -> (f64, f64) {
 
 /// One projected Gauss–Seidel sweep over the pairs (module docs), `v⁺` kept up to date; the
 /// largest velocity correction it made.
-fn sweep<N: Dim>(pairs: &mut [Pair<N>], v_plus: &mut OVector<f64, N>) -> f64
+fn sweep<N: Dim>(pairs: &mut [Pair<N>], z: &mut OVector<f64, N>) -> f64
 where
     DefaultAllocator: Allocator<N> + Allocator<U3, N> + Allocator<N, U3> + Allocator<U3>,
 {
     let mut residual: f64 = 0.0;
     for pair in pairs.iter_mut() {
         let g = &pair.block;
-        let mut u: Vector3<f64> = &pair.jacobian * &*v_plus;
-        // The normal impulse.
+        let mut u: Vector3<f64> = pair.free + pair.response.tr_mul(z);
         let before = pair.impulse;
+        // Sticking: the block's solve, kept where it lies inside the cone (the contact's three
+        // rows at once converge faster than one after the other).
+        let error = u - Vector3::new(pair.target, 0.0, 0.0);
+        if let Some(inverse) = pair.inverse {
+            let stick = before - inverse * error;
+            if stick.x >= 0.0 && libm::hypot(stick.y, stick.z) <= pair.friction * stick.x {
+                residual = residual.max(error.amax());
+                *z += &pair.response * (stick - before);
+                pair.impulse = stick;
+                continue;
+            }
+        }
+        // The normal impulse.
         let gn = g[(0, 0)];
         let n = (before.x - (u.x - pair.target) / gn).max(0.0);
         let dn = n - before.x;
@@ -746,7 +976,7 @@ where
             residual = residual.max(libm::hypot(corrected.y, corrected.z));
         }
         let after = Vector3::new(n, tx, ty);
-        *v_plus += &pair.response * (after - before);
+        *z += &pair.response * (after - before);
         pair.impulse = after;
     }
     residual
@@ -763,6 +993,9 @@ pub struct TimeStepper<'a, C, F, const NQ: usize, const NV: usize, const NF: usi
     pairs: [Pair<nalgebra::Const<NV>>; P],
     count: usize,
     warm: [(usize, usize, Vector3<f64>); P],
+    /// `M`'s tree ([`Tree`]), `None` where it is not in tree order.
+    parents: Option<[usize; NV]>,
+    damping: Option<SVector<f64, NV>>,
     chain: core::marker::PhantomData<fn() -> C>,
     positions: core::marker::PhantomData<[f64; NQ]>,
 }
@@ -785,7 +1018,17 @@ where
         controller: F,
     ) -> Result<Self, ContactError> {
         check_scene(spheres, NF)?;
+        // `M`'s sparsity from two configurations off every special pose.
+        let samples = [1, 2].map(|seed| {
+            let mut q = SVector::<f64, NQ>::zeros();
+            sample_configuration(C::COORDINATES, seed, q.as_mut_slice());
+            C::mass_matrix_and_nonlinear_effects(&q, &SVector::zeros()).0
+        });
+        let mut parents = [ROOT; NV];
+        let tree = tree_parents(&samples, &mut parents);
         Ok(TimeStepper {
+            parents: tree.then_some(parents),
+            damping: None,
             grounds,
             spheres,
             settings,
@@ -831,6 +1074,8 @@ where
             },
             &Problem {
                 coordinates: C::COORDINATES,
+                parents: self.parents.as_ref().map(|p| p.as_slice()),
+                damping: self.damping.as_ref(),
                 grounds: self.grounds,
                 spheres: self.spheres,
                 settings: &self.settings,
@@ -850,6 +1095,27 @@ where
     /// The contacts of the last step and their forces.
     pub fn forces(&self) -> impl Iterator<Item = ContactForce> + '_ {
         self.pairs.iter().take(self.count).map(Pair::force)
+    }
+
+    /// Joint damping `τ = −d·v` taken implicitly, one coefficient per velocity (N·s/m or
+    /// N·m·s/rad): the step solves with `M + h·diag(d)` (as MuJoCo's joint damping), so a
+    /// damper far stiffer than `M/h` stays stable, where given to the controller it would make
+    /// light links diverge.
+    ///
+    /// # Errors
+    /// [`ContactError::NonFinite`] for a coefficient that is negative or not finite.
+    pub fn set_damping(&mut self, damping: SVector<f64, NV>) -> Result<(), ContactError> {
+        if !damping.iter().all(|d| d.is_finite() && *d >= 0.0) {
+            return Err(ContactError::NonFinite);
+        }
+        self.damping = Some(damping);
+        Ok(())
+    }
+
+    /// Whether `M` is factored along the chain's tree (else densely): what the sparsity of
+    /// `M` at two configurations says.
+    pub fn factors_along_the_tree(&self) -> bool {
+        self.parents.is_some()
     }
 
     /// The controller, to change its gains or read its state.
@@ -891,6 +1157,8 @@ pub mod dynamic {
         pub placements: &'a [FramePlacement<f64>],
         /// Each frame's LOCAL Jacobian.
         pub jacobians: &'a [Matrix6xX<f64>],
+        /// Joint damping taken implicitly, one entry per velocity (N·s/m or N·m·s/rad).
+        pub damping: Option<&'a DVector<f64>>,
     }
 
     impl TimeStepper {
@@ -947,6 +1215,8 @@ pub mod dynamic {
                 },
                 &Problem {
                     coordinates,
+                    parents: None,
+                    damping: at.damping,
                     grounds,
                     spheres,
                     settings,

@@ -139,6 +139,9 @@ pub mod configuration;
 // against `NF` first.
 #[allow(clippy::indexing_slicing)]
 pub mod constraint;
+// Dense and tree-sparse linear algebra on `nv × nv` matrices, indexed by loop counters below
+// `nv` and by parents `λ(i) < i` (`tree_parents` builds them so, or `i − 1`).
+#[allow(clippy::indexing_slicing)]
 pub mod contact;
 // Exceptions to the panics audit (the crate denies indexing below): dense linear algebra on
 // matrices whose sizes the types fix (`SMatrix<_, N, N>`, or `n × n` built here), indexed by

@@ -396,3 +396,118 @@ fn bad_scenes_are_refused_by_name() {
     let mut stepper = block(&grounds, &spheres);
     assert_eq!(stepper.step(&mut state, H), Err(ContactError::NonFinite));
 }
+
+/// The humanoid with the outputs the contact stepping needs, its feet as frames.
+#[derive(Chain)]
+#[chain(
+    file = "../models/humanoid.chain",
+    outputs = [mass_matrix_and_nonlinear_effects, frame_placements, frame_jacobians_local],
+    frames = [left_foot, right_foot]
+)]
+struct Humanoid;
+
+/// Four points under each sole: heel and toes, 0.05 m to each side, 0.09 m below the foot's
+/// frame (its sole at the neutral configuration with the pelvis at 1.11 m).
+fn soles(mu: f64) -> [Sphere; 8] {
+    core::array::from_fn(|k| Sphere {
+        frame: k / 4,
+        offset: [
+            if k & 1 == 0 { -0.06 } else { 0.16 },
+            if k & 2 == 0 { -0.05 } else { 0.05 },
+            -0.09,
+        ],
+        radius: 0.0,
+        friction: mu,
+        restitution: 0.0,
+    })
+}
+
+/// The humanoid standing on eight points, its joints held by springs and dampers about zero:
+/// the ground carries its weight, the feet neither sink nor slide, and the step factored along
+/// the kinematic tree gives the velocities of the dense factorization (the run-time stepper,
+/// fed the same generated dynamics) to rounding.
+#[test]
+fn the_humanoid_stands_on_its_soles_and_the_tree_factorization_is_the_dense_one() {
+    use articulated::contact::dynamic;
+    use articulated::nalgebra::{DVector, Matrix6xX};
+    use articulated::{FrameJacobiansLocal, FramePlacements};
+    type Hold = fn(f64, &SVector<f64, 38>, &SVector<f64, 37>) -> SVector<f64, 37>;
+    fn hold(_t: f64, q: &SVector<f64, 38>, _v: &SVector<f64, 37>) -> SVector<f64, 37> {
+        let mut tau = SVector::zeros();
+        for k in 6..37 {
+            tau[k] = -2000.0 * q[k + 1];
+        }
+        tau
+    }
+    let grounds = [Ground::new([0.0, 0.0, 1.0], 0.0).unwrap()];
+    let spheres = soles(0.8);
+    let mut stepper: TimeStepper<'_, Humanoid, Hold, 38, 37, 2, 8> =
+        TimeStepper::new(&grounds, &spheres, Settings::default(), hold as Hold).unwrap();
+    assert!(stepper.factors_along_the_tree());
+    let damping = SVector::from_fn(|k, _| if k < 6 { 0.0 } else { 50.0 });
+    stepper.set_damping(damping).unwrap();
+    let mut q = SVector::<f64, 38>::zeros();
+    q[2] = 1.11;
+    q[3] = 1.0;
+    let mut state = State::new(0.0, q, SVector::zeros());
+    let mut dense = dynamic::TimeStepper::new();
+    let coordinates = <Humanoid as Chain<f64>>::COORDINATES;
+    let mass: f64 = 82.05;
+    for step in 0..500 {
+        // The dense stepper from the same state, with the same dynamics.
+        let (m, nle) = Humanoid::mass_matrix_and_nonlinear_effects(&state.q, &state.v);
+        let placements = Humanoid::frame_placements(&state.q);
+        let jacobians = Humanoid::frame_jacobians_local(&state.q)
+            .map(|j| Matrix6xX::from_fn(37, |r, c| j[(r, c)]));
+        let (mut qd, mut vd) = (
+            DVector::from_column_slice(state.q.as_slice()),
+            DVector::from_column_slice(state.v.as_slice()),
+        );
+        let tau = DVector::from_column_slice(hold(state.t, &state.q, &state.v).as_slice());
+        let d = DVector::from_column_slice(damping.as_slice());
+        let at = dynamic::At {
+            m: &DMatrixOf::from_column_slice(37, 37, m.as_slice()),
+            nle: &DVector::from_column_slice(nle.as_slice()),
+            tau: &tau,
+            placements: &placements,
+            jacobians: &jacobians,
+            damping: Some(&d),
+        };
+        let dense_report = dense
+            .step(
+                coordinates,
+                &mut qd,
+                &mut vd,
+                &at,
+                &grounds,
+                &spheres,
+                &Settings::default(),
+                H,
+            )
+            .unwrap();
+        let report = stepper.step(&mut state, H).unwrap();
+        assert!(
+            report.converged && dense_report.converged,
+            "step {step}: {report:?}"
+        );
+        let gap = (DVector::from_column_slice(state.v.as_slice()) - vd).amax();
+        assert!(
+            gap <= 1e-8,
+            "step {step}: the tree and dense steps differ by {gap:e}"
+        );
+    }
+    let total: Vector3<f64> = stepper.forces().map(|f| Vector3::from(f.force)).sum();
+    // Still swaying a little after half a second: within 1 % of static equilibrium.
+    assert!((total.z - mass * G).abs() <= 1e-2 * mass * G, "{total}");
+    assert!(total.xy().norm() <= 1e-2 * mass * G, "{total}");
+    assert!(
+        (state.q[2] - 1.11).abs() <= 2e-3,
+        "the pelvis at {}",
+        state.q[2]
+    );
+    for f in stepper.forces() {
+        assert!(f.distance >= -1e-4 && f.force[2] > 0.0, "{f:?}");
+    }
+}
+
+type DMatrixOf = articulated::nalgebra::DMatrix<f64>;
