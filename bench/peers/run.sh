@@ -11,8 +11,8 @@
 #    with OpenMP for the states per second),
 #    bench/peers/mujoco_timing.c, and our bench/src/bin/peers.rs three times (x86-64-v3, this
 #    machine's CPU, default target; with the feature humanoid-derivatives, the humanoid's
-#    derivative outputs) and bench/src/bin/throughput.rs (x86-64-v3), each rebuilt only when
-#    its source or flags changed;
+#    derivative outputs), bench/src/bin/throughput.rs and bench/src/bin/contact_steps.rs
+#    (x86-64-v3), each rebuilt only when its source or flags changed;
 # 3. bench/peers/run.py: values check, timing, callgrind, BENCHMARKS.md.
 # Everything it builds or installs stays under target/peers/ (ignored by git).
 set -euo pipefail
@@ -115,7 +115,8 @@ build "$BIN/mujoco_timing" bench/peers/mujoco_timing.c "gcc -std=c11 -O3 -DNDEBU
 
 step "building ours for x86-64-v3 (cargo, target/peers/rust-v3)"
 RUSTFLAGS="-C target-cpu=x86-64-v3" CARGO_TARGET_DIR=$OUT/rust-v3 \
-  cargo build --release --quiet -p articulated-bench --bin peers --bin throughput --features humanoid-derivatives
+  cargo build --release --quiet -p articulated-bench --bin peers --bin throughput --bin contact_steps \
+  --features humanoid-derivatives
 step "building ours for this machine's CPU (cargo, target/peers/rust-native)"
 RUSTFLAGS="-C target-cpu=native" CARGO_TARGET_DIR=$OUT/rust-native \
   cargo build --release --quiet -p articulated-bench --bin peers --bin throughput --features humanoid-derivatives
