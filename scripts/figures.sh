@@ -14,7 +14,7 @@
 # ran twice as long at a 32-byte boundary as at a 64-byte one (commit ed9a878 has the figures).
 set -eu
 cd "$(dirname "$0")/.."
-examples="${*:-hemami_two_link hemami_standing drives operational_space four_bar falling_cat walking_rotation drift extremes trade}"
+examples="${*:-hemami_two_link hemami_standing ground_contact drives operational_space four_bar falling_cat walking_rotation drift extremes trade}"
 for example in $examples; do
     echo "== $example" >&2
     RUSTFLAGS="${RUSTFLAGS:-} -C llvm-args=-align-all-functions=6" CARGO_TARGET_DIR=target/figures \

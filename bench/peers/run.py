@@ -897,7 +897,7 @@ def contact_report(w, c):
     w("contact's spring carries it, and a sliding contact pushes the bodies apart (its block hops")
     w("while it slides, as Anitescu's relaxation predicts). Ours holds the gap to rounding and a")
     w("sliding contact on the ground; what it gives up is a convex problem: Painlevé's")
-    w("configurations may not converge, and say so. `docs/contact.md` says more.")
+    w("configurations may not converge, and say so ([the runtime guide](docs/guide/runtime.md#simulation-with-contacts)).")
 
 
 def throughput_report(w, thr):

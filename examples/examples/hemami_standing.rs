@@ -23,16 +23,15 @@
 //! ```
 
 use articulated::constraint::{self, Baumgarte, ConstrainedChain, Contact, Settings, System};
-use articulated::control::state_feedback::split_gain;
 use articulated::control::tangent::retract;
 use articulated::differentiate::{velocities, SavitzkyGolay};
 use articulated::integrate::{Integrator, Rk4, State};
-use articulated::nalgebra::{SMatrix, SVector};
+use articulated::nalgebra::SVector;
 use articulated::plot::{svg, Panel};
 use articulated::prelude::*;
 use articulated::FramePlacement;
 use articulated_dynamics::random::Rng;
-use articulated_examples::hemami::upright_lqr;
+use articulated_examples::hemami::foot_law;
 
 /// The two-link system on its foot, with what the contact needs.
 #[derive(Chain)]
@@ -49,16 +48,12 @@ struct TwoLink;
 
 type Q = SVector<f64, 13>;
 type V = SVector<f64, 12>;
-type V6 = SVector<f64, 6>;
-type M6 = SMatrix<f64, 6, 6>;
 /// A plotted line.
 type Points = Vec<(f64, f64)>;
 
 /// The sole's outline in the frame `sole` (m): heel and toes along x.
 const HEEL: f64 = -0.07;
 const TOES: f64 = 0.19;
-/// What a person's joints can give (N·m), as in `hemami_two_link`.
-const COUPLE_LIMIT: f64 = 250.0;
 const DT: f64 = 1e-3;
 const T_END: f64 = 4.0;
 /// The contact's Baumgarte gains.
@@ -66,24 +61,6 @@ const GAINS: Baumgarte = Baumgarte {
     kp: 100.0,
     kd: 20.0,
 };
-
-/// The LQR gains about upright on the fixed-ankle model ([`upright_lqr`]).
-fn lqr_gains() -> Result<(M6, M6), String> {
-    let (_, design) = upright_lqr::<TwoLink, 6>()?;
-    split_gain::<6>(&design.k).ok_or_else(|| "the gain is not 6 × 12".into())
-}
-
-/// `τ = g(0) − K_q·q − K_v·v` on the ankle and hip, saturated; nothing on the free foot.
-fn controller(kq: M6, kv: M6) -> impl FnMut(f64, &Q, &V) -> V {
-    let g0 = TwoLink::gravity(&V6::zeros());
-    move |_, q: &Q, v: &V| {
-        let joints = g0 - kq * q.fixed_rows::<6>(7) - kv * v.fixed_rows::<6>(6);
-        let mut tau = V::zeros();
-        tau.fixed_rows_mut::<6>(6)
-            .copy_from(&joints.map(|x| x.clamp(-COUPLE_LIMIT, COUPLE_LIMIT)));
-        tau
-    }
-}
 
 /// A standard normal number (Box–Muller).
 fn gaussian(rng: &mut Rng) -> f64 {
@@ -93,7 +70,7 @@ fn gaussian(rng: &mut Rng) -> f64 {
 
 fn main() -> Result<(), String> {
     let out = articulated_examples::output::Output::from_args()?;
-    let (kq, kv) = lqr_gains()?;
+    let law = foot_law::<TwoLink>()?;
     let contacts = [Contact::six_d(0)];
 
     // 1. The balancing run, the foot at rest on the ground.
@@ -110,7 +87,7 @@ fn main() -> Result<(), String> {
         &[],
         Some(GAINS),
         Settings::default(),
-        controller(kq, kv),
+        law.clone(),
     )
     .map_err(|e| e.to_string())?;
     let references: [FramePlacement<f64>; 1] = *chain.references();
@@ -123,7 +100,7 @@ fn main() -> Result<(), String> {
         samples.push((state.t, state.q, state.v));
     }
     // The true ground reaction at each sample: the contact's wrench `[n; f]` in the sole frame.
-    let mut law = controller(kq, kv);
+    let mut law = law;
     let truth: Vec<[f64; 6]> = samples
         .iter()
         .map(|(t, q, v)| {

@@ -28,3 +28,33 @@ where
         .map_err(|e| format!("LQR: {e}"))?;
     Ok((lin, design))
 }
+
+/// What a person's joints can give (N·m), as in `hemami_two_link`.
+pub const COUPLE_LIMIT: f64 = 250.0;
+
+/// The two-link system on its foot (`models/two_link_foot.chain`): positions and velocities.
+type FootQ = SVector<f64, 13>;
+type FootV = SVector<f64, 12>;
+
+/// The upright LQR law of [`upright_lqr`] (designed on the fixed-ankle model `C`) on the
+/// two-link system standing on its foot: `τ = g(0) − K_q·q − K_v·v` on the ankle and hip,
+/// saturated at [`COUPLE_LIMIT`]; nothing on the free foot.
+///
+/// # Errors
+/// A message naming the step of the design that failed.
+pub fn foot_law<C>() -> Result<impl FnMut(f64, &FootQ, &FootV) -> FootV + Clone, String>
+where
+    C: ForwardDynamicsDerivatives<f64, 6, 6> + Gravity<f64, 6, 6>,
+{
+    let (_, design) = upright_lqr::<C, 6>()?;
+    let (kq, kv) = articulated::control::state_feedback::split_gain::<6>(&design.k)
+        .ok_or("the gain is not 6 × 12")?;
+    let g0 = C::gravity(&SVector::zeros());
+    Ok(move |_: f64, q: &FootQ, v: &FootV| {
+        let joints = g0 - kq * q.fixed_rows::<6>(7) - kv * v.fixed_rows::<6>(6);
+        let mut tau = FootV::zeros();
+        tau.fixed_rows_mut::<6>(6)
+            .copy_from(&joints.map(|x| x.clamp(-COUPLE_LIMIT, COUPLE_LIMIT)));
+        tau
+    })
+}

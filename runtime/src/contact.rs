@@ -52,9 +52,13 @@
 //! Bullet's and Pinocchio 3's `PGSContactSolver`). For each contact in turn:
 //! - sticking first: the contact's three rows solved at once with its 3 × 3 block of the
 //!   Delassus matrix `G = J·M⁻¹·Jᵀ`, kept where the impulse lies inside the cone;
-//! - else the normal impulse `λ_n ← max(0, λ_n − (u_n − ξ)/G_nn)`, then the tangential one:
-//!   the 2 × 2 block's solve where that lies inside the cone, else a projected step
-//!   `λ_t ← proj_{‖·‖ ≤ μλ_n}(λ_t − u_t/α)`, `α` the block's largest eigenvalue.
+//! - else one projected step on the whole contact along De Saxcé's modified velocity
+//!   `û = u − ξ·n + μ·‖u_t‖·n`: `λ ← proj_K(λ − û/α)`, `K` the cone and `α` a bound on the
+//!   block's largest eigenvalue (as Pinocchio 3's PGS). Without the term `μ·‖u_t‖·n` this would
+//!   be the convex relaxation; with it, a sliding contact converges to `u_n = ξ` and the
+//!   friction opposite the slip. (Splitting the contact into a normal then a tangential update
+//!   also has these fixed points, but cycled without converging on a walker falling on its
+//!   heel, Painlevé-like; the whole-contact step converged there, slowly.)
 //!
 //! A fixed point of these updates satisfies the conditions above exactly. `M = Lᵀ·L` is
 //! factored along the kinematic tree (Featherstone's sparse factorization, where the
@@ -899,6 +903,19 @@ fn cone(impulse: &Vector3<f64>, friction: f64) -> Vector3<f64> {
     Vector3::new(n, t.0, t.1)
 }
 
+/// The projection onto the cone `‖t‖ ≤ μ·n` of `(n, t)`.
+fn cone_projection(x: &Vector3<f64>, mu: f64) -> Vector3<f64> {
+    let t = libm::hypot(x.y, x.z);
+    if t <= mu * x.x {
+        *x
+    } else if mu * t <= -x.x || t == 0.0 {
+        Vector3::zeros()
+    } else {
+        let n = (x.x + mu * t) / (1.0 + mu * mu);
+        Vector3::new(n, mu * n * x.y / t, mu * n * x.z / t)
+    }
+}
+
 /// `(x, y)` moved into the disk of radius `r`.
 fn disk(x: f64, y: f64, r: f64) -> (f64, f64) {
     let norm = libm::hypot(x, y);
@@ -920,7 +937,7 @@ where
     let mut residual: f64 = 0.0;
     for pair in pairs.iter_mut() {
         let g = &pair.block;
-        let mut u: Vector3<f64> = pair.free + pair.response.tr_mul(z);
+        let u: Vector3<f64> = pair.free + pair.response.tr_mul(z);
         let before = pair.impulse;
         // Sticking: the block's solve, kept where it lies inside the cone (the contact's three
         // rows at once converge faster than one after the other).
@@ -934,48 +951,17 @@ where
                 continue;
             }
         }
-        // The normal impulse.
-        let gn = g[(0, 0)];
-        let n = (before.x - (u.x - pair.target) / gn).max(0.0);
-        let dn = n - before.x;
-        residual = residual.max(gn * dn.abs());
-        u += g.column(0) * dn;
-        // The tangential impulse.
-        let (mut tx, mut ty) = (0.0, 0.0);
-        let radius = pair.friction * n;
-        if radius > 0.0 {
-            let (a, b, d) = (g[(1, 1)], g[(1, 2)], g[(2, 2)]);
-            let det = a * d - b * b;
-            let (sx, sy) = if det > 0.0 {
-                // Sticking: the block's solve, kept where it lies inside the cone.
-                let (rx, ry) = (u.y, u.z);
-                (
-                    before.y - (d * rx - b * ry) / det,
-                    before.z - (a * ry - b * rx) / det,
-                )
-            } else {
-                (f64::INFINITY, f64::INFINITY)
-            };
-            (tx, ty) = if libm::hypot(sx, sy) <= radius {
-                (sx, sy)
-            } else {
-                // Sliding: a projected step, `α` the block's largest eigenvalue.
-                let alpha = 0.5 * (a + d) + libm::hypot(0.5 * (a - d), b);
-                if alpha > 0.0 {
-                    disk(before.y - u.y / alpha, before.z - u.z / alpha, radius)
-                } else {
-                    (0.0, 0.0)
-                }
-            };
-            let change = Vector3::new(0.0, tx - before.y, ty - before.z);
-            let corrected: Vector3<f64> = g * change;
-            residual = residual.max(libm::hypot(corrected.y, corrected.z));
-        } else {
-            let change = Vector3::new(0.0, -before.y, -before.z);
-            let corrected: Vector3<f64> = g * change;
-            residual = residual.max(libm::hypot(corrected.y, corrected.z));
-        }
-        let after = Vector3::new(n, tx, ty);
+        // Else one projected step on the whole contact, on De Saxcé's modified velocity
+        // `û = u − ξ·n + μ·‖u_t‖·n` (its fixed points are the exact Coulomb law):
+        // `λ ← proj_K(λ − û/α)`, `α ≥` the block's largest eigenvalue (its largest absolute
+        // row sum).
+        let alpha = (0..3)
+            .map(|r| g.row(r).iter().map(|x| x.abs()).sum::<f64>())
+            .fold(0.0, f64::max);
+        let slip = libm::hypot(error.y, error.z);
+        let modified = error + Vector3::new(pair.friction * slip, 0.0, 0.0);
+        let after = cone_projection(&(before - modified / alpha), pair.friction);
+        residual = residual.max(alpha * (after - before).amax());
         *z += &pair.response * (after - before);
         pair.impulse = after;
     }
