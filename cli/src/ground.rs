@@ -31,10 +31,51 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// The scene the arguments describe, `None` without `--ground`; the frames are checked
-    /// against the model.
-    pub fn of(args: &SimulateArgs, model: &Model) -> Result<Option<Scene>, String> {
+    /// The scene the arguments describe, else the one the description declares (`grounds`,
+    /// `spheres`, `friction`, `restitution`; `--friction` and `--restitution` replace its
+    /// coefficients), `None` with neither; the frames are checked against the model.
+    pub fn of(
+        args: &SimulateArgs,
+        model: &Model,
+        declared: &articulated_codegen::options::Options,
+    ) -> Result<Option<Scene>, String> {
         let points = args.contact_points.as_deref();
+        if args.ground.is_empty() && points.is_none() && !declared.spheres.is_empty() {
+            let mut scene = Scene {
+                grounds: declared
+                    .grounds
+                    .iter()
+                    .map(|g| Ground::new(g.normal, g.offset).map_err(|e| format!("error: {e}")))
+                    .collect::<Result<_, _>>()?,
+                spheres: Vec::new(),
+                points: Vec::new(),
+                frames: Vec::new(),
+            };
+            let friction = args.friction.or(declared.friction).unwrap_or(0.0);
+            let restitution = if args.restitution > 0.0 {
+                args.restitution
+            } else {
+                declared.restitution
+            };
+            for s in &declared.spheres {
+                let index = match scene.frames.iter().position(|f| *f == s.frame) {
+                    Some(i) => i,
+                    None => {
+                        scene.frames.push(s.frame.clone());
+                        scene.frames.len() - 1
+                    }
+                };
+                scene.spheres.push(Sphere {
+                    frame: index,
+                    offset: s.offset,
+                    radius: s.radius,
+                    friction,
+                    restitution,
+                });
+                scene.points.push(s.name.clone());
+            }
+            return Ok(Some(scene));
+        }
         if args.ground.is_empty() {
             if points.is_some() || args.friction.is_some() || args.contact_forces {
                 return Err(

@@ -116,7 +116,7 @@ pub fn run(args: &SimulateArgs) -> Result<String, String> {
             args.t_end, args.dt
         )
     })?;
-    let scene = crate::ground::Scene::of(args, &model)?;
+    let scene = crate::ground::Scene::of(args, &model, &description.options)?;
     let method: Method = match (&args.integrator, &scene) {
         (Some(name), None) => name
             .parse()

@@ -713,6 +713,47 @@ fn simulate_with_a_ground_slides_and_stops_as_friction_says() {
     );
     assert!((rows.last().unwrap()[1] - stop[1]).abs() < 1e-9);
 
+    // A scene declared in the description is stepped without `--ground`.
+    let declared = dir.join("crate.chain");
+    std::fs::write(
+        &declared,
+        "chain Crate {\n\
+         grounds: [floor: [0.0, 0.0, 1.0, 0.0]];\n\
+         spheres: [a: sphere(box_body, [-0.1, -0.1, -0.1], 0.0), b: sphere(box_body, [0.1, -0.1, -0.1], 0.0),\n\
+                   c: sphere(box_body, [-0.1, 0.1, -0.1], 0.0), d: sphere(box_body, [0.1, 0.1, -0.1], 0.0)];\n\
+         friction: 0.5;\n\
+         body box_body { mass: 1.0, inertia: diag(0.0066666666666666671, 0.0066666666666666671, 0.0066666666666666671) }\n\
+         joint base: free(quaternion) { parent: world, child: box_body }\n\
+         }\n",
+    )
+    .unwrap();
+    let (ok, stdout, stderr) = run(
+        "simulate",
+        &[
+            declared.to_str().unwrap(),
+            "--t-end",
+            "0.6",
+            "--dt",
+            "0.001",
+            "--q0",
+            "0,0,0.1,1,0,0,0",
+            "--v0",
+            "2,0,0,0,0,0",
+            "--contact-forces",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(ok && stdout.contains("with contacts"), "{stderr}");
+    let (header, rows) = read_csv(&out);
+    assert_eq!(header[14], "f.a.x");
+    let stop = rows.iter().find(|r| r[8] <= 1e-9).unwrap();
+    assert!(
+        (stop[1] - distance).abs() < 0.01 * distance,
+        "stopped after {}",
+        stop[1]
+    );
+
     // Errors name their argument, and nothing is written.
     std::fs::remove_file(&out).ok();
     let o = out.to_str().unwrap();

@@ -124,6 +124,32 @@ impl ContactKind {
     }
 }
 
+/// A ground of the contact simulation (`grounds: [floor: [0.0, 0.0, 1.0, 0.0]]`): the
+/// half-space `n·x ≥ d`, the runtime's `articulated::contact::Ground`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneGround {
+    /// Its name in the description.
+    pub name: String,
+    /// `n`, a unit vector (the lowering divides by its length).
+    pub normal: [f64; 3],
+    /// `d`, along the unit normal.
+    pub offset: f64,
+}
+
+/// A contact sphere of the contact simulation (`spheres: [heel: sphere(left_foot, [-0.06,
+/// 0.05, -0.09], 0.0)]`): the runtime's `articulated::contact::Sphere`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneSphere {
+    /// Its name in the description.
+    pub name: String,
+    /// The frame it sits on (a body, a `frame` item, a URDF link).
+    pub frame: String,
+    /// Its centre in the frame's axes (m).
+    pub offset: [f64; 3],
+    /// Its radius (m), `0` for a point.
+    pub radius: f64,
+}
+
 /// A contact declared in the description: `left_sole: six_d` holds the frame `left_sole`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Contact {
@@ -235,6 +261,16 @@ pub struct Options {
     pub contacts: Vec<Contact>,
     /// The loop closures (`loops: [rod: point(a, b)]`), in declaration order.
     pub loops: Vec<Loop>,
+    /// The grounds of the contact simulation (`grounds: [floor: [0, 0, 1, 0]]`).
+    pub grounds: Vec<SceneGround>,
+    /// Its contact spheres (`spheres: [heel: sphere(left_foot, [x, y, z], r)]`): with them the
+    /// type gains `GROUNDS` and `SPHERES` for `articulated::contact`, and the outputs its
+    /// stepping reads ([`Options::resolved`]).
+    pub spheres: Vec<SceneSphere>,
+    /// The spheres' friction coefficient (`friction: 0.8`).
+    pub friction: Option<f64>,
+    /// The spheres' restitution (`restitution: 0.0`, the default).
+    pub restitution: f64,
     /// States per lane value of the batch functions (`lanes: 4`): with it each output's batch
     /// twin runs the generated statements on [`LANES`] states at once (`articulated::lanes`);
     /// without it, state by state. `f64` and `f32` only.
@@ -264,6 +300,10 @@ impl Default for Options {
             frames: Vec::new(),
             contacts: Vec::new(),
             loops: Vec::new(),
+            grounds: Vec::new(),
+            spheres: Vec::new(),
+            friction: None,
+            restitution: 0.0,
             lanes: None,
         }
     }
@@ -327,6 +367,20 @@ impl Options {
     /// solver reads ([`CONSTRAINT_OUTPUTS`]) added; without, these options unchanged.
     pub fn resolved(&self) -> Options {
         let mut options = self.clone();
+        if !self.spheres.is_empty() {
+            for s in &self.spheres {
+                if !options.frames.contains(&s.frame) {
+                    options.frames.push(s.frame.clone());
+                }
+            }
+            let outputs: Vec<Output> = options
+                .outputs
+                .iter()
+                .copied()
+                .chain(SCENE_OUTPUTS)
+                .collect();
+            options.set_outputs(outputs);
+        }
         if !self.constrained() {
             return options;
         }
@@ -335,7 +389,7 @@ impl Options {
                 options.frames.push(f.to_string());
             }
         }
-        let outputs: Vec<Output> = self
+        let outputs: Vec<Output> = options
             .outputs
             .iter()
             .copied()
@@ -352,6 +406,14 @@ impl Options {
         self.outputs.dedup();
     }
 }
+
+/// What `articulated::contact::TimeStepper` reads, added to a description that declares contact
+/// spheres.
+pub const SCENE_OUTPUTS: [Output; 3] = [
+    Output::MassMatrixAndNonlinearEffects,
+    Output::FramePlacements,
+    Output::FrameJacobiansLocal,
+];
 
 /// A chain as a front end reads it: the physics and what to generate from it.
 #[derive(Clone, Debug, PartialEq)]

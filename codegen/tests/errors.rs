@@ -60,8 +60,8 @@ fn unknown_setting() {
         2,
         1,
         "unknown setting `gravty`: expected `gravity`, `scalar`, `outputs`, `accuracy`, \
-         `lock`, `keep`, `quasi_static`, `frames`, `contacts` or `loops` (or `param`, `body`, \
-         `joint`, `frame` items)",
+         `lock`, `keep`, `quasi_static`, `frames`, `contacts`, `loops`, `lanes`, `grounds`, \
+         `spheres`, `friction` or `restitution` (or `param`, `body`, `joint`, `frame` items)",
     );
 }
 

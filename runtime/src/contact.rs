@@ -166,6 +166,16 @@ impl Ground {
         })
     }
 
+    /// The half-space `normal·x ≥ offset` for a `normal` that is already a unit vector (what
+    /// the generator emits for `grounds: […]`, having divided by its length); a constant.
+    /// [`Ground::new`] takes any non-zero normal.
+    pub const fn unit(normal: [f64; 3], offset: f64) -> Self {
+        Ground {
+            normal: Vector3::new(normal[0], normal[1], normal[2]),
+            offset,
+        }
+    }
+
     /// The unit normal `n`.
     pub fn normal(&self) -> [f64; 3] {
         self.normal.into()

@@ -511,3 +511,57 @@ fn the_humanoid_stands_on_its_soles_and_the_tree_factorization_is_the_dense_one(
 }
 
 type DMatrixOf = articulated::nalgebra::DMatrix<f64>;
+
+articulated::chain! {
+    /// The cube with its scene in the description: a floor, its four lower corners as points.
+    chain Crate {
+        gravity: [0.0, 0.0, -9.81];
+        outputs: [];
+        grounds: [floor: [0.0, 0.0, 2.0, 0.0]];
+        spheres: [
+            a: sphere(box_body, [-0.1, -0.1, -0.1], 0.0),
+            b: sphere(box_body, [0.1, -0.1, -0.1], 0.0),
+            c: sphere(box_body, [-0.1, 0.1, -0.1], 0.0),
+            d: sphere(box_body, [0.1, 0.1, -0.1], 0.0)
+        ];
+        friction: 0.5;
+        restitution: 0.25;
+        body box_body { mass: 1.0, com: [0.0, 0.0, 0.0],
+                        inertia: diag(0.006666666666666667, 0.006666666666666667, 0.006666666666666667) }
+        joint base: free(quaternion) { parent: world, child: box_body }
+    }
+}
+
+/// A scene declared in the description (`grounds`, `spheres`, `friction`, `restitution`) is the
+/// type's `GROUNDS` and `SPHERES`, the normal made a unit vector, and the outputs the stepping
+/// reads come with it: pushed, the crate stops where friction says.
+#[test]
+fn a_scene_in_the_description_steps_as_one_in_code() {
+    assert_eq!(
+        Crate::GROUNDS,
+        &[Ground::new([0.0, 0.0, 1.0], 0.0).unwrap()]
+    );
+    assert_eq!(Crate::SPHERES.len(), 4);
+    assert_eq!(Crate::SPHERES[1].offset, [0.1, -0.1, -0.1]);
+    assert_eq!(
+        (Crate::SPHERES[3].friction, Crate::SPHERES[3].restitution),
+        (0.5, 0.25)
+    );
+    assert_eq!(<Crate as Chain<f64>>::FRAMES, ["box_body"]);
+    let mut stepper: TimeStepper<'_, Crate, Unforced, 7, 6, 1, 4> = TimeStepper::new(
+        Crate::GROUNDS,
+        Crate::SPHERES,
+        Settings::default(),
+        unforced as Unforced,
+    )
+    .unwrap();
+    let mut state = on_slope(0.0, A);
+    state.v[0] = 2.0;
+    run(&mut stepper, &mut state, 0.6, |_, _| {});
+    let expected = 4.0 / (2.0 * 0.5 * G);
+    assert!(
+        (state.q[0] - expected).abs() <= 0.01 * expected,
+        "{}",
+        state.q[0]
+    );
+}

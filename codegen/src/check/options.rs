@@ -48,6 +48,41 @@ pub fn options(model: &Model, options: &Options) -> Vec<Problem> {
     let mut problems = rules(&model.name, &shape, options);
     problems.extend(frames(&scene, options));
     problems.extend(constraints(&scene, options));
+    problems.extend(contact_scene(&scene, options));
+    problems
+}
+
+/// The contact simulation's scene (`grounds`, `spheres`, `friction`): each sphere on a frame the
+/// model has, named once, and spheres with a ground and a friction coefficient.
+fn contact_scene(model: &Model, options: &Options) -> Vec<Problem> {
+    let mut problems = Vec::new();
+    for (k, s) in options.spheres.iter().enumerate() {
+        if options.spheres[..k].iter().any(|t| t.name == s.name) {
+            problems.push(Problem::new(
+                About::Scene(s.frame.clone()),
+                format!("sphere `{}` is declared twice in `spheres`", s.name),
+            ));
+        } else if let Some(message) = unknown_frame(model, &s.frame) {
+            problems.push(Problem::new(About::Scene(s.frame.clone()), message));
+        }
+    }
+    if let Some(first) = options.spheres.first() {
+        let about = || About::Scene(first.frame.clone());
+        if options.grounds.is_empty() {
+            problems.push(Problem::new(
+                about(),
+                "`spheres` touch nothing without `grounds`: expected `grounds: [floor: [0.0, \
+                 0.0, 1.0, 0.0]]` (the half-space n·x ≥ d) beside them",
+            ));
+        }
+        if options.friction.is_none() {
+            problems.push(Problem::new(
+                about(),
+                "`spheres` need their friction coefficient: expected `friction: 0.8` (or the \
+                 value of the contact) beside them",
+            ));
+        }
+    }
     problems
 }
 

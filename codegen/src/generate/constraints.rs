@@ -135,6 +135,65 @@ pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Vec<(&'static str
     Ok((tokens, all_ops))
 }
 
+/// The contact simulation's scene a description declares (`grounds`, `spheres`, `friction`,
+/// `restitution`) as the type's `GROUNDS` and `SPHERES`, what `articulated::contact::
+/// TimeStepper::new` takes; nothing without spheres.
+pub(super) fn scene(cx: &Context) -> TokenStream {
+    let options = cx.options;
+    if options.spheres.is_empty() {
+        return quote!();
+    }
+    let float = |x: f64| Literal::f64_unsuffixed(x);
+    let grounds = options.grounds.iter().map(|g| {
+        let [x, y, z] = g.normal.map(float);
+        let d = float(g.offset);
+        quote!(::articulated::contact::Ground::unit([#x, #y, #z], #d))
+    });
+    // `resolved` put each sphere's frame in `frames`.
+    let index = |name: &str| options.frames.iter().position(|f| f == name).unwrap_or(0);
+    let friction = float(options.friction.unwrap_or(0.0));
+    let restitution = float(options.restitution);
+    let spheres = options.spheres.iter().map(|s| {
+        let frame = Literal::usize_unsuffixed(index(&s.frame));
+        let [x, y, z] = s.offset.map(float);
+        let r = float(s.radius);
+        quote! {
+            ::articulated::contact::Sphere {
+                frame: #frame,
+                offset: [#x, #y, #z],
+                radius: #r,
+                friction: #friction,
+                restitution: #restitution,
+            }
+        }
+    });
+    let named = |names: Vec<String>| names.join(", ");
+    let grounds_doc = format!(
+        "The grounds the description declares ({}), each the half-space `n·x ≥ d`, for \
+         `articulated::contact`.",
+        named(
+            options
+                .grounds
+                .iter()
+                .map(|g| format!("`{}`", g.name))
+                .collect()
+        )
+    );
+    let spheres_doc = format!(
+        "The contact spheres the description declares ({}), each on its frame          (`Chain::FRAMES`), for `articulated::contact`.",
+        named(options.spheres.iter().map(|s| format!("`{}` on `{}`", s.name, s.frame)).collect())
+    );
+    let name = &cx.name;
+    quote! {
+        impl #name {
+            #[doc = #grounds_doc]
+            pub const GROUNDS: &'static [::articulated::contact::Ground] = &[#(#grounds),*];
+            #[doc = #spheres_doc]
+            pub const SPHERES: &'static [::articulated::contact::Sphere] = &[#(#spheres),*];
+        }
+    }
+}
+
 /// The batch twin of the constrained function `name` (`constrained_forward_dynamics_batch`),
 /// whose `Ok` value is `value`: state by state (the solve has no lane code: its checks would
 /// need a lane's first error among the constraints' rows).

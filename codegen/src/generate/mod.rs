@@ -315,6 +315,7 @@ impl<'a> Context<'a> {
         let params_item = self.params_item();
         let chain_impl = self.chain_impl();
         let (constraints, constrained_ops) = constraints::items(self)?;
+        let contact_scene = constraints::scene(self);
         // Only where frames are named (a constant nothing reads is a warning in the user's
         // crate).
         let nf_const = (!self.options.frames.is_empty()).then(|| {
@@ -336,6 +337,7 @@ impl<'a> Context<'a> {
                 #(#consts)*
             }
             #constraints
+            #contact_scene
             #params_item
             #chain_impl
             #(#items)*

@@ -258,6 +258,9 @@ impl Lower {
             "frames" => self.frame_list(v, options),
             "contacts" => self.contact_list(v, options),
             "loops" => self.loop_list(v, options),
+            "grounds" => self.ground_list(v, options),
+            "spheres" => self.sphere_list(v, options),
+            key @ ("friction" | "restitution") => self.coefficient(key, v, options),
             "keep" => self.keep(v, options),
             "lanes" => match v {
                 Expr::Number(Lit::Int(n)) if n.base10_parse().is_ok_and(|n| LANES.contains(&n)) => {
@@ -307,8 +310,9 @@ impl Lower {
                 &s.key,
                 format!(
                     "unknown setting `{other}`: expected `gravity`, `scalar`, `outputs`, \
-                     `accuracy`, `lock`, `keep`, `quasi_static`, `frames`, `contacts` or `loops` \
-                     (or `param`, `body`, `joint`, `frame` items)"
+                     `accuracy`, `lock`, `keep`, `quasi_static`, `frames`, `contacts`, `loops`, \
+                     `lanes`, `grounds`, `spheres`, `friction` or `restitution` (or `param`, \
+                     `body`, `joint`, `frame` items)"
                 ),
             ),
         }

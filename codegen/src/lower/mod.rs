@@ -22,6 +22,7 @@
 
 pub(crate) mod constraints;
 mod context;
+mod ground;
 mod items;
 mod kinds;
 mod locate;
