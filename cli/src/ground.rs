@@ -361,6 +361,7 @@ pub fn simulate(
                         placements: &d.placements,
                         jacobians: &d.jacobians,
                         damping: None,
+                        limits: &[],
                     },
                     &scene.grounds,
                     &scene.spheres,

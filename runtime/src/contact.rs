@@ -10,6 +10,9 @@
 //! possible contact; a slope is a tilted ground (or the same ground under a tilted gravity, a
 //! parameter of the description).
 //!
+//! Joint position limits can enter the same problem ([`TimeStepper::hold_joint_limits`]): each
+//! limit near its joint is a frictionless unilateral row, a hard stop.
+//!
 //! # Time stepping
 //! A step of length `h` from `(q, v)` is velocity-level and semi-implicit (Moreau, Stewart and
 //! Trinkle, Anitescu): with `M`, `nle = N·q̇ + g` and the controller's `τ` at `(t, q, v)`, the
@@ -230,6 +233,47 @@ impl Sphere {
             && self.friction >= 0.0
             && (0.0..=1.0).contains(&self.restitution)
     }
+}
+
+/// A joint's position limits, held as unilateral constraints in the same contact problem (a
+/// frictionless row `v_k ≥ ξ` at the lower limit, `−v_k ≥ ξ` at the upper, on the gap to it as
+/// a contact's): a hard stop, where the drives' stops are springs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limit {
+    /// The joint's position coordinate (an index into `q`).
+    pub position: usize,
+    /// Its velocity coordinate (an index into `v`).
+    pub velocity: usize,
+    /// The lower limit (`−∞` for none).
+    pub lower: f64,
+    /// The upper limit (`∞` for none).
+    pub upper: f64,
+}
+
+/// The limits of a chain's one-coordinate joints (revolute, prismatic) that have any, from its
+/// drives (`Chain::DRIVES`), into `out`; how many.
+pub fn joint_limits(
+    coordinates: &[Coordinates],
+    drives: &[crate::Drive],
+    out: &mut [Limit],
+) -> usize {
+    let (mut iq, mut iv, mut n) = (0, 0, 0);
+    for (c, d) in coordinates.iter().zip(drives) {
+        if *c == Coordinates::Vector(1) && (d.lower.is_finite() || d.upper.is_finite()) {
+            if let Some(slot) = out.get_mut(n) {
+                *slot = Limit {
+                    position: iq,
+                    velocity: iv,
+                    lower: d.lower,
+                    upper: d.upper,
+                };
+                n += 1;
+            }
+        }
+        iq += c.nq();
+        iv += c.nv();
+    }
+    n
 }
 
 /// How the contact problem of each step is solved (module docs).
@@ -480,6 +524,9 @@ where
     DefaultAllocator: Allocator<N>,
 {
     pub(crate) coordinates: &'a [Coordinates],
+    /// The joint limits held as unilateral rows, and the positions they are read from.
+    pub(crate) limits: &'a [Limit],
+    pub(crate) positions: &'a [f64],
     /// Each velocity's parent in `M`'s sparsity ([`Tree`]); `None`: dense.
     pub(crate) parents: Option<&'a [usize]>,
     /// Joint damping taken implicitly (`M + h·D`), one entry per velocity.
@@ -492,6 +539,9 @@ where
 
 /// No parent.
 const ROOT: usize = usize::MAX;
+
+/// The `sphere` of a pair that is a joint limit.
+const LIMIT: usize = usize::MAX;
 
 /// `M`'s factorization `M = Lᵀ·L` along the kinematic tree (Featherstone 2005, "Efficient
 /// factorization of the joint-space inertia matrix for branched kinematic trees", IJRR 24(6)):
@@ -739,6 +789,37 @@ where
     // The pairs within the margin, their rows and responses.
     let mut count = 0;
     let mut needed = 0;
+    // A pair's rows `J` set: its response, Delassus block, free velocity, normal target and
+    // warm start.
+    let finish = |pair: &mut Pair<N>, restitution: f64| {
+        for c in 0..3 {
+            let column = tree.solve_transposed(&l, pair.jacobian.row(c).transpose());
+            pair.response.set_column(c, &column);
+        }
+        pair.block = pair.response.tr_mul(&pair.response);
+        pair.free = &pair.jacobian * &v_plus;
+        pair.inverse = pair.block.try_inverse();
+        pair.step = h;
+        let approach = pair.jacobian.row(0).tr_dot(v);
+        let free = pair.free.x;
+        let distance = pair.distance;
+        let mut target = if distance >= 0.0 {
+            -distance / h
+        } else {
+            -settings.stabilization * distance / h
+        };
+        if restitution > 0.0 && approach < -settings.bounce_velocity && distance + h * free < 0.0 {
+            target = target.max(-restitution * approach);
+        }
+        pair.target = target;
+        pair.impulse = warm
+            .iter()
+            .find(|(ws, wg, _)| *ws == pair.sphere && *wg == pair.ground)
+            .map_or(Vector3::zeros(), |(_, _, impulse)| {
+                cone(impulse, pair.friction)
+            });
+        finite(pair.block.iter())
+    };
     for (s, sphere) in problem.spheres.iter().enumerate() {
         let (Some(placement), Some(j)) = (
             frames.placements.get(sphere.frame),
@@ -770,41 +851,48 @@ where
             let turned_w = placement.rotation * j.fixed_rows::<3>(0);
             let world = turned_v - delta.cross_matrix() * turned_w;
             pair.jacobian = b.transpose() * world;
-            for c in 0..3 {
-                let column = tree.solve_transposed(&l, pair.jacobian.row(c).transpose());
-                pair.response.set_column(c, &column);
-            }
-            pair.block = pair.response.tr_mul(&pair.response);
-            pair.free = &pair.jacobian * &v_plus;
-            pair.inverse = pair.block.try_inverse();
             pair.sphere = s;
             pair.ground = g;
             pair.basis = b;
             pair.point = centre - n * sphere.radius;
             pair.distance = distance;
             pair.friction = sphere.friction;
-            pair.step = h;
-            let approach = pair.jacobian.row(0).tr_dot(v);
-            let free = pair.jacobian.row(0).tr_dot(&v_plus);
-            let mut target = if distance >= 0.0 {
-                -distance / h
-            } else {
-                -settings.stabilization * distance / h
-            };
-            if sphere.restitution > 0.0
-                && approach < -settings.bounce_velocity
-                && distance + h * free < 0.0
-            {
-                target = target.max(-sphere.restitution * approach);
+            if !finish(pair, sphere.restitution) {
+                return Err(ContactError::NonFinite);
             }
-            pair.target = target;
-            pair.impulse = warm
-                .iter()
-                .find(|(ws, wg, _)| *ws == s && *wg == g)
-                .map_or(Vector3::zeros(), |(_, _, impulse)| {
-                    cone(impulse, sphere.friction)
-                });
-            if !finite(pair.block.iter()) {
+        }
+    }
+    // The joints near a limit: one frictionless row each, `±v_k ≥ ξ` on the gap to the limit.
+    for (k, limit) in problem.limits.iter().enumerate() {
+        let Some(&position) = problem.positions.get(limit.position) else {
+            return Err(ContactError::NonFinite);
+        };
+        for (side, gap, sign) in [
+            (0, position - limit.lower, 1.0),
+            (1, limit.upper - position, -1.0),
+        ] {
+            if gap.is_nan() {
+                return Err(ContactError::NonFinite);
+            }
+            if gap > settings.margin {
+                continue;
+            }
+            needed += 1;
+            let Some(pair) = pairs.get_mut(count) else {
+                continue;
+            };
+            count += 1;
+            pair.jacobian.fill(0.0);
+            if let Some(e) = pair.jacobian.get_mut((0, limit.velocity)) {
+                *e = sign;
+            }
+            pair.sphere = LIMIT;
+            pair.ground = 2 * k + side;
+            pair.basis = Matrix3::identity() * sign;
+            pair.point = Vector3::zeros();
+            pair.distance = gap;
+            pair.friction = 0.0;
+            if !finish(pair, 0.0) {
                 return Err(ContactError::NonFinite);
             }
         }
@@ -916,9 +1004,11 @@ fn cone(impulse: &Vector3<f64>, friction: f64) -> Vector3<f64> {
 /// The projection onto the cone `‖t‖ ≤ μ·n` of `(n, t)`.
 fn cone_projection(x: &Vector3<f64>, mu: f64) -> Vector3<f64> {
     let t = libm::hypot(x.y, x.z);
-    if t <= mu * x.x {
+    if mu * t <= -x.x {
+        Vector3::zeros()
+    } else if t <= mu * x.x {
         *x
-    } else if mu * t <= -x.x || t == 0.0 {
+    } else if t == 0.0 {
         Vector3::zeros()
     } else {
         let n = (x.x + mu * t) / (1.0 + mu * mu);
@@ -991,6 +1081,9 @@ pub struct TimeStepper<'a, C, F, const NQ: usize, const NV: usize, const NF: usi
     warm: [(usize, usize, Vector3<f64>); P],
     /// `M`'s tree ([`Tree`]), `None` where it is not in tree order.
     parents: Option<[usize; NV]>,
+    /// The joint limits held ([`TimeStepper::hold_joint_limits`]), the first `limit_count`.
+    limits: [Limit; NV],
+    limit_count: usize,
     damping: Option<SVector<f64, NV>>,
     chain: core::marker::PhantomData<fn() -> C>,
     positions: core::marker::PhantomData<[f64; NQ]>,
@@ -1024,6 +1117,13 @@ where
         let tree = tree_parents(&samples, &mut parents);
         Ok(TimeStepper {
             parents: tree.then_some(parents),
+            limits: [Limit {
+                position: 0,
+                velocity: 0,
+                lower: f64::NEG_INFINITY,
+                upper: f64::INFINITY,
+            }; NV],
+            limit_count: 0,
             damping: None,
             grounds,
             spheres,
@@ -1070,6 +1170,8 @@ where
             },
             &Problem {
                 coordinates: C::COORDINATES,
+                limits: self.limits.get(..self.limit_count).unwrap_or_default(),
+                positions: state.q.as_slice(),
                 parents: self.parents.as_ref().map(|p| p.as_slice()),
                 damping: self.damping.as_ref(),
                 grounds: self.grounds,
@@ -1090,7 +1192,34 @@ where
 
     /// The contacts of the last step and their forces.
     pub fn forces(&self) -> impl Iterator<Item = ContactForce> + '_ {
-        self.pairs.iter().take(self.count).map(Pair::force)
+        self.pairs
+            .iter()
+            .take(self.count)
+            .filter(|p| p.sphere != LIMIT)
+            .map(Pair::force)
+    }
+
+    /// The joint limits that held in the last step: each one's velocity coordinate and the
+    /// generalized force it exerted over the step (N·m or N; positive pushes the coordinate
+    /// up, off its lower limit).
+    pub fn limit_forces(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let limits = &self.limits;
+        self.pairs
+            .iter()
+            .take(self.count)
+            .filter(|p| p.sphere == LIMIT)
+            .filter_map(move |p| {
+                let limit = limits.get(p.ground / 2)?;
+                let sign = if p.ground % 2 == 0 { 1.0 } else { -1.0 };
+                Some((limit.velocity, sign * p.impulse.x / p.step))
+            })
+    }
+
+    /// Holds the joints' position limits (`Chain::DRIVES`: the `.chain` joints' `lower` and
+    /// `upper`, a URDF's `<limit>`) as unilateral constraints in the contact problem; off by
+    /// default, as the drives' stops are. The pairs near a limit count against `P`.
+    pub fn hold_joint_limits(&mut self) {
+        self.limit_count = joint_limits(C::COORDINATES, C::DRIVES, &mut self.limits);
     }
 
     /// Joint damping `τ = −d·v` taken implicitly, one coefficient per velocity (N·s/m or
@@ -1155,6 +1284,8 @@ pub mod dynamic {
         pub jacobians: &'a [Matrix6xX<f64>],
         /// Joint damping taken implicitly, one entry per velocity (N·s/m or N·m·s/rad).
         pub damping: Option<&'a DVector<f64>>,
+        /// Joint limits held as unilateral constraints ([`super::joint_limits`]).
+        pub limits: &'a [super::Limit],
     }
 
     impl TimeStepper {
@@ -1196,7 +1327,7 @@ pub mod dynamic {
                 .take(self.count)
                 .map(|p| (p.sphere, p.ground, p.impulse))
                 .collect();
-            let capacity = spheres.len() * grounds.len();
+            let capacity = spheres.len() * grounds.len() + 2 * at.limits.len();
             self.pairs.resize_with(capacity, || Pair::zeros(Dyn(nv)));
             let (v_plus, count, report) = step_velocity(
                 &Dynamics {
@@ -1211,6 +1342,8 @@ pub mod dynamic {
                 },
                 &Problem {
                     coordinates,
+                    limits: at.limits,
+                    positions: q.as_slice(),
                     parents: None,
                     damping: at.damping,
                     grounds,
@@ -1234,7 +1367,11 @@ pub mod dynamic {
 
         /// The contacts of the last step and their forces.
         pub fn forces(&self) -> impl Iterator<Item = ContactForce> + '_ {
-            self.pairs.iter().take(self.count).map(Pair::force)
+            self.pairs
+                .iter()
+                .take(self.count)
+                .filter(|p| p.sphere != super::LIMIT)
+                .map(Pair::force)
         }
     }
 }

@@ -472,6 +472,7 @@ fn the_humanoid_stands_on_its_soles_and_the_tree_factorization_is_the_dense_one(
             placements: &placements,
             jacobians: &jacobians,
             damping: Some(&d),
+            limits: &[],
         };
         let dense_report = dense
             .step(
@@ -564,4 +565,72 @@ fn a_scene_in_the_description_steps_as_one_in_code() {
         "{}",
         state.q[0]
     );
+}
+
+articulated::chain! {
+    /// A pendulum of 1 kg (nearly a point) on a massless rod of 1 m about y, its joint limited
+    /// to ±0.5 rad.
+    chain Stopped {
+        gravity: [0.0, 0.0, -9.81];
+        outputs: [mass_matrix_and_nonlinear_effects, frame_placements, frame_jacobians_local];
+        frames: [bob];
+        body bob { mass: 1.0, com: [0.0, 0.0, -1.0], inertia: diag(1e-6, 1e-6, 1e-6) }
+        joint pivot: revolute(y) { parent: world, child: bob, lower: -0.5, upper: 0.5 }
+    }
+}
+
+/// Joint limits held as unilateral rows of the contact problem: a pendulum thrown at its upper
+/// limit stops there without passing it (a plastic impact: it keeps `m·g·l·(1 − cos 0.5)`
+/// of energy, all potential), swings back and never passes either limit; pushed into the limit
+/// by a constant couple it rests there, the limit carrying the couple less gravity's,
+/// `τ − m·g·l·sin 0.5`.
+#[test]
+fn joint_limits_are_hard_stops_in_the_contact_problem() {
+    type Law = fn(f64, &SVector<f64, 1>, &SVector<f64, 1>) -> SVector<f64, 1>;
+    let free: Law = |_, _, _| SVector::zeros();
+    let mut stepper: TimeStepper<'_, Stopped, Law, 1, 1, 1, 2> =
+        TimeStepper::new(&[], &[], Settings::default(), free).unwrap();
+    stepper.hold_joint_limits();
+    let energy =
+        |s: &State<f64, articulated::nalgebra::Const<1>, articulated::nalgebra::Const<1>>| {
+            0.5 * s.v[0] * s.v[0] + G * (1.0 - s.q[0].cos())
+        };
+    let mut state = State::new(0.0, SVector::from([0.3]), SVector::from([3.0]));
+    let (mut hit, mut after) = (false, f64::NAN);
+    for _ in 0..2000 {
+        stepper.step(&mut state, H).unwrap();
+        assert!(
+            state.q[0].abs() <= 0.5 + 1e-9,
+            "passed a limit: {}",
+            state.q[0]
+        );
+        // Stopped at the limit: the impact, spread over the step that closes the gap and the
+        // next, has taken all the kinetic energy.
+        if !hit && stepper.limit_forces().any(|(_, f)| f != 0.0) && state.v[0] <= 0.0 {
+            hit = true;
+            after = energy(&state);
+        }
+    }
+    let at_the_stop = G * (1.0 - 0.5f64.cos());
+    assert!(
+        hit && (after - at_the_stop).abs() <= 1e-2 * at_the_stop,
+        "{after} against {at_the_stop}"
+    );
+
+    let push: Law = |_, _, _| SVector::from([8.0]);
+    let mut stepper: TimeStepper<'_, Stopped, Law, 1, 1, 1, 2> =
+        TimeStepper::new(&[], &[], Settings::default(), push).unwrap();
+    stepper.hold_joint_limits();
+    let mut state = State::new(0.0, SVector::from([0.5]), SVector::zeros());
+    for _ in 0..100 {
+        stepper.step(&mut state, H).unwrap();
+    }
+    let forces: Vec<(usize, f64)> = stepper.limit_forces().collect();
+    let expected = -(8.0 - G * 0.5f64.sin());
+    assert_eq!(forces.len(), 1);
+    assert!(
+        (forces[0].1 - expected).abs() <= 1e-9,
+        "{forces:?} against {expected}"
+    );
+    assert!((state.q[0] - 0.5).abs() <= 1e-12 && state.v[0].abs() <= 1e-12);
 }
