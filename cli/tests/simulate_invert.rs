@@ -771,97 +771,39 @@ fn simulate_with_a_ground_slides_and_stops_as_friction_says() {
     };
     for (extra, expected) in [
         (
-            vec![
-                "--ground",
-                "0,0,0,0",
-                "--contact-points",
-                "block",
-                "--friction",
-                "1",
-            ],
+            "--ground 0,0,0,0 --contact-points block --friction 1",
             "--ground",
         ),
         (
-            vec![
-                "--ground",
-                "0,0,1",
-                "--contact-points",
-                "block",
-                "--friction",
-                "1",
-            ],
+            "--ground 0,0,1 --contact-points block --friction 1",
             "--ground",
         ),
         (
-            vec![
-                "--ground",
-                "0,0,1,0",
-                "--contact-points",
-                "heel",
-                "--friction",
-                "1",
-            ],
+            "--ground 0,0,1,0 --contact-points heel --friction 1",
             "`heel`",
         ),
         (
-            vec![
-                "--ground",
-                "0,0,1,0",
-                "--contact-points",
-                "block@1:2",
-                "--friction",
-                "1",
-            ],
+            "--ground 0,0,1,0 --contact-points block@1:2 --friction 1",
             "FRAME@X:Y:Z",
         ),
+        ("--ground 0,0,1,0 --contact-points block", "--friction"),
+        ("--ground 0,0,1,0 --friction 1", "--contact-points"),
+        ("--contact-points block", "--ground"),
         (
-            vec!["--ground", "0,0,1,0", "--contact-points", "block"],
+            "--ground 0,0,1,0 --contact-points block --friction -1",
             "--friction",
         ),
         (
-            vec!["--ground", "0,0,1,0", "--friction", "1"],
-            "--contact-points",
-        ),
-        (vec!["--contact-points", "block"], "--ground"),
-        (
-            vec![
-                "--ground",
-                "0,0,1,0",
-                "--contact-points",
-                "block",
-                "--friction",
-                "-1",
-            ],
-            "--friction",
-        ),
-        (
-            vec![
-                "--ground",
-                "0,0,1,0",
-                "--contact-points",
-                "block",
-                "--friction",
-                "1",
-                "--restitution",
-                "2",
-            ],
+            "--ground 0,0,1,0 --contact-points block --friction 1 --restitution 2",
             "--restitution",
         ),
         (
-            vec![
-                "--ground",
-                "0,0,1,0",
-                "--contact-points",
-                "block",
-                "--friction",
-                "1",
-                "--integrator",
-                "rk4",
-            ],
+            "--ground 0,0,1,0 --contact-points block --friction 1 --integrator rk4",
             "--integrator",
         ),
-        (vec!["--gravity", "0,0"], "gravity"),
+        ("--gravity 0,0", "gravity"),
     ] {
+        let extra: Vec<&str> = extra.split_whitespace().collect();
         let args = with(&extra);
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
         let e = fails("simulate", &args, &out);

@@ -23,20 +23,7 @@ use articulated::integrate::State;
 use articulated::nalgebra::SVector;
 use articulated::plot::{svg, Panel};
 use articulated::prelude::*;
-use articulated_examples::hemami::foot_law;
-
-/// The two-link system on its foot.
-#[derive(Chain)]
-#[chain(file = "../models/two_link_foot.chain")]
-struct Standing;
-
-/// The two-link system with its ankle fixed: the LQR design's model.
-#[derive(Chain)]
-#[chain(
-    file = "../models/two_link.chain",
-    outputs = [gravity, forward_dynamics_derivatives]
-)]
-struct TwoLink;
+use articulated_examples::hemami::{foot_law, Standing};
 
 /// The walker with the frames that carry its contact spheres.
 #[derive(Chain)]
@@ -105,7 +92,7 @@ fn two_link(panels: &mut Vec<Panel>) -> Result<(), String> {
         friction: 0.8,
         restitution: 0.0,
     });
-    let law = foot_law::<TwoLink>()?;
+    let law = foot_law()?;
     let mut stepper: TimeStepper<'_, Standing, _, 13, 12, 1, 4> =
         TimeStepper::new(&grounds, &spheres, Settings::default(), law)
             .map_err(|e| e.to_string())?;

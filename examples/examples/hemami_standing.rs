@@ -31,20 +31,7 @@ use articulated::plot::{svg, Panel};
 use articulated::prelude::*;
 use articulated::FramePlacement;
 use articulated_dynamics::random::Rng;
-use articulated_examples::hemami::foot_law;
-
-/// The two-link system on its foot, with what the contact needs.
-#[derive(Chain)]
-#[chain(file = "../models/two_link_foot.chain")]
-struct Standing;
-
-/// The two-link system with its ankle fixed: the LQR design's model.
-#[derive(Chain)]
-#[chain(
-    file = "../models/two_link.chain",
-    outputs = [gravity, forward_dynamics_derivatives]
-)]
-struct TwoLink;
+use articulated_examples::hemami::{foot_law, Standing};
 
 type Q = SVector<f64, 13>;
 type V = SVector<f64, 12>;
@@ -70,7 +57,7 @@ fn gaussian(rng: &mut Rng) -> f64 {
 
 fn main() -> Result<(), String> {
     let out = articulated_examples::output::Output::from_args()?;
-    let law = foot_law::<TwoLink>()?;
+    let law = foot_law()?;
     let contacts = [Contact::six_d(0)];
 
     // 1. The balancing run, the foot at rest on the ground.

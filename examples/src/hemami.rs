@@ -29,6 +29,21 @@ where
     Ok((lin, design))
 }
 
+/// The two-link system on a free foot (`models/two_link_foot.chain`), with the outputs its
+/// contacts need: `hemami_standing` holds its sole by a six-dimensional contact,
+/// `ground_contact` by four contact points.
+#[derive(articulated::Chain)]
+#[chain(file = "../models/two_link_foot.chain")]
+pub struct Standing;
+
+/// The two-link system with its ankle fixed: the model [`foot_law`] is designed on.
+#[derive(articulated::Chain)]
+#[chain(
+    file = "../models/two_link.chain",
+    outputs = [gravity, forward_dynamics_derivatives]
+)]
+pub struct FixedAnkle;
+
 /// What a person's joints can give (N·m), as in `hemami_two_link`.
 pub const COUPLE_LIMIT: f64 = 250.0;
 
@@ -36,16 +51,14 @@ pub const COUPLE_LIMIT: f64 = 250.0;
 type FootQ = SVector<f64, 13>;
 type FootV = SVector<f64, 12>;
 
-/// The upright LQR law of [`upright_lqr`] (designed on the fixed-ankle model `C`) on the
-/// two-link system standing on its foot: `τ = g(0) − K_q·q − K_v·v` on the ankle and hip,
+/// The upright LQR law of [`upright_lqr`] (designed on [`FixedAnkle`]) on the two-link system
+/// standing on its foot ([`Standing`]): `τ = g(0) − K_q·q − K_v·v` on the ankle and hip,
 /// saturated at [`COUPLE_LIMIT`]; nothing on the free foot.
 ///
 /// # Errors
 /// A message naming the step of the design that failed.
-pub fn foot_law<C>() -> Result<impl FnMut(f64, &FootQ, &FootV) -> FootV + Clone, String>
-where
-    C: ForwardDynamicsDerivatives<f64, 6, 6> + Gravity<f64, 6, 6>,
-{
+pub fn foot_law() -> Result<impl FnMut(f64, &FootQ, &FootV) -> FootV + Clone, String> {
+    type C = FixedAnkle;
     let (_, design) = upright_lqr::<C, 6>()?;
     let (kq, kv) = articulated::control::state_feedback::split_gain::<6>(&design.k)
         .ok_or("the gain is not 6 × 12")?;
