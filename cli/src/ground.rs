@@ -32,8 +32,8 @@ pub struct Scene {
 
 impl Scene {
     /// The scene the arguments describe, else the one the description declares (`grounds`,
-    /// `spheres`, `friction`, `restitution`; `--friction` and `--restitution` replace its
-    /// coefficients), `None` with neither; the frames are checked against the model.
+    /// `spheres`, `friction`, `restitution`; `--friction` and a non-zero `--restitution`
+    /// replace its coefficients), `None` with neither; the frames are checked against the model.
     pub fn of(
         args: &SimulateArgs,
         model: &Model,
@@ -41,40 +41,7 @@ impl Scene {
     ) -> Result<Option<Scene>, String> {
         let points = args.contact_points.as_deref();
         if args.ground.is_empty() && points.is_none() && !declared.spheres.is_empty() {
-            let mut scene = Scene {
-                grounds: declared
-                    .grounds
-                    .iter()
-                    .map(|g| Ground::new(g.normal, g.offset).map_err(|e| format!("error: {e}")))
-                    .collect::<Result<_, _>>()?,
-                spheres: Vec::new(),
-                points: Vec::new(),
-                frames: Vec::new(),
-            };
-            let friction = args.friction.or(declared.friction).unwrap_or(0.0);
-            let restitution = if args.restitution > 0.0 {
-                args.restitution
-            } else {
-                declared.restitution
-            };
-            for s in &declared.spheres {
-                let index = match scene.frames.iter().position(|f| *f == s.frame) {
-                    Some(i) => i,
-                    None => {
-                        scene.frames.push(s.frame.clone());
-                        scene.frames.len() - 1
-                    }
-                };
-                scene.spheres.push(Sphere {
-                    frame: index,
-                    offset: s.offset,
-                    radius: s.radius,
-                    friction,
-                    restitution,
-                });
-                scene.points.push(s.name.clone());
-            }
-            return Ok(Some(scene));
+            return Self::declared(args, declared).map(Some);
         }
         if args.ground.is_empty() {
             if points.is_some() || args.friction.is_some() || args.contact_forces {
@@ -86,6 +53,68 @@ impl Scene {
             }
             return Ok(None);
         }
+        Self::from_arguments(args, model).map(Some)
+    }
+
+    /// No sphere yet on `grounds`.
+    fn new(grounds: Vec<Ground>) -> Scene {
+        Scene {
+            grounds,
+            spheres: Vec::new(),
+            points: Vec::new(),
+            frames: Vec::new(),
+        }
+    }
+
+    /// Adds the sphere `sphere` (its `frame` ignored) on the frame `frame`, named `name`.
+    fn push(&mut self, name: &str, frame: &str, sphere: Sphere) {
+        let index = match self.frames.iter().position(|f| f == frame) {
+            Some(i) => i,
+            None => {
+                self.frames.push(frame.to_string());
+                self.frames.len() - 1
+            }
+        };
+        self.spheres.push(Sphere {
+            frame: index,
+            ..sphere
+        });
+        self.points.push(name.to_string());
+    }
+
+    /// The scene the description declares, with the coefficients the arguments replace.
+    fn declared(
+        args: &SimulateArgs,
+        declared: &articulated_codegen::options::Options,
+    ) -> Result<Scene, String> {
+        let grounds = declared
+            .grounds
+            .iter()
+            .map(|g| Ground::new(g.normal, g.offset).map_err(|e| format!("error: {e}")))
+            .collect::<Result<_, _>>()?;
+        let mut scene = Scene::new(grounds);
+        let friction = args.friction.or(declared.friction).unwrap_or(0.0);
+        let restitution = if args.restitution > 0.0 {
+            args.restitution
+        } else {
+            declared.restitution
+        };
+        for s in &declared.spheres {
+            let sphere = Sphere {
+                frame: 0,
+                offset: s.offset,
+                radius: s.radius,
+                friction,
+                restitution,
+            };
+            scene.push(&s.name, &s.frame, sphere);
+        }
+        Ok(scene)
+    }
+
+    /// The scene of `--ground`, `--contact-points`, `--radius`, `--friction` and
+    /// `--restitution`, each checked.
+    fn from_arguments(args: &SimulateArgs, model: &Model) -> Result<Scene, String> {
         let grounds = args
             .ground
             .iter()
@@ -98,7 +127,7 @@ impl Scene {
                 }
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let Some(points) = points else {
+        let Some(points) = args.contact_points.as_deref() else {
             return Err(
                 "error: --ground needs --contact-points (FRAME or FRAME@X:Y:Z, \
                         comma-separated)"
@@ -126,52 +155,46 @@ impl Scene {
             ));
         }
         let known: Vec<&str> = model.frame_names().collect();
-        let mut scene = Scene {
-            grounds,
-            spheres: Vec::new(),
-            points: Vec::new(),
-            frames: Vec::new(),
-        };
+        let mut scene = Scene::new(grounds);
         for item in points.split(',').map(str::trim) {
-            let (frame, offset) = match item.split_once('@') {
-                None => (item, [0.0; 3]),
-                Some((frame, at)) => {
-                    let v =
-                        parse_vector(&at.replace(':', ","), "contact-points", 3).map_err(|_| {
-                            format!(
-                                "error: --contact-points: `{item}`: expected FRAME@X:Y:Z with \
-                                 three finite numbers"
-                            )
-                        })?;
-                    let at = |i: usize| v.get(i).copied().unwrap_or(0.0);
-                    (frame.trim(), [at(0), at(1), at(2)])
-                }
-            };
-            if !known.contains(&frame) {
-                return Err(format!(
-                    "error: --contact-points: `{frame}` is not a frame of the model (its \
-                     bodies and frames: {})",
-                    known.join(", ")
-                ));
-            }
-            let index = match scene.frames.iter().position(|f| f == frame) {
-                Some(i) => i,
-                None => {
-                    scene.frames.push(frame.to_string());
-                    scene.frames.len() - 1
-                }
-            };
-            scene.spheres.push(Sphere {
-                frame: index,
+            let (frame, offset) = contact_point(item, &known)?;
+            let sphere = Sphere {
+                frame: 0,
                 offset,
                 radius: args.radius,
                 friction,
                 restitution: args.restitution,
-            });
-            scene.points.push(item.to_string());
+            };
+            scene.push(item, frame, sphere);
         }
-        Ok(Some(scene))
+        Ok(scene)
     }
+}
+
+/// `FRAME` or `FRAME@X:Y:Z` of `--contact-points`: the frame, one of `known`, and the point in
+/// its axes.
+fn contact_point<'a>(item: &'a str, known: &[&str]) -> Result<(&'a str, [f64; 3]), String> {
+    let (frame, offset) = match item.split_once('@') {
+        None => (item, [0.0; 3]),
+        Some((frame, at)) => {
+            let v = parse_vector(&at.replace(':', ","), "contact-points", 3).map_err(|_| {
+                format!(
+                    "error: --contact-points: `{item}`: expected FRAME@X:Y:Z with three finite \
+                     numbers"
+                )
+            })?;
+            let at = |i: usize| v.get(i).copied().unwrap_or(0.0);
+            (frame.trim(), [at(0), at(1), at(2)])
+        }
+    };
+    if !known.contains(&frame) {
+        return Err(format!(
+            "error: --contact-points: `{frame}` is not a frame of the model (its bodies and \
+             frames: {})",
+            known.join(", ")
+        ));
+    }
+    Ok((frame, offset))
 }
 
 /// Each contact point's force at each row of the trajectory, world axes (N), summed over the

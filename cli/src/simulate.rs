@@ -130,30 +130,7 @@ pub fn run(args: &SimulateArgs) -> Result<String, String> {
             )
         }
         (None, Some(scene)) => {
-            let drives = args.drives.then(|| ModelDrives::of(&model));
-            let run = crate::ground::simulate(
-                &reference,
-                drives.as_ref(),
-                scene,
-                q0,
-                v0,
-                &simulation,
-                steps,
-                progress_bar(steps),
-            );
-            return finish(
-                Run {
-                    args,
-                    model: &model,
-                    reference: &reference,
-                    drives: drives.as_ref(),
-                    integrator: crate::ground::INTEGRATOR.into(),
-                    forces: Some(&run.forces),
-                },
-                &run.trajectory,
-                run.fault,
-                &run.note,
-            );
+            return with_contacts(args, &model, &reference, scene, q0, v0, &simulation, steps)
         }
     };
     if args.drives {
@@ -209,6 +186,45 @@ pub fn run(args: &SimulateArgs) -> Result<String, String> {
         &trajectory,
         fault,
         &format!("by {method}"),
+    )
+}
+
+/// `run` with `--ground` (or a scene the description declares): the chain stepped with contacts
+/// (`crate::ground`), `τ` from the drives if asked.
+#[allow(clippy::too_many_arguments)]
+fn with_contacts(
+    args: &SimulateArgs,
+    model: &Model,
+    reference: &Reference,
+    scene: &crate::ground::Scene,
+    q0: Vec<f64>,
+    v0: Vec<f64>,
+    simulation: &Simulation<f64>,
+    steps: usize,
+) -> Result<String, String> {
+    let drives = args.drives.then(|| ModelDrives::of(model));
+    let run = crate::ground::simulate(
+        reference,
+        drives.as_ref(),
+        scene,
+        q0,
+        v0,
+        simulation,
+        steps,
+        progress_bar(steps),
+    );
+    finish(
+        Run {
+            args,
+            model,
+            reference,
+            drives: drives.as_ref(),
+            integrator: crate::ground::INTEGRATOR.into(),
+            forces: Some(&run.forces),
+        },
+        &run.trajectory,
+        run.fault,
+        &run.note,
     )
 }
 

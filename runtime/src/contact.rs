@@ -758,8 +758,63 @@ where
         + Allocator<U6, N>
         + Allocator<U3>,
 {
+    let tree = Tree {
+        parents: problem.parents,
+    };
+    let (l, mut v_plus) = free_velocity(&tree, dynamics, problem)?;
+    let inputs = PairInputs {
+        tree: &tree,
+        l: &l,
+        v: dynamics.v,
+        v_plus: &v_plus,
+        h: problem.h,
+        settings: problem.settings,
+        warm,
+    };
+    let mut slots = Slots {
+        pairs,
+        count: 0,
+        needed: 0,
+    };
+    sphere_pairs(frames, problem, &inputs, &mut slots)?;
+    limit_pairs(problem, &inputs, &mut slots)?;
+    let Slots {
+        pairs,
+        count,
+        needed,
+    } = slots;
+    if needed > pairs.len() {
+        return Err(ContactError::Capacity {
+            needed,
+            capacity: pairs.len(),
+        });
+    }
+    let active = pairs.get_mut(..count).unwrap_or_default();
+    let (report, z) = solve_impulses(active, dynamics.v.map(|_| 0.0), problem.settings)?;
+    if count > 0 {
+        v_plus += tree.solve_lower(&l, z);
+    }
+    if !finite(v_plus.iter()) {
+        return Err(ContactError::NonFinite);
+    }
+    Ok((v_plus, count, report))
+}
+
+/// `(L, v_f)`: [`free_velocity`]'s factor and free velocity.
+type Free<N> = (OMatrix<f64, N, N>, OVector<f64, N>);
+
+/// `M + h·D` factored along the tree, and the free velocity `v_f = v + h·M⁻¹·(τ − nle)` with
+/// each free base's turning axes taken exactly (module docs).
+fn free_velocity<N: Dim>(
+    tree: &Tree<'_>,
+    dynamics: &Dynamics<'_, N>,
+    problem: &Problem<'_, N>,
+) -> Result<Free<N>, ContactError>
+where
+    DefaultAllocator: Allocator<N, N> + Allocator<N>,
+{
     let Dynamics { m, nle, tau, v } = *dynamics;
-    let (h, settings) = (problem.h, problem.settings);
+    let h = problem.h;
     if !(h.is_finite() && h > 0.0 && finite(v.iter().chain(nle.iter()).chain(tau.iter()))) {
         return Err(ContactError::NonFinite);
     }
@@ -774,9 +829,6 @@ where
             }
         }
     }
-    let tree = Tree {
-        parents: problem.parents,
-    };
     let l = tree.factor(&m)?;
     let mut v_plus = v + tree.solve(&l, tau - nle) * h;
     for at in free_bases(problem.coordinates) {
@@ -785,41 +837,110 @@ where
             set3(&mut v_plus, at, free);
         }
     }
+    Ok((l, v_plus))
+}
 
-    // The pairs within the margin, their rows and responses.
-    let mut count = 0;
-    let mut needed = 0;
-    // A pair's rows `J` set: its response, Delassus block, free velocity, normal target and
-    // warm start.
-    let finish = |pair: &mut Pair<N>, restitution: f64| {
+/// The pairs of a step as they are found: `count` filled, `needed` within the margin (more than
+/// the capacity is an error once all are counted).
+struct Slots<'p, N: Dim>
+where
+    DefaultAllocator: Allocator<U3, N> + Allocator<N, U3>,
+{
+    pairs: &'p mut [Pair<N>],
+    count: usize,
+    needed: usize,
+}
+
+impl<N: Dim> Slots<'_, N>
+where
+    DefaultAllocator: Allocator<U3, N> + Allocator<N, U3>,
+{
+    /// The next pair to fill, `None` past the capacity (still counted as needed).
+    fn next(&mut self) -> Option<&mut Pair<N>> {
+        self.needed += 1;
+        let pair = self.pairs.get_mut(self.count)?;
+        self.count += 1;
+        Some(pair)
+    }
+}
+
+/// What completes a pair once its rows `J` are set.
+struct PairInputs<'a, N: Dim>
+where
+    DefaultAllocator: Allocator<N, N> + Allocator<N>,
+{
+    tree: &'a Tree<'a>,
+    l: &'a OMatrix<f64, N, N>,
+    v: &'a OVector<f64, N>,
+    v_plus: &'a OVector<f64, N>,
+    h: f64,
+    settings: &'a Settings,
+    warm: &'a [(usize, usize, Vector3<f64>)],
+}
+
+impl<N: Dim> PairInputs<'_, N>
+where
+    DefaultAllocator:
+        Allocator<N, N> + Allocator<N> + Allocator<U3, N> + Allocator<N, U3> + Allocator<U3>,
+{
+    /// A pair's response `W`, Delassus block, free velocity, normal target (module docs) and
+    /// warm start, from its rows, distance and friction.
+    fn finish(&self, pair: &mut Pair<N>, restitution: f64) -> Result<(), ContactError> {
+        let (h, settings) = (self.h, self.settings);
         for c in 0..3 {
-            let column = tree.solve_transposed(&l, pair.jacobian.row(c).transpose());
+            let column = self
+                .tree
+                .solve_transposed(self.l, pair.jacobian.row(c).transpose());
             pair.response.set_column(c, &column);
         }
         pair.block = pair.response.tr_mul(&pair.response);
-        pair.free = &pair.jacobian * &v_plus;
+        pair.free = &pair.jacobian * self.v_plus;
         pair.inverse = pair.block.try_inverse();
         pair.step = h;
-        let approach = pair.jacobian.row(0).tr_dot(v);
-        let free = pair.free.x;
+        let approach = pair.jacobian.row(0).tr_dot(self.v);
         let distance = pair.distance;
         let mut target = if distance >= 0.0 {
             -distance / h
         } else {
             -settings.stabilization * distance / h
         };
-        if restitution > 0.0 && approach < -settings.bounce_velocity && distance + h * free < 0.0 {
+        if restitution > 0.0
+            && approach < -settings.bounce_velocity
+            && distance + h * pair.free.x < 0.0
+        {
             target = target.max(-restitution * approach);
         }
         pair.target = target;
-        pair.impulse = warm
+        pair.impulse = self
+            .warm
             .iter()
             .find(|(ws, wg, _)| *ws == pair.sphere && *wg == pair.ground)
             .map_or(Vector3::zeros(), |(_, _, impulse)| {
                 cone(impulse, pair.friction)
             });
-        finite(pair.block.iter())
-    };
+        if finite(pair.block.iter()) {
+            Ok(())
+        } else {
+            Err(ContactError::NonFinite)
+        }
+    }
+}
+
+/// The sphere–ground pairs within the margin.
+fn sphere_pairs<N: Dim>(
+    frames: &FrameRows<'_, N>,
+    problem: &Problem<'_, N>,
+    inputs: &PairInputs<'_, N>,
+    slots: &mut Slots<'_, N>,
+) -> Result<(), ContactError>
+where
+    DefaultAllocator: Allocator<N, N>
+        + Allocator<N>
+        + Allocator<U3, N>
+        + Allocator<N, U3>
+        + Allocator<U6, N>
+        + Allocator<U3>,
+{
     for (s, sphere) in problem.spheres.iter().enumerate() {
         let (Some(placement), Some(j)) = (
             frames.placements.get(sphere.frame),
@@ -835,14 +956,12 @@ where
             if !distance.is_finite() {
                 return Err(ContactError::NonFinite);
             }
-            if distance > settings.margin {
+            if distance > problem.settings.margin {
                 continue;
             }
-            needed += 1;
-            let Some(pair) = pairs.get_mut(count) else {
+            let Some(pair) = slots.next() else {
                 continue;
             };
-            count += 1;
             // The point's world velocity: `R·v_o + (R·ω) × δ`, `δ` from the frame's origin to
             // the point, so `J_c = R·J_v − [δ]×·R·J_ω`.
             let delta = arm - n * sphere.radius;
@@ -857,12 +976,22 @@ where
             pair.point = centre - n * sphere.radius;
             pair.distance = distance;
             pair.friction = sphere.friction;
-            if !finish(pair, sphere.restitution) {
-                return Err(ContactError::NonFinite);
-            }
+            inputs.finish(pair, sphere.restitution)?;
         }
     }
-    // The joints near a limit: one frictionless row each, `±v_k ≥ ξ` on the gap to the limit.
+    Ok(())
+}
+
+/// The joints near a limit: one frictionless row each, `±v_k ≥ ξ` on the gap to the limit.
+fn limit_pairs<N: Dim>(
+    problem: &Problem<'_, N>,
+    inputs: &PairInputs<'_, N>,
+    slots: &mut Slots<'_, N>,
+) -> Result<(), ContactError>
+where
+    DefaultAllocator:
+        Allocator<N, N> + Allocator<N> + Allocator<U3, N> + Allocator<N, U3> + Allocator<U3>,
+{
     for (k, limit) in problem.limits.iter().enumerate() {
         let Some(&position) = problem.positions.get(limit.position) else {
             return Err(ContactError::NonFinite);
@@ -874,14 +1003,12 @@ where
             if gap.is_nan() {
                 return Err(ContactError::NonFinite);
             }
-            if gap > settings.margin {
+            if gap > problem.settings.margin {
                 continue;
             }
-            needed += 1;
-            let Some(pair) = pairs.get_mut(count) else {
+            let Some(pair) = slots.next() else {
                 continue;
             };
-            count += 1;
             pair.jacobian.fill(0.0);
             if let Some(e) = pair.jacobian.get_mut((0, limit.velocity)) {
                 *e = sign;
@@ -892,50 +1019,41 @@ where
             pair.point = Vector3::zeros();
             pair.distance = gap;
             pair.friction = 0.0;
-            if !finish(pair, 0.0) {
-                return Err(ContactError::NonFinite);
-            }
+            inputs.finish(pair, 0.0)?;
         }
     }
-    if needed > pairs.len() {
-        return Err(ContactError::Capacity {
-            needed,
-            capacity: pairs.len(),
-        });
-    }
-    let active = pairs.get_mut(..count).unwrap_or_default();
-    // `z = Σ Wᵢ·λᵢ`, so that `v⁺ = v_f + L⁻¹·z` and `uᵢ = J·v_f + Wᵢᵀ·z`.
-    let mut z = v.map(|_| 0.0);
+    Ok(())
+}
+
+/// Gauss–Seidel sweeps over the `active` pairs until the tolerance or the most sweeps: the
+/// report and `z = Σ Wᵢ·λᵢ` (so that `v⁺ = v_f + L⁻¹·z`), `z` starting from `zero`.
+fn solve_impulses<N: Dim>(
+    active: &mut [Pair<N>],
+    zero: OVector<f64, N>,
+    settings: &Settings,
+) -> Result<(StepReport, OVector<f64, N>), ContactError>
+where
+    DefaultAllocator: Allocator<N> + Allocator<U3, N> + Allocator<N, U3> + Allocator<U3>,
+{
+    let mut z = zero;
     for pair in active.iter() {
         z += &pair.response * pair.impulse;
     }
     let mut report = StepReport {
-        contacts: count,
+        contacts: active.len(),
         iterations: 0,
         residual: 0.0,
-        converged: true,
+        converged: active.is_empty(),
     };
-    if count > 0 {
-        report.converged = false;
-        while report.iterations < settings.max_iterations {
-            report.iterations += 1;
-            report.residual = sweep(active, &mut z);
-            if !report.residual.is_finite() {
-                return Err(ContactError::NonFinite);
-            }
-            if report.residual <= settings.tolerance {
-                report.converged = true;
-                break;
-            }
+    while !report.converged && report.iterations < settings.max_iterations {
+        report.iterations += 1;
+        report.residual = sweep(active, &mut z);
+        if !report.residual.is_finite() {
+            return Err(ContactError::NonFinite);
         }
+        report.converged = report.residual <= settings.tolerance;
     }
-    if count > 0 {
-        v_plus += tree.solve_lower(&l, z);
-    }
-    if !finite(v_plus.iter()) {
-        return Err(ContactError::NonFinite);
-    }
-    Ok((v_plus, count, report))
+    Ok((report, z))
 }
 
 /// The velocity offsets of the free bases with a quaternion among `coordinates`.
