@@ -56,12 +56,18 @@ pub mod emit;
 pub mod expand;
 #[allow(clippy::indexing_slicing)] // Outputs by velocity coordinates of the checked model.
 pub mod generate;
+#[allow(clippy::indexing_slicing)]
+pub mod import;
 pub mod load;
+// Bodies and joints by the positions of the importer's own vectors, 3×3 inertias by counters
+// below 3.
 #[doc(hidden)]
 // Declarations by the positions the lowering gave them (a name's index from a map built over
 // the same vector), 3×3 inertias by counters below 3.
 #[allow(clippy::indexing_slicing)]
 pub mod lower;
+#[allow(clippy::indexing_slicing)]
+pub mod mjcf;
 #[doc(hidden)]
 #[allow(clippy::indexing_slicing)] // Terms and nodes by the graph's own numbering.
 pub mod optimize;

@@ -2,7 +2,8 @@
 //! [`Builder`](crate::Builder), the CLI). The file's extension picks the front end:
 //! - `.chain`: [`chain_file`] tokenizes the text with line and column spans, then the grammar
 //!   ([`crate::parse`]) and the checks ([`crate::lower`]) run on it;
-//! - `.urdf`: [`crate::urdf`] imports it.
+//! - `.urdf`: [`crate::urdf`] imports it;
+//! - `.xml`: the root element picks: `<mujoco>` is MJCF ([`crate::mjcf`]), `<robot>` URDF.
 
 pub mod chain_file;
 
@@ -54,9 +55,12 @@ pub enum LoadError {
     Chain(FileError),
     /// A URDF file that does not import.
     Urdf(UrdfError),
-    /// An extension that is neither `.chain` nor `.urdf`.
+    /// An MJCF file that does not import.
+    Mjcf(crate::mjcf::MjcfError),
+    /// An extension that is not `.chain`, `.urdf` or `.xml`.
     UnknownExtension(PathBuf),
-    /// `floating` asked for a `.chain` file, where the free base is written in the file itself.
+    /// `floating` asked for a `.chain` or MJCF file, where the free base is written in the file
+    /// itself.
     FloatingChain(PathBuf),
     /// A strict load ([`LoadOptions::strict`]) of a file that loads with warnings.
     Strict {
@@ -74,10 +78,10 @@ impl std::fmt::Display for LoadError {
                 write!(f, "{}: error: cannot read: {error}", path.display())
             }
             LoadError::Chain(e) => write!(f, "{e}"),
-            LoadError::Urdf(e) => write!(f, "{e}"),
+            LoadError::Urdf(e) | LoadError::Mjcf(e) => write!(f, "{e}"),
             LoadError::UnknownExtension(p) => write!(
                 f,
-                "{}: error: unknown model format: expected a `.chain` or `.urdf` file",
+                "{}: error: unknown model format: expected a `.chain`, `.urdf` or `.xml` (URDF or MJCF) file",
                 p.display()
             ),
             LoadError::Strict { path, warnings } => {
@@ -90,7 +94,8 @@ impl std::fmt::Display for LoadError {
             LoadError::FloatingChain(p) => write!(
                 f,
                 "{}: error: a free base is added only under a URDF root; in a `.chain` file write \
-                 it as a joint, e.g. `joint base: free {{ parent: world, child: … }}`",
+                 it as a joint, e.g. `joint base: free {{ parent: world, child: … }}`, and in \
+                 MJCF as `<freejoint/>` in the body",
                 p.display()
             ),
         }
@@ -99,7 +104,8 @@ impl std::fmt::Display for LoadError {
 
 impl std::error::Error for LoadError {}
 
-/// Loads a `.chain` or `.urdf` file into a [`Description`]. With `floating` a URDF root gets a
+/// Loads a `.chain`, `.urdf` or `.xml` (URDF or MJCF, by its root element) file into a
+/// [`Description`]. With `floating` a URDF root gets a
 /// free base: `true` or [`FloatingBase::Euler`] the default (Euler `zyx`, Wieber's form: q and v
 /// gain 6 leading entries), [`FloatingBase::Quaternion`] a quaternion (q gains 7, v 6).
 ///
@@ -120,7 +126,7 @@ pub fn load_with(path: &Path, options: LoadOptions) -> Result<Description, LoadE
         Some("chain") if floating.is_floating() => {
             return Err(LoadError::FloatingChain(path.to_path_buf()))
         }
-        Some("chain" | "urdf") => {}
+        Some("chain" | "urdf" | "xml") => {}
         _ => return Err(LoadError::UnknownExtension(path.to_path_buf())),
     }
     let text = std::fs::read_to_string(path).map_err(|error| LoadError::Read {
@@ -129,6 +135,11 @@ pub fn load_with(path: &Path, options: LoadOptions) -> Result<Description, LoadE
     })?;
     let chain = if ext == Some("chain") {
         parse_chain_str(&text, path).map_err(LoadError::Chain)?
+    } else if ext == Some("xml") && crate::mjcf::is_mjcf(&text) {
+        if floating.is_floating() {
+            return Err(LoadError::FloatingChain(path.to_path_buf()));
+        }
+        crate::mjcf::from_mjcf_file(path, &text).map_err(LoadError::Mjcf)?
     } else {
         let urdf_options = UrdfOptions {
             floating,

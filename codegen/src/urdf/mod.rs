@@ -61,13 +61,12 @@
 //! Here: [`UrdfError`], [`from_urdf_str`], the links' and joints' names and numbers, the tree
 //! walk that merges fixed joints, and the policy that puts the check stage's problems
 //! ([`crate::check`]: the tree, masses, inertias, mimic joints, drives) at their lines, as
-//! errors or, for the inertias of merged bodies, warnings. `frames` holds the transforms and mass properties the walk composes,
+//! errors or, for the inertias of merged bodies, warnings. [`crate::import::frames`] holds the
+//! transforms and mass properties the walk composes,
 //! `lines` finds the lines of elements and of parse errors (urdf-rs gives none) with roxmltree.
 
 use std::cell::RefCell;
 use std::collections::HashMap;
-use std::fmt;
-use std::path::{Path, PathBuf};
 
 use articulated_dynamics::model::{
     Body, Drive, EulerSeq, Frame, Joint, JointKind, Mimic, Model, Placement, Value, DEFAULT_GRAVITY,
@@ -79,10 +78,10 @@ use crate::options::{Description, Options, Warning};
 
 pub use crate::check::INERTIA_ROUNDING;
 
-mod frames;
 mod lines;
 
-use frames::{matrix_rpy, rotate_inertia, MassProps, Transform};
+use crate::import::frames::{matrix_rpy, rotate_inertia, MassProps, Transform};
+pub use crate::import::ImportError;
 use lines::{parse_error_line, ElementLines};
 
 /// What a URDF root is attached to the world by.
@@ -128,85 +127,8 @@ impl FloatingBase {
     }
 }
 
-/// An error found while importing a URDF description.
-///
-/// Displays as `file:line: message` (or `file: message` when no line is known); a description
-/// given as a string is called `<urdf>`.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct UrdfError {
-    file: Option<PathBuf>,
-    line: Option<usize>,
-    message: String,
-    /// The file's other problems, each at its line: every problem is reported at once.
-    others: Vec<(Option<usize>, String)>,
-}
-
-impl UrdfError {
-    fn new(message: impl Into<String>) -> Self {
-        UrdfError {
-            file: None,
-            line: None,
-            message: message.into(),
-            others: Vec::new(),
-        }
-    }
-    /// The first of `errors` carrying the others (`None` for none).
-    fn all(mut errors: Vec<UrdfError>) -> Option<UrdfError> {
-        let mut first = errors.drain(..1.min(errors.len())).next()?;
-        first.others = errors.into_iter().map(|e| (e.line, e.message)).collect();
-        Some(first)
-    }
-    /// How many problems this error reports (the first and the others).
-    pub fn count(&self) -> usize {
-        1 + self.others.len()
-    }
-    fn at(mut self, line: Option<usize>) -> Self {
-        self.line = line;
-        self
-    }
-    /// The same error, in the file `path` (for messages).
-    pub fn in_file(mut self, path: &Path) -> Self {
-        self.file = Some(path.to_path_buf());
-        self
-    }
-    /// The file the description was read from (`None` for [`from_urdf_str`] alone).
-    pub fn file(&self) -> Option<&Path> {
-        self.file.as_deref()
-    }
-    /// The 1-based line of the offending element, when it could be found.
-    pub fn line(&self) -> Option<usize> {
-        self.line
-    }
-    /// What is wrong, without the file and line.
-    pub fn message(&self) -> &str {
-        &self.message
-    }
-}
-
-impl fmt::Display for UrdfError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let first = (self.line, self.message.clone());
-        for (k, (line, message)) in std::iter::once(first)
-            .chain(self.others.clone())
-            .enumerate()
-        {
-            if k > 0 {
-                writeln!(f)?;
-            }
-            match &self.file {
-                Some(p) => write!(f, "{}", p.display())?,
-                None => write!(f, "<urdf>")?,
-            }
-            if let Some(l) = line {
-                write!(f, ":{l}")?;
-            }
-            write!(f, ": {message}")?;
-        }
-        Ok(())
-    }
-}
-
-impl std::error::Error for UrdfError {}
+/// An error found while importing a URDF description (the importers' one error type).
+pub type UrdfError = ImportError;
 
 /// Builds the [`Description`] of a URDF robot given as text (see the [module docs](self)), with
 /// the root attached to the world as `floating` says (`true`: a free `zyx` Euler base).
@@ -247,7 +169,7 @@ pub fn from_urdf_str_with(xml: &str, options: UrdfOptions) -> Result<Description
     // number stays the file's.
     let kept = without_geometry(xml);
     let robot = read_robot(&kept)
-        .map_err(|e| UrdfError::new(format!("malformed URDF: {e}")).at(parse_error_line(xml)))?;
+        .map_err(|e| ImportError::new(format!("malformed URDF: {e}")).at(parse_error_line(xml)))?;
     let lines = ElementLines::new(xml);
     Importer {
         lines,
@@ -351,11 +273,11 @@ impl Importer {
     }
     /// The error `msg` at the `link`-th link's line.
     fn link_error(&self, link: usize, msg: String) -> UrdfError {
-        UrdfError::new(msg).at(self.link_line(link))
+        ImportError::new(msg).at(self.link_line(link))
     }
     /// The error `msg` at the `joint`-th joint's line.
     fn joint_error(&self, joint: usize, msg: String) -> UrdfError {
-        UrdfError::new(msg).at(self.joint_line(joint))
+        ImportError::new(msg).at(self.joint_line(joint))
     }
 
     /// The link's mass properties in its own frame, checked.
@@ -541,7 +463,7 @@ impl Importer {
     /// The model: names checked, the tree checked, then walked from the root.
     fn build(&self, floating: FloatingBase) -> Result<Description, UrdfError> {
         if self.robot.links.is_empty() {
-            return Err(UrdfError::new(format!(
+            return Err(ImportError::new(format!(
                 "robot `{}` has no links",
                 self.robot.name
             )));
@@ -560,12 +482,12 @@ impl Importer {
             .roots
             .first()
             .map(|&root| self.walk(&tree, root, floating, &mut errors));
-        errors.sort_by_key(|e| e.line.unwrap_or(usize::MAX));
-        if let Some(e) = UrdfError::all(errors) {
+        errors.sort_by_key(ImportError::sort_key);
+        if let Some(e) = ImportError::all(errors) {
             return Err(e);
         }
         let Some(mut built) = built else {
-            return Err(UrdfError::new("the robot has no root link"));
+            return Err(ImportError::new("the robot has no root link"));
         };
         self.judge_inertias(&mut built);
         let model = Model {
@@ -587,7 +509,7 @@ impl Importer {
         };
         model
             .check()
-            .map_err(|e| UrdfError::new(format!("the imported model is invalid: {e}")))?;
+            .map_err(|e| ImportError::new(format!("the imported model is invalid: {e}")))?;
         let options = Options {
             doc: vec![format!(
                 " Imported from the URDF robot `{}`.",
@@ -737,7 +659,7 @@ impl Importer {
             About::Parent(j) | About::Child(j) if j < self.robot.joints.len() => self.joint_line(j),
             _ => None,
         };
-        UrdfError::new(p.message.clone()).at(line)
+        ImportError::new(p.message.clone()).at(line)
     }
 
     /// The bodies and joints in depth-first order from `root`, children in document order:
@@ -927,7 +849,7 @@ fn placement(xyz: [f64; 3], rpy: [f64; 3]) -> Placement {
 
 /// `arm6_mixed` → `Arm6Mixed`; non-alphanumeric characters separate words. A name that would not
 /// start with a letter is prefixed with `Robot`.
-fn camel_case(name: &str) -> String {
+pub(crate) fn camel_case(name: &str) -> String {
     let mut out = String::new();
     for word in name.split(|c: char| !c.is_ascii_alphanumeric()) {
         let mut chars = word.chars();

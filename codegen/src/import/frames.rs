@@ -1,4 +1,4 @@
-//! Frames and mass properties for the URDF importer: a link's frame placed in another
+//! Frames and mass properties for the importers (URDF, MJCF): a link's frame placed in another
 //! ([`Transform`], composed through fixed joints), a link's mass properties seen from another
 //! frame and two links welded into one body ([`MassProps`], by the parallel-axis theorem), and the
 //! roll-pitch-yaw of a composed rotation ([`matrix_rpy`]). The 3×3 algebra is the workspace's own
@@ -10,23 +10,23 @@ use articulated_dynamics::spatial::{Mat3, Vec3};
 /// another frame. Unlike [`articulated_dynamics::spatial::Transform`], which stores `E = rᵀ` for
 /// the recursions, this is the pose URDF writes.
 #[derive(Clone, Copy)]
-pub(super) struct Transform {
-    pub(super) r: Mat3<f64>,
-    pub(super) p: Vec3<f64>,
+pub(crate) struct Transform {
+    pub(crate) r: Mat3<f64>,
+    pub(crate) p: Vec3<f64>,
     /// Known to be the identity: composing with it is exact.
-    pub(super) identity: bool,
+    pub(crate) identity: bool,
 }
 
 impl Transform {
     /// The identity.
-    pub(super) const IDENTITY: Transform = Transform {
+    pub(crate) const IDENTITY: Transform = Transform {
         r: Mat3([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
         p: Vec3([0.0; 3]),
         identity: true,
     };
 
     /// A URDF `origin`: `xyz`, then `R = Rz(yaw)·Ry(pitch)·Rx(roll)`.
-    pub(super) fn from_pose(pose: &urdf_rs::Pose) -> Self {
+    pub(crate) fn from_pose(pose: &urdf_rs::Pose) -> Self {
         let [roll, pitch, yaw] = *pose.rpy;
         Transform {
             r: Mat3::rpy(roll, pitch, yaw),
@@ -36,7 +36,7 @@ impl Transform {
     }
 
     /// `self ∘ other`: `other` given in the frame `self` describes.
-    pub(super) fn then(&self, other: &Transform) -> Transform {
+    pub(crate) fn then(&self, other: &Transform) -> Transform {
         if self.identity {
             return *other;
         }
@@ -54,7 +54,7 @@ impl Transform {
 /// Roll, pitch, yaw of a rotation matrix, accurate to rounding everywhere (also near pitch =
 /// ±π/2): yaw is taken from the first column, then `Rz(−yaw)·R = Ry(pitch)·Rx(roll)` gives the
 /// other two from well-conditioned entries.
-pub(super) fn matrix_rpy(r: &Mat3<f64>) -> [f64; 3] {
+pub(crate) fn matrix_rpy(r: &Mat3<f64>) -> [f64; 3] {
     let yaw = r.0[1][0].atan2(r.0[0][0]);
     let rt = Mat3::rot_z(yaw).transpose().mul_mat(r).0;
     let pitch = (-rt[2][0]).atan2(rt[0][0]);
@@ -63,7 +63,7 @@ pub(super) fn matrix_rpy(r: &Mat3<f64>) -> [f64; 3] {
 }
 
 /// `R·I·Rᵀ`, symmetrized: the inertia `i` given in a frame rotated by `r`, in the outer frame.
-pub(super) fn rotate_inertia(r: &Mat3<f64>, i: &Mat3<f64>) -> Mat3<f64> {
+pub(crate) fn rotate_inertia(r: &Mat3<f64>, i: &Mat3<f64>) -> Mat3<f64> {
     let mut out = r.mul_mat(i).mul_mat(&r.transpose());
     for (a, b) in [(0, 1), (0, 2), (1, 2)] {
         let s = 0.5 * (out.0[a][b] + out.0[b][a]);
@@ -75,22 +75,22 @@ pub(super) fn rotate_inertia(r: &Mat3<f64>, i: &Mat3<f64>) -> Mat3<f64> {
 
 /// Mass properties in some frame: mass, centre of mass, inertia about the centre of mass.
 #[derive(Clone, Copy)]
-pub(super) struct MassProps {
-    pub(super) m: f64,
-    pub(super) c: Vec3<f64>,
-    pub(super) i: Mat3<f64>,
+pub(crate) struct MassProps {
+    pub(crate) m: f64,
+    pub(crate) c: Vec3<f64>,
+    pub(crate) i: Mat3<f64>,
 }
 
 impl MassProps {
     /// No mass: a frame.
-    pub(super) const ZERO: MassProps = MassProps {
+    pub(crate) const ZERO: MassProps = MassProps {
         m: 0.0,
         c: Vec3([0.0; 3]),
         i: Mat3([[0.0; 3]; 3]),
     };
 
     /// The same properties seen from the frame in which `t` describes their frame.
-    pub(super) fn transformed(&self, t: &Transform) -> MassProps {
+    pub(crate) fn transformed(&self, t: &Transform) -> MassProps {
         if t.identity {
             return *self;
         }
@@ -103,7 +103,7 @@ impl MassProps {
 
     /// Both bodies as one rigid body (both given in the same frame): the parallel-axis theorem
     /// moves each inertia to the common centre of mass.
-    pub(super) fn merged(&self, o: &MassProps) -> MassProps {
+    pub(crate) fn merged(&self, o: &MassProps) -> MassProps {
         let m = self.m + o.m;
         let c = if m > 0.0 {
             Vec3((self.c.scale(self.m) + o.c.scale(o.m)).0.map(|x| x / m))

@@ -1,0 +1,190 @@
+//! The MJCF front end against MuJoCo 4.0 (`tests/data/mujoco/mujoco-values.json`, written by
+//! `make_mujoco_reference.py` there): each model loads here as MuJoCo compiles it, and its `M`
+//! (armature included), `qfrc_bias`, `mj_inverse`'s forces and `mj_forward`'s `qacc` (by its
+//! residual in MuJoCo's own equations) agree to 1e-10 relative to the largest entry, through
+//! the interpreted reference, at three seeded states; so do the sites' world poses. The models:
+//! `features/` (every orientation form, default classes, frames, includes, joints at anchors
+//! with `ref`, every geom shape's inertia, the compiler's mass rules) and `real/` (the MJCF files
+//! PyPI packages ship).
+//!
+//! MuJoCo's free joint has `qvel = [v (world); ω (body)]` where ours is `[v; ω]` both in the
+//! body frame: `v_ours = T·v_mj` with `T = diag(Rᵀ, I)` on each free joint, so `M_mj = Tᵀ·M·T`,
+//! forces `τ_mj = Tᵀ·τ`, and accelerations carry the drift of the turning frame,
+//! `a_ours = T·a_mj − [ω × v_ours; 0]` (a plain rotation fails as soon as `ω ≠ 0`).
+//!
+//! `cargo test -p articulated-tests --test mjcf -- --nocapture` prints each model's warnings
+//! and worst error.
+
+mod common;
+
+use std::path::Path;
+
+use articulated::reference::Reference;
+use articulated_codegen::load::load;
+use articulated_codegen::model::JointKind;
+use articulated_codegen::urdf::FloatingBase;
+use common::{fd_residual, read_json, rel_err, rows_of, vec_of};
+use nalgebra::{DMatrix, DVector, Matrix3, Quaternion, UnitQuaternion, Vector3};
+
+/// Relative to the largest entry of each of MuJoCo's values.
+const TOL: f64 = 1e-10;
+
+/// The free joints of a model: `(qpos address, dof address)` of each.
+fn free_joints(r: &Reference) -> Vec<(usize, usize)> {
+    let (mut iq, mut iv) = (0, 0);
+    let mut out = Vec::new();
+    for j in &r.model().joints {
+        if j.mimic.is_some() {
+            continue;
+        }
+        if matches!(j.kind, JointKind::FreeQuaternion) {
+            out.push((iq, iv));
+        }
+        iq += j.kind.nq();
+        iv += j.kind.nv();
+    }
+    out
+}
+
+/// `T` (MuJoCo's velocities to ours) at `qpos`.
+fn to_ours(free: &[(usize, usize)], qpos: &[f64], nv: usize) -> DMatrix<f64> {
+    let mut t = DMatrix::identity(nv, nv);
+    for &(iq, iv) in free {
+        let q = UnitQuaternion::from_quaternion(Quaternion::new(
+            qpos[iq + 3],
+            qpos[iq + 4],
+            qpos[iq + 5],
+            qpos[iq + 6],
+        ));
+        let rt: Matrix3<f64> = q.to_rotation_matrix().into_inner().transpose();
+        t.view_mut((iv, iv), (3, 3)).copy_from(&rt);
+    }
+    t
+}
+
+/// The drift `[ω × v; 0]` of each free joint at our velocity `v`.
+fn drift(free: &[(usize, usize)], v: &DVector<f64>) -> DVector<f64> {
+    let mut d = DVector::zeros(v.len());
+    for &(_, iv) in free {
+        let lin = Vector3::new(v[iv], v[iv + 1], v[iv + 2]);
+        let w = Vector3::new(v[iv + 3], v[iv + 4], v[iv + 5]);
+        d.rows_mut(iv, 3).copy_from(&w.cross(&lin));
+    }
+    d
+}
+
+/// Every error of one state, `(what, relative error)`.
+fn state_errors(r: &Reference, s: &serde_json::Value) -> Vec<(String, f64)> {
+    let q = vec_of(&s["qpos"]);
+    let nv = r.nv();
+    let free = free_joints(r);
+    let t = to_ours(&free, &q, nv);
+    let v = &t * DVector::from_vec(vec_of(&s["qvel"]));
+    let d = drift(&free, &v);
+    let a = &t * DVector::from_vec(vec_of(&s["qacc"])) - &d;
+    let m = r.mass_matrix(&q).unwrap();
+    let m_mj = t.transpose() * &m * &t;
+    let bias_mj = t.transpose()
+        * r.inverse_dynamics(&q, v.as_slice(), (-&d).as_slice())
+            .unwrap();
+    let tau_mj = t.transpose() * r.inverse_dynamics(&q, v.as_slice(), a.as_slice()).unwrap();
+    let applied = vec_of(&s["tau"]);
+    let qdd = r
+        .forward_dynamics(
+            &q,
+            v.as_slice(),
+            (&t * DVector::from_vec(applied.clone())).as_slice(),
+        )
+        .unwrap();
+    let qdd_mj = t.transpose() * (qdd + &d);
+    let theirs_m = DMatrix::from_row_slice(nv, nv, &rows_of(&s["mass_matrix"]));
+    let theirs_bias = vec_of(&s["bias"]);
+    let mut errors = vec![
+        (
+            "M".to_string(),
+            rel_err(m_mj.transpose().as_slice(), &rows_of(&s["mass_matrix"])),
+        ),
+        (
+            "bias".to_string(),
+            rel_err(bias_mj.as_slice(), &theirs_bias),
+        ),
+        (
+            "mj_inverse".to_string(),
+            rel_err(tau_mj.as_slice(), &vec_of(&s["tau_inverse"])),
+        ),
+        (
+            "qacc residual".to_string(),
+            fd_residual(&theirs_m, &theirs_bias, &applied, qdd_mj.as_slice()),
+        ),
+    ];
+    for (name, site) in s["sites"].as_object().unwrap() {
+        let found = [name.clone(), format!("{name}_site")]
+            .into_iter()
+            .find_map(|n| r.frame_placement(&q, &n).ok());
+        let Some((rot, p)) = found else {
+            errors.push((format!("site `{name}` missing"), f64::INFINITY));
+            continue;
+        };
+        let rows: Vec<f64> = (0..3)
+            .flat_map(|i| (0..3).map(move |j| (i, j)))
+            .map(|ij| rot[ij])
+            .collect();
+        errors.push((
+            format!("site `{name}` position"),
+            rel_err(p.as_slice(), &vec_of(&site["pos"])),
+        ));
+        errors.push((
+            format!("site `{name}` axes"),
+            rel_err(&rows, &vec_of(&site["mat"])),
+        ));
+    }
+    errors
+}
+
+#[test]
+fn every_mjcf_model_mujoco_loads_loads_and_agrees() {
+    let json = read_json("data/mujoco/mujoco-values.json");
+    let mut failures = Vec::new();
+    let mut compared = 0;
+    for (file, m) in json["models"].as_object().unwrap() {
+        if !m["loads"].as_bool().unwrap() {
+            continue;
+        }
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("data/mujoco")
+            .join(file);
+        let chain = match load(&path, FloatingBase::Fixed) {
+            Ok(c) => c,
+            Err(e) => {
+                failures.push(format!("{file}: does not load:\n{e}"));
+                continue;
+            }
+        };
+        for w in &chain.warnings {
+            println!("{}", w.display_in(&path));
+        }
+        let r = Reference::new(&chain.model).unwrap();
+        let (nq, nv) = (m["nq"].as_u64().unwrap(), m["nv"].as_u64().unwrap());
+        if (r.nq() as u64, r.nv() as u64) != (nq, nv) {
+            failures.push(format!(
+                "{file}: nq, nv = {}, {} against MuJoCo's {nq}, {nv}",
+                r.nq(),
+                r.nv()
+            ));
+            continue;
+        }
+        let mut worst = 0.0f64;
+        for s in m["states"].as_array().unwrap() {
+            for (what, e) in state_errors(&r, s) {
+                worst = worst.max(e);
+                if e.is_nan() || e > TOL {
+                    failures.push(format!("{file}: {what} off by {e:.1e}"));
+                }
+            }
+        }
+        compared += 1;
+        println!("{file}: nv {nv}, worst error {worst:.1e}");
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(compared >= 7, "only {compared} models compared");
+}
