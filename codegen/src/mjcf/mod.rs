@@ -488,10 +488,36 @@ impl<'a> Importer<'a> {
         }
     }
 
+    /// A geom's or a site's pose from `fromto` (`None` where it has none), and half the
+    /// distance between its points; `what` names it in errors.
+    fn fromto_pose(
+        &self,
+        c: &Classed,
+        what: &str,
+    ) -> Result<Option<(Transform, f64)>, ImportError> {
+        let Some(ft) = c.array::<6>("fromto")? else {
+            return Ok(None);
+        };
+        if c.array::<3>("pos")?.is_some_and(|p| p != [0.0; 3]) {
+            return Err(c
+                .el
+                .error(format!("{what}: both `pos` and `fromto` are given")));
+        }
+        shapes::from_to(ft).map(Some).ok_or_else(|| {
+            c.el.error(format!("{what}: the `fromto` points are too close"))
+        })
+    }
+
     /// A site: a frame of `body` placed at `offset ∘ frame ∘ pose`.
     fn site(&mut self, item: &Item, body: Option<usize>, offset: Transform) {
         let c = self.classed(item);
-        let pose = match shapes::pose(&c, &self.compiler) {
+        let what = format!("site `{}`", item.el.own("name").unwrap_or("(unnamed)"));
+        let pose = match self.fromto_pose(&c, &what) {
+            Ok(Some((p, _))) => Ok(p),
+            Ok(None) => shapes::pose(&c, &self.compiler),
+            Err(e) => Err(e),
+        };
+        let pose = match pose {
             Ok(p) => p,
             Err(e) => return self.errors.push(e),
         };
@@ -837,8 +863,8 @@ impl<'a> Importer<'a> {
         {
             *s = v;
         }
-        let pose = match c.array::<6>("fromto")? {
-            Some(ft) => {
+        let pose = match self.fromto_pose(&c, &which())? {
+            Some((pose, half)) => {
                 if !matches!(
                     shape,
                     Shape::Capsule | Shape::Cylinder | Shape::Ellipsoid | Shape::Box
@@ -848,25 +874,12 @@ impl<'a> Importer<'a> {
                         which()
                     )));
                 }
-                if c.array::<3>("pos")?.is_some_and(|p| p != [0.0; 3]) {
-                    return Err(el.error(format!("{}: both `pos` and `fromto` are given", which())));
-                }
-                let d = [ft[0] - ft[3], ft[1] - ft[4], ft[2] - ft[5]];
-                let len = d.iter().map(|x| x * x).sum::<f64>().sqrt();
-                if len / 2.0 < EPS {
-                    return Err(el.error(format!("{}: the `fromto` points are too close", which())));
-                }
-                size[1] = len / 2.0;
+                size[1] = half;
                 if matches!(shape, Shape::Ellipsoid | Shape::Box) {
                     size[2] = size[1];
                     size[1] = size[0];
                 }
-                let mid = [
-                    (ft[0] + ft[3]) / 2.0,
-                    (ft[1] + ft[4]) / 2.0,
-                    (ft[2] + ft[5]) / 2.0,
-                ];
-                shapes::transform(mid, Some(shapes::z_to(d.map(|x| x / len))))
+                pose
             }
             None => shapes::pose(&c, &self.compiler)?,
         };

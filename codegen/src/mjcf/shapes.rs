@@ -158,6 +158,22 @@ pub(super) fn orientation(c: &Classed, compiler: &Compiler) -> Result<Option<Qua
     Ok(None)
 }
 
+/// The pose `fromto` gives a geom or a site: centred between the two points, its `z` axis along
+/// `from − to`; and half the distance between the points (`None` where they are too close).
+pub(super) fn from_to(ft: [f64; 6]) -> Option<(Transform, f64)> {
+    let d = [ft[0] - ft[3], ft[1] - ft[4], ft[2] - ft[5]];
+    let (dir, len) = unit(d);
+    if len / 2.0 < EPS {
+        return None;
+    }
+    let mid = [
+        (ft[0] + ft[3]) / 2.0,
+        (ft[1] + ft[4]) / 2.0,
+        (ft[2] + ft[5]) / 2.0,
+    ];
+    Some((transform(mid, Some(z_to(dir))), len / 2.0))
+}
+
 /// The element's `pos` and orientation as a transform (the identity where it gives neither).
 pub(super) fn pose(c: &Classed, compiler: &Compiler) -> Result<Transform, ImportError> {
     let pos = c.array::<3>("pos")?;
