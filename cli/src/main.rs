@@ -378,6 +378,12 @@ pub fn load_description(
     for w in &chain.warnings {
         eprintln!("{}", w.display_in(path));
     }
+    for n in &chain.notes {
+        eprintln!(
+            "{}",
+            n.display_in(path).replacen(": warning: ", ": note: ", 1)
+        );
+    }
     Ok(chain)
 }
 

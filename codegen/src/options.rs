@@ -427,6 +427,10 @@ pub struct Description {
     /// them (the CLI on stderr, `Builder` as `cargo:warning`, the macros as a compiler
     /// warning), and a strict load refuses them.
     pub warnings: Vec<Warning>,
+    /// What the file holds that the dynamics leave out by design, said once (an MJCF model's
+    /// actuators and tendons): the CLI prints them on stderr; a build does not warn, and a
+    /// strict load takes them.
+    pub notes: Vec<Warning>,
     /// The joints a URDF declares `continuous`, in joint order (mimic joints left out): revolute
     /// joints here, one angle each, where Pinocchio stores `(cos θ, sin θ)`
     /// (`articulated::pinocchio`). Empty for other front ends.
@@ -464,6 +468,7 @@ impl Description {
             model,
             options: Options::default(),
             warnings: Vec::new(),
+            notes: Vec::new(),
             continuous: Vec::new(),
             pinocchio_order: Vec::new(),
         }

@@ -127,8 +127,15 @@ fn what_is_not_represented_loads_with_a_warning_at_its_line() {
     let lines: Vec<(Option<usize>, &str)> = d
         .warnings
         .iter()
+        .chain(&d.notes)
         .map(|w| (w.line, w.message.as_str()))
         .collect();
+    // What is left out by design is a note, not a warning a build would repeat.
+    assert!(d
+        .notes
+        .iter()
+        .all(|n| n.message.contains("tendon") || n.message.contains("actuator")));
+    assert_eq!(d.notes.len(), 2, "{:?}", d.notes);
     for (line, what) in [
         (3, "`gravcomp` is not represented"),
         (4, "damping beyond the linear term"),

@@ -19,12 +19,13 @@ mod common;
 
 use std::path::Path;
 
+use articulated::prelude::*;
 use articulated::reference::Reference;
 use articulated_codegen::load::load;
 use articulated_codegen::model::JointKind;
 use articulated_codegen::urdf::FloatingBase;
 use common::{fd_residual, read_json, rel_err, rows_of, vec_of};
-use nalgebra::{DMatrix, DVector, Matrix3, Quaternion, UnitQuaternion, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Quaternion, SVector, UnitQuaternion, Vector3};
 
 /// Relative to the largest entry of each of MuJoCo's values.
 const TOL: f64 = 1e-10;
@@ -73,33 +74,80 @@ fn drift(free: &[(usize, usize)], v: &DVector<f64>) -> DVector<f64> {
     d
 }
 
-/// Every error of one state, `(what, relative error)`.
-fn state_errors(r: &Reference, s: &serde_json::Value) -> Vec<(String, f64)> {
+/// The dynamics compared: the reference's, or a generated chain's.
+struct Dynamics<'a> {
+    mass_matrix: &'a dyn Fn(&[f64]) -> DMatrix<f64>,
+    inverse: &'a dyn Fn(&[f64], &[f64], &[f64]) -> DVector<f64>,
+    forward: &'a dyn Fn(&[f64], &[f64], &[f64]) -> DVector<f64>,
+}
+
+/// The reference's dynamics.
+macro_rules! reference {
+    ($r:expr) => {
+        Dynamics {
+            mass_matrix: &|q| $r.mass_matrix(q).unwrap(),
+            inverse: &|q, v, a| $r.inverse_dynamics(q, v, a).unwrap(),
+            forward: &|q, v, tau| $r.forward_dynamics(q, v, tau).unwrap(),
+        }
+    };
+}
+
+/// A generated chain's dynamics (`NQ`, `NV` its sizes).
+macro_rules! generated {
+    ($c:ty, $nq:literal, $nv:literal) => {
+        Dynamics {
+            mass_matrix: &|q| {
+                let m = <$c>::mass_matrix(&SVector::<f64, $nq>::from_column_slice(q));
+                DMatrix::from_column_slice($nv, $nv, m.as_slice())
+            },
+            inverse: &|q, v, a| {
+                let tau = <$c>::inverse_dynamics(
+                    &SVector::<f64, $nq>::from_column_slice(q),
+                    &SVector::<f64, $nv>::from_column_slice(v),
+                    &SVector::<f64, $nv>::from_column_slice(a),
+                );
+                DVector::from_column_slice(tau.as_slice())
+            },
+            forward: &|q, v, tau| {
+                let qdd = <$c>::forward_dynamics(
+                    &SVector::<f64, $nq>::from_column_slice(q),
+                    &SVector::<f64, $nv>::from_column_slice(v),
+                    &SVector::<f64, $nv>::from_column_slice(tau),
+                )
+                .unwrap();
+                DVector::from_column_slice(qdd.as_slice())
+            },
+        }
+    };
+}
+
+/// Every error of one state of MuJoCo's (`s`), `(what, relative error)`: `free` are the free
+/// joints' addresses.
+fn state_errors(
+    dynamics: &Dynamics,
+    free: &[(usize, usize)],
+    s: &serde_json::Value,
+) -> Vec<(String, f64)> {
     let q = vec_of(&s["qpos"]);
-    let nv = r.nv();
-    let free = free_joints(r);
-    let t = to_ours(&free, &q, nv);
+    let nv = vec_of(&s["qvel"]).len();
+    let t = to_ours(free, &q, nv);
     let v = &t * DVector::from_vec(vec_of(&s["qvel"]));
-    let d = drift(&free, &v);
+    let d = drift(free, &v);
     let a = &t * DVector::from_vec(vec_of(&s["qacc"])) - &d;
-    let m = r.mass_matrix(&q).unwrap();
+    let m = (dynamics.mass_matrix)(&q);
     let m_mj = t.transpose() * &m * &t;
-    let bias_mj = t.transpose()
-        * r.inverse_dynamics(&q, v.as_slice(), (-&d).as_slice())
-            .unwrap();
-    let tau_mj = t.transpose() * r.inverse_dynamics(&q, v.as_slice(), a.as_slice()).unwrap();
+    let bias_mj = t.transpose() * (dynamics.inverse)(&q, v.as_slice(), (-&d).as_slice());
+    let tau_mj = t.transpose() * (dynamics.inverse)(&q, v.as_slice(), a.as_slice());
     let applied = vec_of(&s["tau"]);
-    let qdd = r
-        .forward_dynamics(
-            &q,
-            v.as_slice(),
-            (&t * DVector::from_vec(applied.clone())).as_slice(),
-        )
-        .unwrap();
+    let qdd = (dynamics.forward)(
+        &q,
+        v.as_slice(),
+        (&t * DVector::from_vec(applied.clone())).as_slice(),
+    );
     let qdd_mj = t.transpose() * (qdd + &d);
     let theirs_m = DMatrix::from_row_slice(nv, nv, &rows_of(&s["mass_matrix"]));
     let theirs_bias = vec_of(&s["bias"]);
-    let mut errors = vec![
+    vec![
         (
             "M".to_string(),
             rel_err(m_mj.transpose().as_slice(), &rows_of(&s["mass_matrix"])),
@@ -116,7 +164,13 @@ fn state_errors(r: &Reference, s: &serde_json::Value) -> Vec<(String, f64)> {
             "qacc residual".to_string(),
             fd_residual(&theirs_m, &theirs_bias, &applied, qdd_mj.as_slice()),
         ),
-    ];
+    ]
+}
+
+/// The sites' world poses against MuJoCo's, `(what, relative error)`.
+fn site_errors(r: &Reference, s: &serde_json::Value) -> Vec<(String, f64)> {
+    let q = vec_of(&s["qpos"]);
+    let mut errors = Vec::new();
     for (name, site) in s["sites"].as_object().unwrap() {
         // A site named as a body is that name with `_site` appended.
         let found = [format!("{name}_site"), name.clone()]
@@ -176,7 +230,9 @@ fn every_mjcf_model_mujoco_loads_loads_and_agrees() {
         }
         let mut worst = 0.0f64;
         for s in m["states"].as_array().unwrap() {
-            for (what, e) in state_errors(&r, s) {
+            let free = free_joints(&r);
+            let errors = state_errors(&reference!(r), &free, s);
+            for (what, e) in errors.into_iter().chain(site_errors(&r, s)) {
                 worst = worst.max(e);
                 if e.is_nan() || e > TOL {
                     failures.push(format!("{file}: {what} off by {e:.1e}"));
@@ -224,4 +280,40 @@ fn every_mjcf_file_has_mujoco_values() {
         missing.is_empty(),
         "no MuJoCo values for {missing:?}: rerun make_mujoco_reference.py"
     );
+}
+
+/// Joints at anchors, `ref`, a ball, a free body, from MJCF (`features/joints.xml`).
+#[derive(Chain)]
+#[chain(mjcf = "data/mujoco/features/joints.xml", outputs = [mass_matrix, inverse_dynamics, forward_dynamics])]
+struct Joints;
+
+/// Gymnasium's ant: a free torso, eight hinges in bodies placed by `fromto` geoms.
+#[derive(Chain)]
+#[chain(mjcf = "data/mujoco/real/gymnasium/ant.xml", outputs = [mass_matrix, inverse_dynamics, forward_dynamics])]
+struct GymAnt;
+
+/// The code generated from MJCF agrees with MuJoCo as the reference does.
+#[test]
+fn generated_from_mjcf_agrees_with_mujoco() {
+    let json = read_json("data/mujoco/mujoco-values.json");
+    let cases = [
+        ("features/joints.xml", generated!(Joints, 17, 15)),
+        ("real/gymnasium/ant.xml", generated!(GymAnt, 15, 14)),
+    ];
+    let mut failures = Vec::new();
+    for (file, dynamics) in &cases {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("data/mujoco")
+            .join(file);
+        let r = Reference::new(&load(&path, FloatingBase::Fixed).unwrap().model).unwrap();
+        let free = free_joints(&r);
+        for s in json["models"][file]["states"].as_array().unwrap() {
+            for (what, e) in state_errors(dynamics, &free, s) {
+                if e.is_nan() || e > TOL {
+                    failures.push(format!("{file} (generated): {what} off by {e:.1e}"));
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

@@ -24,13 +24,15 @@ pub(crate) enum Source {
     Chain(LitStr),
     /// A URDF file, with its base (`floating`, `floating = quaternion`).
     Urdf(LitStr, FloatingBase),
+    /// A MuJoCo MJCF file (`.xml`), whose free joints are its own.
+    Mjcf(LitStr),
 }
 
 impl Source {
     /// The path as written.
     pub(crate) fn lit(&self) -> &LitStr {
         match self {
-            Source::Chain(l) | Source::Urdf(l, _) => l,
+            Source::Chain(l) | Source::Urdf(l, _) | Source::Mjcf(l) => l,
         }
     }
 }
@@ -65,7 +67,7 @@ pub(crate) struct Attr {
     pub balance_inertia: bool,
 }
 
-const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, \
+const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, `mjcf = \"….xml\"`, \
                     `floating [= euler | quaternion]`, \
                     `scalar = f64 | f32 | generic`, `outputs = [mass_matrix, …]`, \
                     `accuracy = fastest | robust`, `lock = [joint(q, …), …]`, \
@@ -77,6 +79,7 @@ const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, \
 pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
     let mut file: Option<LitStr> = None;
     let mut urdf: Option<LitStr> = None;
+    let mut mjcf: Option<LitStr> = None;
     let mut floating: Option<(Ident, FloatingBase)> = None;
     let mut scalar = None;
     let mut outputs = None;
@@ -98,6 +101,7 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
             match key.as_deref() {
                 Some("file") => file = Some(meta.value()?.parse()?),
                 Some("urdf") => urdf = Some(meta.value()?.parse()?),
+                Some("mjcf") => mjcf = Some(meta.value()?.parse()?),
                 Some("floating") => {
                     let key = meta.path.get_ident().cloned();
                     // `floating` alone is the Euler base; `floating = euler | quaternion`.
@@ -168,37 +172,41 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
             Ok(())
         })?;
     }
-    let source =
-        match (file, urdf, seen) {
-            (Some(_), None, _) if floating.is_some() => return Err(syn::Error::new(
-                floating.map_or_else(Span::call_site, |(f, _)| f.span()),
+    let given: Vec<&LitStr> = [&file, &urdf, &mjcf].into_iter().flatten().collect();
+    if let Some(second) = given.get(1) {
+        return Err(syn::Error::new(
+            second.span(),
+            "give one of `file = \"….chain\"`, `urdf = \"….urdf\"` and `mjcf = \"….xml\"`",
+        ));
+    }
+    if let (None, Some((f, _))) = (&urdf, &floating) {
+        if file.is_some() || mjcf.is_some() {
+            return Err(syn::Error::new(
+                f.span(),
                 "`floating` applies to `urdf = …`; in a `.chain` file write the free base as a \
-                 joint",
-            )),
-            (Some(f), None, _) => Source::Chain(f),
-            (None, Some(u), _) => {
-                Source::Urdf(u, floating.map_or(FloatingBase::Fixed, |(_, base)| base))
-            }
-            (Some(_), Some(u), _) => {
-                return Err(syn::Error::new(
-                    u.span(),
-                    "give either `file = \"….chain\"` or `urdf = \"….urdf\"`, not both",
-                ))
-            }
-            (None, None, true) => {
-                return Err(syn::Error::new(
-                    Span::call_site(),
-                    "#[chain(…)] needs `file = \"….chain\"` or `urdf = \"….urdf\"`",
-                ))
-            }
-            (None, None, false) => {
-                return Err(syn::Error::new(
-                    input.ident.span(),
-                    "#[derive(Chain)] needs an attribute naming the description: \
-                 #[chain(file = \"models/x.chain\")] or #[chain(urdf = \"models/x.urdf\")]",
-                ))
-            }
-        };
+                 joint, and in MJCF as `<freejoint/>` in the body",
+            ));
+        }
+    }
+    let source = match (file, urdf, mjcf) {
+        (Some(f), _, _) => Source::Chain(f),
+        (_, Some(u), _) => Source::Urdf(u, floating.map_or(FloatingBase::Fixed, |(_, base)| base)),
+        (_, _, Some(m)) => Source::Mjcf(m),
+        (None, None, None) if seen => {
+            return Err(syn::Error::new(
+                Span::call_site(),
+                "#[chain(…)] needs `file = \"….chain\"`, `urdf = \"….urdf\"` or `mjcf = \"….xml\"`",
+            ))
+        }
+        (None, None, None) => {
+            return Err(syn::Error::new(
+                input.ident.span(),
+                "#[derive(Chain)] needs an attribute naming the description: \
+                 #[chain(file = \"models/x.chain\")], #[chain(urdf = \"models/x.urdf\")] or \
+                 #[chain(mjcf = \"models/x.xml\")]",
+            ))
+        }
+    };
     Ok(Attr {
         source,
         scalar,

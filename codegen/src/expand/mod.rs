@@ -159,6 +159,7 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
     let (key, floating) = match attr.source {
         Source::Chain(_) => (Key::File, FloatingBase::Fixed),
         Source::Urdf(_, floating) => (Key::Urdf, floating),
+        Source::Mjcf(_) => (Key::Mjcf, FloatingBase::Fixed),
     };
     let manifest_dir = std::env::var_os("CARGO_MANIFEST_DIR").map(PathBuf::from);
     let path = resolve(&lit.value(), manifest_dir.as_deref());

@@ -1,4 +1,4 @@
-//! The path in `#[chain(file = …)]` and `#[chain(urdf = …)]`: resolved against the crate's
+//! The path in `#[chain(file = …)]`, `#[chain(urdf = …)]` and `#[chain(mjcf = …)]`: resolved against the crate's
 //! directory, and the errors about it, each with its likely cause where there is one: the other
 //! key (`file = "x.urdf"`), a xacro file not yet expanded, a path missing its extension, a path
 //! written from the workspace's root rather than the crate's directory.
@@ -9,13 +9,15 @@
 
 use std::path::{Path, PathBuf};
 
-/// The two keys that name a description's file.
+/// The keys that name a description's file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Key {
     /// `file = "….chain"`.
     File,
-    /// `urdf = "….urdf"`.
+    /// `urdf = "….urdf"` (a URDF saved as `.xml` too: the loader reads the root element).
     Urdf,
+    /// `mjcf = "….xml"`.
+    Mjcf,
 }
 
 impl Key {
@@ -24,6 +26,7 @@ impl Key {
         match self {
             Key::File => "chain",
             Key::Urdf => "urdf",
+            Key::Mjcf => "xml",
         }
     }
 
@@ -32,6 +35,7 @@ impl Key {
         match self {
             Key::File => "file",
             Key::Urdf => "urdf",
+            Key::Mjcf => "mjcf",
         }
     }
 
@@ -40,6 +44,7 @@ impl Key {
         match extension {
             Some("chain") => Some(Key::File),
             Some("urdf") => Some(Key::Urdf),
+            Some("xml") => Some(Key::Mjcf),
             _ => None,
         }
     }
@@ -64,7 +69,7 @@ pub(crate) fn wrong_extension(
     floating: bool,
 ) -> Option<String> {
     let found = resolved.extension().and_then(|e| e.to_str());
-    if found == Some(key.extension()) {
+    if found == Some(key.extension()) || (key == Key::Urdf && found == Some("xml")) {
         return None;
     }
     let expected = key.extension();
@@ -88,12 +93,19 @@ pub(crate) fn wrong_extension(
              {shown} > robot.urdf`) and give that with `urdf = \"….urdf\"`"
         ),
         (_, Some("xml")) => format!(
-            "expected a `.{expected}` file, found `{shown}`: the extension picks the reader; save \
-             a URDF as `….urdf` and give it with `urdf = \"….urdf\"`"
+            "`{shown}` is an XML file, and `{} = …` reads a `.{expected}` file: write \
+             `mjcf = \"{shown}\"` for a MuJoCo model (or `urdf = \"{shown}\"` for a URDF)",
+            key.name()
         ),
+        (Key::Mjcf, Some("urdf")) => {
+            format!("`{shown}` is a URDF, and `mjcf = …` reads MuJoCo's `.xml`: write `urdf = \"{shown}\"`")
+        }
+        (Key::Mjcf, Some("chain")) => {
+            format!("`{shown}` is a `.chain` file, and `mjcf = …` reads MuJoCo's `.xml`: write `file = \"{shown}\"`")
+        }
         (_, None) => {
             // The extension left out: the file with it, if it is there.
-            let with = ["chain", "urdf"].into_iter().find(|ext| {
+            let with = ["chain", "urdf", "xml"].into_iter().find(|ext| {
                 let mut full = resolved.as_os_str().to_owned();
                 full.push(format!(".{ext}"));
                 Path::new(&full).is_file()
@@ -216,8 +228,16 @@ mod tests {
             false,
         );
         assert!(xacro.unwrap().contains("expand it to a URDF first"));
-        let xml = wrong_extension(Key::Urdf, "r.xml", Path::new("/c/r.xml"), false);
-        assert!(xml.unwrap().contains("save a URDF as `….urdf`"));
+        let xml = wrong_extension(Key::File, "r.xml", Path::new("/c/r.xml"), false);
+        assert!(xml
+            .unwrap()
+            .contains("write `mjcf = \"r.xml\"` for a MuJoCo model"));
+        assert_eq!(
+            wrong_extension(Key::Urdf, "r.xml", Path::new("/c/r.xml"), false),
+            None
+        );
+        let urdf = wrong_extension(Key::Mjcf, "r.urdf", Path::new("/c/r.urdf"), false);
+        assert!(urdf.unwrap().contains("write `urdf = \"r.urdf\"`"));
         let other = wrong_extension(Key::File, "r.txt", Path::new("/c/r.txt"), false);
         assert_eq!(
             other.as_deref(),

@@ -206,6 +206,7 @@ impl Lower {
             model: model?,
             options,
             warnings: Vec::new(),
+            notes: Vec::new(),
             continuous: Vec::new(),
             pinocchio_order: Vec::new(),
         })

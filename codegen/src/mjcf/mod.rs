@@ -111,6 +111,7 @@ fn import(text: &str, path: Option<&Path>) -> Result<Description, MjcfError> {
         joints: Vec::new(),
         frames: Vec::new(),
         warnings: Vec::new(),
+        notes: Vec::new(),
         errors: Vec::new(),
         total_mass: 0.0,
         counts: Counts::default(),
@@ -226,6 +227,8 @@ struct Importer<'a> {
     joints: Vec<Joint>,
     frames: Vec<Frame>,
     warnings: Vec<Warning>,
+    /// What is left out by design: actuators, tendons.
+    notes: Vec<Warning>,
     errors: Vec<ImportError>,
     /// The mass of every MuJoCo body, those welded to the world included (`settotalmass`).
     total_mass: f64,
@@ -262,14 +265,13 @@ impl<'a> Importer<'a> {
     }
 
     fn warn(&mut self, el: &Element, message: String) {
-        let message = match &el.file {
-            Some(f) => format!("{message} (in `{}`)", f.display()),
-            None => message,
-        };
-        self.warnings.push(Warning {
-            line: el.file.is_none().then_some(el.line),
-            message,
-        });
+        let w = located(el, message);
+        self.warnings.push(w);
+    }
+
+    fn note(&mut self, el: &Element, message: String) {
+        let n = located(el, message);
+        self.notes.push(n);
     }
 
     /// The class an element defaults from: its own `class`, else `inherited`.
@@ -389,14 +391,10 @@ impl<'a> Importer<'a> {
         model.check().map_err(|e| {
             ImportError::new(format!("the imported model is invalid: {e}")).called("<mjcf>")
         })?;
-        let pinocchio_order = model
-            .joints
-            .iter()
-            .filter(|j| j.nv() > 0)
-            .map(|j| j.name.clone())
-            .collect();
         let mut warnings = self.warnings;
         warnings.sort_by_key(|w| w.line);
+        let mut notes = self.notes;
+        notes.sort_by_key(|w| w.line);
         Ok(Description {
             model,
             options: Options {
@@ -404,8 +402,9 @@ impl<'a> Importer<'a> {
                 ..Options::default()
             },
             warnings,
+            notes,
             continuous: Vec::new(),
-            pinocchio_order,
+            pinocchio_order: Vec::new(),
         })
     }
 
@@ -452,7 +451,7 @@ impl<'a> Importer<'a> {
         for section in root.each("tendon") {
             for t in &section.children {
                 let name = t.own("name").map(|n| format!(" `{n}`")).unwrap_or_default();
-                self.warn(
+                self.note(
                     t,
                     format!(
                         "the {} tendon{name} is skipped: tendons are not represented",
@@ -464,7 +463,7 @@ impl<'a> Importer<'a> {
         for section in root.each("actuator") {
             if let Some(first) = section.children.first() {
                 let n = section.children.len();
-                self.warn(
+                self.note(
                     first,
                     format!(
                         "{n} actuator{} skipped: the joint forces τ are the caller's",
@@ -988,6 +987,18 @@ fn drive(
         }
     }
     Ok(drive)
+}
+
+/// `message` at `el`'s line (at its file, named in the message, for an included one).
+fn located(el: &Element, message: String) -> Warning {
+    let message = match &el.file {
+        Some(f) => format!("{message} (in `{}`)", f.display()),
+        None => message,
+    };
+    Warning {
+        line: el.file.is_none().then_some(el.line),
+        message,
+    }
 }
 
 /// A translation.

@@ -540,6 +540,7 @@ impl Importer {
             model,
             options,
             warnings,
+            notes: Vec::new(),
             continuous,
             pinocchio_order,
         })
