@@ -31,7 +31,7 @@ mod invert;
 mod pinocchio;
 mod simulate;
 
-/// Rigid-body dynamics from a chain description (`.chain` or `.urdf`).
+/// Rigid-body dynamics from a chain description (`.chain`, `.urdf` or MJCF `.xml`).
 #[derive(Parser, Debug)]
 #[command(name = "articulated", version, about)]
 struct Cli {
@@ -68,7 +68,7 @@ pub enum Engine {
 /// Arguments of `articulated eval`.
 #[derive(clap::Args, Debug)]
 pub struct EvalArgs {
-    /// The model: a `.chain` or `.urdf` file.
+    /// The model: a `.chain`, `.urdf` or MJCF `.xml` file.
     pub model: PathBuf,
     /// Positions, comma-separated (default: the neutral configuration).
     #[arg(long, allow_hyphen_values = true)]
@@ -122,7 +122,7 @@ pub struct EvalArgs {
 /// Arguments of `articulated expand`.
 #[derive(clap::Args, Debug)]
 pub struct ExpandArgs {
-    /// The model: a `.chain` or `.urdf` file.
+    /// The model: a `.chain`, `.urdf` or MJCF `.xml` file.
     pub model: PathBuf,
     /// The base under a URDF root.
     #[command(flatten)]
@@ -174,7 +174,7 @@ pub struct ExpandArgs {
 /// Arguments of `articulated simulate`.
 #[derive(clap::Args, Debug)]
 pub struct SimulateArgs {
-    /// The model: a `.chain` or `.urdf` file.
+    /// The model: a `.chain`, `.urdf` or MJCF `.xml` file.
     pub model: PathBuf,
     /// End time (s); the simulation starts at 0.
     #[arg(long)]
@@ -256,7 +256,7 @@ pub struct SimulateArgs {
 /// Arguments of `articulated invert`.
 #[derive(clap::Args, Debug)]
 pub struct InvertArgs {
-    /// The model: a `.chain` or `.urdf` file.
+    /// The model: a `.chain`, `.urdf` or MJCF `.xml` file.
     pub model: PathBuf,
     /// The sampled motion: a CSV with a header naming `t` and `q0`, `q1`, … (other columns are
     /// ignored); times strictly increasing, not necessarily uniform.

@@ -194,7 +194,7 @@ fn unknown_extension_is_an_error() {
     let (ok, _, stderr) = eval(&["README.md"]);
     assert!(!ok);
     assert!(
-        stderr.contains("expected a `.chain` or `.urdf` file"),
+        stderr.contains("expected a `.chain`, `.urdf` or `.xml` (URDF or MJCF) file"),
         "{stderr}"
     );
 }

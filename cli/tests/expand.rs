@@ -122,7 +122,7 @@ fn bad_file_is_an_error() {
     let (ok, _, stderr) = expand(&["README.md"]);
     assert!(!ok);
     assert!(
-        stderr.contains("expected a `.chain` or `.urdf` file"),
+        stderr.contains("expected a `.chain`, `.urdf` or `.xml` (URDF or MJCF) file"),
         "{stderr}"
     );
 }
