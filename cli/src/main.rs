@@ -26,6 +26,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 mod contacts;
 mod eval;
 mod expand;
+mod export;
 mod ground;
 mod invert;
 mod pinocchio;
@@ -49,6 +50,9 @@ enum Command {
     /// Simulate a chain left to itself (τ = 0) from an initial state; write the trajectory as
     /// CSV (`t,q0,…,v0,…`, one row per step, the initial state included) and optionally a plot.
     Simulate(SimulateArgs),
+    /// Write a model (`.chain`, URDF, MJCF) as MuJoCo's MJCF (`--mjcf`), on stdout or to
+    /// `--out`.
+    Export(ExportArgs),
     /// Recover the joint couples behind a sampled motion (the `t` and `q…` columns of a
     /// trajectory CSV): smoothed derivatives, then inverse dynamics; write `t,tau0,…`.
     Invert(InvertArgs),
@@ -117,6 +121,22 @@ pub struct EvalArgs {
     /// `symbolic` (the generator's expression graphs; checks the generator without compiling).
     #[arg(long, value_enum, default_value_t = Engine::Reference)]
     pub engine: Engine,
+}
+
+/// Arguments of `articulated export`.
+#[derive(clap::Args, Debug)]
+pub struct ExportArgs {
+    /// The model: a `.chain`, `.urdf` or MJCF `.xml` file.
+    pub model: PathBuf,
+    /// The base under a URDF root.
+    #[command(flatten)]
+    pub base: Base,
+    /// Write MuJoCo's MJCF (the one format exported).
+    #[arg(long, required = true)]
+    pub mjcf: bool,
+    /// The file to write (whole or not at all); stdout without it.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
 }
 
 /// Arguments of `articulated expand`.
@@ -411,10 +431,13 @@ fn main() -> ExitCode {
             other => other.map(|(json, _)| json),
         },
         Command::Expand(args) => expand::run(args),
+        Command::Export(args) => export::run(args),
         Command::Simulate(args) => simulate::run(args),
         Command::Invert(args) => invert::run(args),
     };
     match result {
+        // Written to a file (`export --out`): nothing for stdout.
+        Ok(text) if text.is_empty() => ExitCode::SUCCESS,
         Ok(text) => {
             // A closed pipe (`articulated expand … | head`) is not an error worth a panic.
             let mut out = std::io::stdout().lock();

@@ -74,11 +74,14 @@ fn drift(free: &[(usize, usize)], v: &DVector<f64>) -> DVector<f64> {
     d
 }
 
+/// A function of a state `(q, v, a or τ)`.
+type StateFn<'a> = dyn Fn(&[f64], &[f64], &[f64]) -> DVector<f64> + 'a;
+
 /// The dynamics compared: the reference's, or a generated chain's.
 struct Dynamics<'a> {
-    mass_matrix: &'a dyn Fn(&[f64]) -> DMatrix<f64>,
-    inverse: &'a dyn Fn(&[f64], &[f64], &[f64]) -> DVector<f64>,
-    forward: &'a dyn Fn(&[f64], &[f64], &[f64]) -> DVector<f64>,
+    mass_matrix: &'a (dyn Fn(&[f64]) -> DMatrix<f64> + 'a),
+    inverse: &'a StateFn<'a>,
+    forward: &'a StateFn<'a>,
 }
 
 /// The reference's dynamics.
@@ -243,7 +246,10 @@ fn every_mjcf_model_mujoco_loads_loads_and_agrees() {
         println!("{file}: nv {nv}, worst error {worst:.1e}");
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-    assert_eq!(compared, 41, "6 feature models and 35 real ones");
+    assert_eq!(
+        compared, 56,
+        "6 feature models, 15 exported and 35 real ones"
+    );
 }
 
 /// Every model file beside the values has values (a file added without rerunning the script
@@ -252,7 +258,11 @@ fn every_mjcf_model_mujoco_loads_loads_and_agrees() {
 fn every_mjcf_file_has_mujoco_values() {
     let json = read_json("data/mujoco/mujoco-values.json");
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/mujoco");
-    let mut stack = vec![root.join("features"), root.join("real")];
+    let mut stack = vec![
+        root.join("features"),
+        root.join("exported"),
+        root.join("real"),
+    ];
     let mut missing = Vec::new();
     while let Some(dir) = stack.pop() {
         for entry in std::fs::read_dir(&dir).unwrap() {
@@ -316,4 +326,54 @@ fn generated_from_mjcf_agrees_with_mujoco() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The shipped models written by `articulated export --mjcf` (`data/mujoco/exported/`, each
+/// file's first line naming its source and base): each file is what the exporter writes today, and the
+/// original model (`.chain` or URDF, through the reference) agrees with MuJoCo's values of the
+/// exported file, so MuJoCo runs the same bodies and joints.
+#[test]
+fn shipped_models_exported_to_mjcf_agree_with_mujoco() {
+    let json = read_json("data/mujoco/mujoco-values.json");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/mujoco/exported");
+    let workspace = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut failures = Vec::new();
+    let mut compared = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let (header, body) = text.split_once('\n').unwrap();
+        let source = header
+            .strip_prefix("<!-- Written by the MJCF export of articulated from ")
+            .and_then(|c| c.strip_suffix(". -->"))
+            .unwrap_or_else(|| panic!("{}: no source on its first line", path.display()));
+        let (source, floating) = match source.split_once(", with ") {
+            None => (source, FloatingBase::Fixed),
+            Some((s, "an Euler free base")) => (s, FloatingBase::Euler),
+            Some((s, "a quaternion free base")) => (s, FloatingBase::Quaternion),
+            Some((_, other)) => panic!("{other}"),
+        };
+        let command = format!("articulated export --mjcf {source}");
+        let source = workspace.join(source);
+        let model = load(&source, floating).unwrap().model;
+        let exported = articulated_codegen::mjcf::to_mjcf(&model).unwrap();
+        let file = format!("exported/{}", path.file_name().unwrap().to_str().unwrap());
+        if exported.text != body {
+            failures.push(format!(
+                "{file} is not what `articulated {command}` writes now: rerun it"
+            ));
+        }
+        let r = Reference::new(&model).unwrap();
+        let free = free_joints(&r);
+        for s in json["models"][&file]["states"].as_array().unwrap() {
+            for (what, e) in state_errors(&reference!(r), &free, s) {
+                if e.is_nan() || e > TOL {
+                    failures.push(format!("{file} (from {command}): {what} off by {e:.1e}"));
+                }
+            }
+        }
+        compared += 1;
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert_eq!(compared, 15);
 }

@@ -48,6 +48,7 @@
 //! finite or positive where MuJoCo needs them, an inertia no rigid body has: an [`MjcfError`] at
 //! the element's line, every problem of the file at once.
 
+pub mod export;
 mod shapes;
 mod xml;
 
@@ -64,6 +65,8 @@ pub use crate::import::ImportError;
 use crate::options::{Description, Options, Warning};
 use shapes::{Shape, EPS};
 use xml::{Classed, Defaults, Element, MAIN};
+
+pub use export::{to_mjcf, ExportError, Exported};
 
 /// An error found while importing an MJCF description (the importers' one error type).
 pub type MjcfError = ImportError;

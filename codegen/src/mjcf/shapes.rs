@@ -85,6 +85,16 @@ fn frame_quat(x: [f64; 3], y: [f64; 3], z: [f64; 3]) -> Quat {
     unit(q).0
 }
 
+/// The quaternion of a rotation matrix (MuJoCo's conversion, on its columns).
+pub(super) fn matrix_quat(r: &Mat3<f64>) -> Quat {
+    let m = r.0;
+    frame_quat(
+        [m[0][0], m[1][0], m[2][0]],
+        [m[0][1], m[1][1], m[2][1]],
+        [m[0][2], m[1][2], m[2][2]],
+    )
+}
+
 /// The element's orientation from whichever of `quat`, `axisangle`, `xyaxes`, `zaxis` and
 /// `euler` it gives (more than one is an error), `None` where it gives none. Angles are in the
 /// compiler's unit; Euler angles follow its `eulerseq` (lower case: axes that move with the

@@ -7,7 +7,8 @@ file (up to changes in MuJoCo itself).
 
 Models: every `.xml` under `features/` (written for these tests: each orientation form, default
 classes, frames, includes, joints at anchors with `ref`, every geom shape's inertia, the
-compiler's mass rules) and under `real/` (verbatim copies of the MJCF files that PyPI packages
+compiler's mass rules), under `exported/` (the shipped models written by `articulated export
+--mjcf`, each file's first line naming the command) and under `real/` (verbatim copies of the MJCF files that PyPI packages
 ship inside their wheels: `real/README.md`). A model MuJoCo does not load is recorded with its
 error and no values; a file included by another (a `<mujoco>` with no `<worldbody>`) is not a
 model and is skipped.
@@ -97,6 +98,7 @@ def values(m):
 def main():
     out = {'mujoco': mujoco.__version__, 'models': {}}
     files = sorted(glob.glob(os.path.join(here, 'features', '*.xml'))
+                   + glob.glob(os.path.join(here, 'exported', '*.xml'))
                    + glob.glob(os.path.join(here, 'real', '**', '*.xml'), recursive=True))
     for path in files:
         rel = os.path.relpath(path, here)
