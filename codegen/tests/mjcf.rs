@@ -72,6 +72,11 @@ fn each_refusal_names_its_line_and_what_is_wrong() {
             "joint `joint0`: its range [1, -1] is empty",
         ),
         (
+            "<body name=\"a\">\n<joint/>\n<replicate count=\"3\">\n<body/>\n</replicate>\n</body>",
+            5,
+            "`<replicate>` is not supported yet",
+        ),
+        (
             "<body name=\"a\">\n<joint type=\"universal\"/>\n<geom size=\"1\"/>\n</body>",
             4,
             "`<joint type=\"universal\">`: expected one of `hinge`, `slide`, `ball`, `free`",

@@ -2,7 +2,8 @@
 //! `make_mujoco_reference.py` there): each model loads here as MuJoCo compiles it, and its `M`
 //! (armature included), `qfrc_bias`, `mj_inverse`'s forces and `mj_forward`'s `qacc` (by its
 //! residual in MuJoCo's own equations) agree to 1e-10 relative to the largest entry, through
-//! the interpreted reference, at three seeded states; so do the sites' world poses. The models:
+//! the interpreted reference, at three seeded states; so do the sites' world poses and, for each
+//! body MuJoCo keeps whole, its mass, centre of mass and inertia tensor in the world. The models:
 //! `features/` (every orientation form, default classes, frames, includes, joints at anchors
 //! with `ref`, every geom shape's inertia, the compiler's mass rules) and `real/` (the MJCF files
 //! PyPI packages ship).
@@ -170,9 +171,11 @@ fn state_errors(
     ]
 }
 
-/// The sites' world poses against MuJoCo's, `(what, relative error)`.
-fn site_errors(r: &Reference, s: &serde_json::Value) -> Vec<(String, f64)> {
+/// The sites' world poses, and the mass, centre of mass and world inertia tensor of each body
+/// MuJoCo keeps whole, against MuJoCo's, `(what, relative error)`.
+fn frame_errors(r: &Reference, s: &serde_json::Value) -> Vec<(String, f64)> {
     let q = vec_of(&s["qpos"]);
+    let rows = |m: &Matrix3<f64>| -> Vec<f64> { m.transpose().as_slice().to_vec() };
     let mut errors = Vec::new();
     for (name, site) in s["sites"].as_object().unwrap() {
         // A site named as a body is that name with `_site` appended.
@@ -183,17 +186,37 @@ fn site_errors(r: &Reference, s: &serde_json::Value) -> Vec<(String, f64)> {
             errors.push((format!("site `{name}` missing"), f64::INFINITY));
             continue;
         };
-        let rows: Vec<f64> = (0..3)
-            .flat_map(|i| (0..3).map(move |j| (i, j)))
-            .map(|ij| rot[ij])
-            .collect();
         errors.push((
             format!("site `{name}` position"),
             rel_err(p.as_slice(), &vec_of(&site["pos"])),
         ));
         errors.push((
             format!("site `{name}` axes"),
-            rel_err(&rows, &vec_of(&site["mat"])),
+            rel_err(&rows(&rot), &vec_of(&site["mat"])),
+        ));
+    }
+    for (name, theirs) in s["bodies"].as_object().unwrap() {
+        let body = r.model().bodies.iter().find(|b| b.name == *name);
+        let (Some(body), Ok((rot, p))) = (body, r.frame_placement(&q, name)) else {
+            errors.push((format!("body `{name}` missing"), f64::INFINITY));
+            continue;
+        };
+        let c = |v: &articulated_codegen::model::Value| v.as_const().unwrap();
+        let com = p + rot * Vector3::from(body.com.map(|v| c(&v)));
+        let inertia = Matrix3::from_fn(|i, j| c(&body.inertia[i][j]));
+        let world = rot * inertia * rot.transpose();
+        let mass = theirs["mass"].as_f64().unwrap();
+        errors.push((
+            format!("body `{name}` mass"),
+            rel_err(&[c(&body.mass)], &[mass]),
+        ));
+        errors.push((
+            format!("body `{name}` centre of mass"),
+            rel_err(com.as_slice(), &vec_of(&theirs["com"])),
+        ));
+        errors.push((
+            format!("body `{name}` inertia"),
+            rel_err(&rows(&world), &vec_of(&theirs["inertia"])),
         ));
     }
     errors
@@ -235,7 +258,7 @@ fn every_mjcf_model_mujoco_loads_loads_and_agrees() {
         for s in m["states"].as_array().unwrap() {
             let free = free_joints(&r);
             let errors = state_errors(&reference!(r), &free, s);
-            for (what, e) in errors.into_iter().chain(site_errors(&r, s)) {
+            for (what, e) in errors.into_iter().chain(frame_errors(&r, s)) {
                 worst = worst.max(e);
                 if e.is_nan() || e > TOL {
                     failures.push(format!("{file}: {what} off by {e:.1e}"));

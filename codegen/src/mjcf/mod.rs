@@ -297,6 +297,19 @@ impl<'a> Importer<'a> {
         out: &mut Vec<Item<'a>>,
     ) {
         for child in &el.children {
+            if matches!(
+                child.tag.as_str(),
+                "replicate" | "composite" | "flexcomp" | "attach"
+            ) {
+                // They make bodies and joints of their own: skipping them would load another
+                // model.
+                self.errors.push(child.error(format!(
+                    "`<{}>` is not supported yet: save the model as MuJoCo compiles it \
+                     (`mujoco.mj_saveLastXML`), which writes out what it makes, and load that",
+                    child.tag
+                )));
+                continue;
+            }
             if child.tag == "frame" {
                 let inner = match child.own("childclass") {
                     Some(c) => self.class_of_name(child, c),

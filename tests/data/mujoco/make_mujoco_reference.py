@@ -24,6 +24,10 @@ is `[v (world); ω (body)]`, its `qpos` `[x, y, z, qw, qx, qy, qz]`; `free_dofs`
 States (three per model, seeded): hinge and slide `qpos0 + U(-1, 1)`, ball and free quaternions
 uniform on the sphere, free positions `U(-1, 1)`, `qvel`, `qacc` `U(-2, 2)`, `qfrc_applied`
 `U(-5, 5)`. Sites: `site_xpos` and `site_xmat` (row-major) at each state's `qpos`, by name.
+Bodies: for each body that moves and has no other body welded to it (the model keeps it whole),
+by name (`body{id}` if it has none): `body_mass`, `xipos` (its centre of mass in the world) and
+its inertia tensor about it in world axes, `ximat·diag(body_inertia)·ximatᵀ` (row-major):
+MuJoCo's principal axes are its own choice, the tensor is not.
 """
 import glob
 import os
@@ -62,6 +66,10 @@ def draw_qpos(m):
 def values(m):
     m.opt.disableflags |= DISABLED
     d = mujoco.MjData(m)
+    # The bodies that move (mocap bodies do not) and have no body welded to them: the model
+    # keeps each as one body.
+    moving = [b for b in range(1, m.nbody) if m.body_weldid[b] == b and m.body_mocapid[b] < 0
+              and not any(m.body_weldid[c] == b for c in range(1, m.nbody) if c != b)]
     states = []
     for _ in range(3):
         qpos = draw_qpos(m)
@@ -78,6 +86,12 @@ def values(m):
             name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_SITE, s)
             if name:
                 sites[name] = {'pos': d.site_xpos[s].tolist(), 'mat': d.site_xmat[s].tolist()}
+        bodies = {}
+        for b in moving:
+            name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b) or f'body{b}'
+            r = d.ximat[b].reshape(3, 3)
+            bodies[name] = {'mass': float(m.body_mass[b]), 'com': d.xipos[b].tolist(),
+                            'inertia': (r @ np.diag(m.body_inertia[b]) @ r.T).flatten().tolist()}
         d.qacc[:] = qacc
         mujoco.mj_inverse(m, d)
         tau_inverse = d.qfrc_inverse.copy()
@@ -88,7 +102,7 @@ def values(m):
             'mass_matrix': full.tolist(), 'bias': bias.tolist(),
             'tau_inverse': tau_inverse.tolist(),
             'tau': tau.tolist(), 'qacc_forward': d.qacc.tolist(),
-            'sites': sites,
+            'sites': sites, 'bodies': bodies,
         })
     free = [int(m.jnt_dofadr[j]) for j in range(m.njnt)
             if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE]
