@@ -144,7 +144,7 @@ fn what_is_not_represented_loads_with_a_warning_at_its_line() {
     for (line, what) in [
         (3, "`gravcomp` is not represented"),
         (4, "damping beyond the linear term"),
-        (4, "spring (`stiffness`)"),
+        (4, "damping beyond the linear term"),
         (9, "the joint equality is not applied"),
         (12, "the fixed tendon `t` is skipped"),
         (15, "2 actuators skipped"),
@@ -157,6 +157,7 @@ fn what_is_not_represented_loads_with_a_warning_at_its_line() {
         );
     }
     assert_eq!(d.model.joints[0].drive.damping, 1.0);
+    assert_eq!(d.model.joints[0].drive.stiffness, 3.0);
 }
 
 #[test]

@@ -805,6 +805,7 @@ fn dynamics_and_limits_are_read_into_the_drive() {
             upper: 2.5,
             velocity: 3.0,
             effort: 40.0,
+            ..Drive::FREE
         }
     );
     assert_eq!(

@@ -1,15 +1,19 @@
 //! What a chain's drives do in a simulation beyond the commanded force: the actuator's effort
-//! limit, viscous damping, dry friction and the position limits, from the description's
-//! [`Drive`]s ([`Chain::DRIVES`]: URDF's `<dynamics>` and `<limit>`, the `.chain` joint fields
-//! `damping`, `friction`, `lower`, `upper`, `effort`).
+//! limit, viscous damping, dry friction, a spring and the position limits, from the
+//! description's [`Drive`]s ([`Chain::DRIVES`]: URDF's `<dynamics>` and `<limit>`, MJCF's joint
+//! `stiffness` and `springref`, the `.chain` joint fields `damping`, `friction`, `lower`,
+//! `upper`, `effort`).
 //!
 //! The armature is not here: it is inertia, already in the generated `M`, `τ` and `q̈`.
 //!
 //! Per velocity coordinate `k`, with `τ_k` the controller's command:
 //!
 //! ```text
-//! τ_k ← clamp(τ_k, −effort, effort) − damping·v_k − friction·tanh(v_k / friction_speed) + stop_k
+//! τ_k ← clamp(τ_k, −effort, effort) − damping·v_k − friction·tanh(v_k / friction_speed)
+//!       − stiffness·(q_k − rest) + stop_k
 //! ```
+//!
+//! (the spring on revolute and prismatic joints, whose `q_k` is the coordinate of `v_k`).
 //!
 //! - **Dry friction** is regularized: exact Coulomb friction (sticking while `|τ| < friction`)
 //!   needs a complementarity solver, which this runtime does not have. Below `friction_speed`
@@ -110,6 +114,9 @@ struct Axis<T> {
     speed: T,
     /// For a revolute or prismatic joint with limits: its position's index and the range.
     limits: Option<(usize, T, T)>,
+    /// For a revolute or prismatic joint with a spring: its position's index, the stiffness and
+    /// the rest position.
+    spring: Option<(usize, T, T)>,
 }
 
 /// [`Drives::of`] was asked for a chain whose coordinates do not add up to `NQ` and `NV`.
@@ -219,34 +226,55 @@ impl<T: RealField + Copy, const NQ: usize, const NV: usize> Drives<T, NQ, NV> {
     pub fn stop_energy(&self, q: &SVector<T, NQ>) -> T {
         self.law().stop_energy(q.as_slice())
     }
+
+    /// The elastic energy the joints' springs hold at `q`: `½·stiffness·(q − rest)²` each (J).
+    /// Add it to the chain's potential energy for a total the springs do not change.
+    pub fn spring_energy(&self, q: &SVector<T, NQ>) -> T {
+        let half = nalgebra::convert::<f64, T>(0.5);
+        self.axes
+            .iter()
+            .filter_map(|a| a.spring)
+            .filter_map(|(i, k, rest)| {
+                q.as_slice()
+                    .get(i)
+                    .map(|&x| half * k * (x - rest) * (x - rest))
+            })
+            .fold(T::zero(), |a, e| a + e)
+    }
 }
 
 impl<T: RealField + Copy> Axis<T> {
-    /// The drive `d` on one velocity coordinate, with the limits of its position if any.
-    fn from_drive(d: &Drive, limits: Option<(usize, f64, f64)>) -> Self {
+    /// The drive `d` on one velocity coordinate; `position` is the index of its position for a
+    /// joint of one position and one velocity (which its limits and spring act on).
+    fn from_drive(d: &Drive, position: Option<usize>) -> Self {
         let t = |x: f64| nalgebra::convert::<f64, T>(x);
+        let bounded = d.lower > f64::NEG_INFINITY || d.upper < f64::INFINITY;
         Axis {
             damping: t(d.damping),
             friction: t(d.friction),
             effort: t(d.effort),
             speed: t(d.velocity),
-            limits: limits.map(|(i, lower, upper)| (i, t(lower), t(upper))),
+            limits: position
+                .filter(|_| bounded)
+                .map(|i| (i, t(d.lower), t(d.upper))),
+            spring: position
+                .filter(|_| d.stiffness != 0.0)
+                .map(|i| (i, t(d.stiffness), t(d.rest))),
         }
     }
 }
 
 /// The drives per velocity coordinate of joints with `coordinates` (one drive per joint); the
-/// position limits kept for joints of one position and one velocity.
+/// position limits and springs kept for joints of one position and one velocity.
 fn per_velocity<'a, T: RealField + Copy>(
     coordinates: &'a [Coordinates],
     drives: &'a [Drive],
 ) -> impl Iterator<Item = Axis<T>> + 'a {
     let mut q_at = 0;
     coordinates.iter().zip(drives).flat_map(move |(c, d)| {
-        let bounded = d.lower > f64::NEG_INFINITY || d.upper < f64::INFINITY;
-        let limits = (bounded && c.nq() == 1 && c.nv() == 1).then_some((q_at, d.lower, d.upper));
+        let position = (c.nq() == 1 && c.nv() == 1).then_some(q_at);
         q_at += c.nq();
-        core::iter::repeat_n(Axis::from_drive(d, limits), c.nv())
+        core::iter::repeat_n(Axis::from_drive(d, position), c.nv())
     })
 }
 
@@ -271,6 +299,11 @@ impl<T: RealField + Copy> Law<'_, T> {
             *f = f.clamp(-axis.effort, axis.effort) - axis.damping * v;
             if axis.friction != zero {
                 *f -= axis.friction * (v / friction_speed).tanh();
+            }
+            if let Some((i, k, rest)) = axis.spring {
+                if let Some(&x) = q.get(i) {
+                    *f -= k * (x - rest);
+                }
             }
             let Some((i, lower, upper)) = axis.limits else {
                 continue;

@@ -269,6 +269,31 @@ fn cart_drives(drive: Drive) -> Drives<f64, 1, 1> {
 }
 
 #[test]
+fn a_spring_swings_the_cart_about_its_rest_position_at_sqrt_k_over_m() {
+    // k = 16 N/m on 4 kg: ω = 2 rad/s about x = 0.3, released at 0.5 from rest.
+    let drives = cart_drives(Drive {
+        stiffness: 16.0,
+        rest: 0.3,
+        ..Drive::FREE
+    });
+    let spring = drives;
+    let mut system = ControlledChain::<f64, Cart, _>::new(drives.around(unforced));
+    let mut state = State::new(0.0, V1::new(0.5), V1::new(0.0));
+    let dt = 1e-3;
+    let mut worst = 0.0f64;
+    for k in 0..3000 {
+        Rk4.advance(&mut system, &mut state, (k + 1) as f64 * dt, k)
+            .unwrap();
+        let t = (k + 1) as f64 * dt;
+        worst = worst.max((state.q[0] - (0.3 + 0.2 * (2.0 * t).cos())).abs());
+        // ½·m·v² + ½·k·(x − rest)², the spring's energy from the drives.
+        let energy = 2.0 * state.v[0] * state.v[0] + spring.spring_energy(&state.q);
+        assert!((energy - 0.32).abs() < 1e-9, "energy at {t} s: {energy}");
+    }
+    assert!(worst < 1e-9, "x(t) off the closed form by {worst:e}");
+}
+
+#[test]
 fn dry_friction_decelerates_the_cart_at_f_over_m_until_it_stops() {
     let drives = cart_drives(Drive {
         friction: 2.0,

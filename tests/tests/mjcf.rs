@@ -3,7 +3,8 @@
 //! (armature included), `qfrc_bias`, `mj_inverse`'s forces and `mj_forward`'s `qacc` (by its
 //! residual in MuJoCo's own equations) agree to 1e-10 relative to the largest entry, through
 //! the interpreted reference, at three seeded states; so do the sites' world poses and, for each
-//! body MuJoCo keeps whole, its mass, centre of mass and inertia tensor in the world. The models:
+//! body MuJoCo keeps whole, its mass, centre of mass and inertia tensor in the world, and the
+//! joints' springs (`qfrc_spring`). The models:
 //! `features/` (every orientation form, default classes, frames, includes, joints at anchors
 //! with `ref`, every geom shape's inertia, the compiler's mass rules) and `real/` (the MJCF files
 //! PyPI packages ship).
@@ -171,6 +172,25 @@ fn state_errors(
     ]
 }
 
+/// The joints' springs (`−stiffness·(q − rest)` on each revolute and prismatic joint) against
+/// MuJoCo's `qfrc_spring`; a ball's or free joint's spring is not represented (a warning says so)
+/// and its rows are left out.
+fn spring_errors(r: &Reference, s: &serde_json::Value) -> Vec<(String, f64)> {
+    let q = vec_of(&s["qpos"]);
+    let theirs = vec_of(&s["spring"]);
+    let (mut iq, mut iv) = (0, 0);
+    let (mut ours, mut kept) = (Vec::new(), Vec::new());
+    for j in r.model().joints.iter().filter(|j| j.mimic.is_none()) {
+        if j.kind.nq() == 1 {
+            ours.push(-j.drive.stiffness * (q[iq] - j.drive.rest));
+            kept.push(theirs[iv]);
+        }
+        iq += j.kind.nq();
+        iv += j.kind.nv();
+    }
+    vec![("springs".to_string(), rel_err(&ours, &kept))]
+}
+
 /// The sites' world poses, and the mass, centre of mass and world inertia tensor of each body
 /// MuJoCo keeps whole, against MuJoCo's, `(what, relative error)`.
 fn frame_errors(r: &Reference, s: &serde_json::Value) -> Vec<(String, f64)> {
@@ -258,7 +278,8 @@ fn every_mjcf_model_mujoco_loads_loads_and_agrees() {
         for s in m["states"].as_array().unwrap() {
             let free = free_joints(&r);
             let errors = state_errors(&reference!(r), &free, s);
-            for (what, e) in errors.into_iter().chain(frame_errors(&r, s)) {
+            let others = frame_errors(&r, s).into_iter().chain(spring_errors(&r, s));
+            for (what, e) in errors.into_iter().chain(others) {
                 worst = worst.max(e);
                 if e.is_nan() || e > TOL {
                     failures.push(format!("{file}: {what} off by {e:.1e}"));

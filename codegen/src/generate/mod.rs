@@ -528,6 +528,8 @@ fn drive_tokens(drive: &Drive) -> TokenStream {
         ("armature", drive.armature, free.armature),
         ("damping", drive.damping, free.damping),
         ("friction", drive.friction, free.friction),
+        ("stiffness", drive.stiffness, free.stiffness),
+        ("rest", drive.rest, free.rest),
         ("lower", drive.lower, free.lower),
         ("upper", drive.upper, free.upper),
         ("velocity", drive.velocity, free.velocity),

@@ -699,6 +699,7 @@ impl Lower {
             upper: read(4).unwrap_or(free.upper),
             velocity: read(5).unwrap_or(free.velocity),
             effort: read(6).unwrap_or(free.effort),
+            ..free
         };
         if let Some((about, problem)) = kind.and_then(|kind| check::drive(name, kind, &drive)) {
             let at = |name: &str| f.iter().flatten().find(|field| field.key == name);

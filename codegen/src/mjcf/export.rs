@@ -11,8 +11,8 @@
 //!   Euler free base → three slides then those hinges: MuJoCo composes several joints of a body
 //!   the same way, so `qpos` is our `q` and `qvel` our `v` (but the quaternion free joint's
 //!   linear velocity, world-frame there). A fixed joint welds its body to the parent.
-//! - A drive's armature, damping, friction (`frictionloss`), limits (`range`) and effort
-//!   (`actuatorfrcrange`) go on every joint it makes.
+//! - A drive's armature, damping, friction (`frictionloss`), spring (`stiffness`, `springref`),
+//!   limits (`range`) and effort (`actuatorfrcrange`) go on every joint it makes.
 //! - A mimic joint keeps its coordinate in MuJoCo, tied to the joint it follows by a `<joint>`
 //!   equality (`polycoef="offset multiplier 0 0 0"`), which MuJoCo enforces softly: a note says so.
 //! - Frames become sites of their body (or of the world body); gravity is `<option gravity>`.
@@ -261,6 +261,8 @@ fn drive_attributes(d: &Drive) -> String {
         ("armature", d.armature),
         ("damping", d.damping),
         ("frictionloss", d.friction),
+        ("stiffness", d.stiffness),
+        ("springref", d.rest),
     ] {
         if x != 0.0 {
             let _ = write!(s, " {name}=\"{x:?}\"");

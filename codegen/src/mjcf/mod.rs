@@ -17,11 +17,11 @@
 //!   the model's body frame is put at the anchor and what the body holds is moved by `−p`. A
 //!   hinge's or slide's `ref` is folded into its placement (MuJoCo moves the joint by
 //!   `qpos − ref`), so `q` is `qpos` and the neutral `q` is `ref`.
-//! - **Drives.** `armature`, `damping` (the linear term), `frictionloss`, a `range` that limits
-//!   (`limited`, or `autolimits` and a range given), a symmetric `actuatorfrcrange` → the
-//!   joint's [`Drive`]. A spring (`stiffness`, `springdamper`), a ball's cone limit, an
-//!   asymmetric force range and higher damping terms are not represented: skipped with a
-//!   [`Warning`].
+//! - **Drives.** `armature`, `damping` and `stiffness` (their linear terms), `springref` (the
+//!   spring's rest position), `frictionloss`, a `range` that limits (`limited`, or `autolimits`
+//!   and a range given), a symmetric `actuatorfrcrange` → the joint's [`Drive`]. A ball's or free
+//!   joint's spring, `springdamper`, a ball's cone limit, an asymmetric force range and higher
+//!   polynomial terms are not represented: skipped with a [`Warning`].
 //! - **Mass.** `<inertial>` (`pos`, an orientation, `mass`, `diaginertia` or `fullinertia`
 //!   ordered `xx yy zz xy xz yz`), or the geoms' by `inertiafromgeom` (`auto`: where a body has
 //!   no `<inertial>`; `true`: always; `false`: never) within `inertiagrouprange`: spheres,
@@ -951,14 +951,34 @@ fn drive(
             ));
         }
     }
-    for spring in ["stiffness", "springdamper"] {
-        if c.numbers(spring)?
-            .is_some_and(|v| v.iter().any(|x| *x != 0.0))
-        {
+    if let Some(k) = c.some("stiffness", 1, 11)? {
+        let linear = k.first().copied().unwrap_or(0.0);
+        if matches!(ty, "hinge" | "slide") {
+            drive.stiffness = linear;
+            let rest = c.number("springref", 0.0)?;
+            drive.rest = if compiler.degree && ty == "hinge" {
+                rest.to_radians()
+            } else {
+                rest
+            };
+            if k.iter().skip(1).any(|x| *x != 0.0) {
+                notes.push(format!(
+                    "joint `{name}`: its stiffness beyond the linear term is not represented"
+                ));
+            }
+        } else if k.iter().any(|x| *x != 0.0) {
             notes.push(format!(
-                "joint `{name}`: its spring (`{spring}`) is not represented"
+                "joint `{name}`: the spring of a {ty} joint is not represented"
             ));
         }
+    }
+    if c.numbers("springdamper")?
+        .is_some_and(|v| v.iter().any(|x| *x != 0.0))
+    {
+        notes.push(format!(
+            "joint `{name}`: its `springdamper` (a spring set by its time constant) is not \
+             represented"
+        ));
     }
     let limited = |flag: &str, range: &str| -> Result<Option<[f64; 2]>, ImportError> {
         let r = c.array::<2>(range)?;

@@ -23,7 +23,7 @@ is `[v (world); ω (body)]`, its `qpos` `[x, y, z, qw, qx, qy, qz]`; `free_dofs`
 
 States (three per model, seeded): hinge and slide `qpos0 + U(-1, 1)`, ball and free quaternions
 uniform on the sphere, free positions `U(-1, 1)`, `qvel`, `qacc` `U(-2, 2)`, `qfrc_applied`
-`U(-5, 5)`. Sites: `site_xpos` and `site_xmat` (row-major) at each state's `qpos`, by name.
+`U(-5, 5)`. `spring`: `qfrc_spring` with the joints' springs alone (tendons' stiffness set to 0). Sites: `site_xpos` and `site_xmat` (row-major) at each state's `qpos`, by name.
 Bodies: for each body that moves and has no other body welded to it (the model keeps it whole),
 by name (`body{id}` if it has none): `body_mass`, `xipos` (its centre of mass in the world) and
 its inertia tensor about it in world axes, `ximat·diag(body_inertia)·ximatᵀ` (row-major):
@@ -92,6 +92,16 @@ def values(m):
             r = d.ximat[b].reshape(3, 3)
             bodies[name] = {'mass': float(m.body_mass[b]), 'com': d.xipos[b].tolist(),
                             'inertia': (r @ np.diag(m.body_inertia[b]) @ r.T).flatten().tolist()}
+        # The joints' springs alone (the one passive force kept on; tendons' springs, which the
+        # model does not represent, taken out).
+        m.opt.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_SPRING)
+        tendon_stiffness = m.tendon_stiffness.copy()
+        m.tendon_stiffness[:] = 0
+        mujoco.mj_forward(m, d)
+        spring = d.qfrc_spring.copy()
+        m.tendon_stiffness[:] = tendon_stiffness
+        m.opt.disableflags |= DISABLED
+        mujoco.mj_forward(m, d)
         d.qacc[:] = qacc
         mujoco.mj_inverse(m, d)
         tau_inverse = d.qfrc_inverse.copy()
@@ -102,7 +112,7 @@ def values(m):
             'mass_matrix': full.tolist(), 'bias': bias.tolist(),
             'tau_inverse': tau_inverse.tolist(),
             'tau': tau.tolist(), 'qacc_forward': d.qacc.tolist(),
-            'sites': sites, 'bodies': bodies,
+            'sites': sites, 'bodies': bodies, 'spring': spring.tolist(),
         })
     free = [int(m.jnt_dofadr[j]) for j in range(m.njnt)
             if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE]
