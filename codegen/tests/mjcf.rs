@@ -2,7 +2,7 @@
 //! skipped with a warning, and how the front end is chosen. The dynamics themselves are checked
 //! against MuJoCo in `tests/tests/mjcf.rs`.
 
-use articulated_codegen::load::{load, LoadError};
+use articulated_codegen::load::{load, load_with, LoadError, LoadOptions};
 use articulated_codegen::mjcf::{from_mjcf_str, is_mjcf, MjcfError};
 use articulated_codegen::model::JointKind;
 
@@ -211,6 +211,26 @@ fn an_xml_file_goes_to_the_front_end_its_root_names() {
     assert!(
         e.contains(":2: cannot read the included file `missing.xml`"),
         "{e}"
+    );
+    // An inertia no rigid body has is refused, as MuJoCo does, unless balanced on request.
+    let odd = dir.join("odd.xml");
+    std::fs::write(
+        &odd,
+        "<mujoco>\n<worldbody>\n<body><joint/>\n<inertial pos=\"0 0 0\" mass=\"1\" diaginertia=\"1 1 3\"/>\n</body>\n</worldbody>\n</mujoco>",
+    )
+    .unwrap();
+    assert!(load(&odd, false).is_err());
+    let options = LoadOptions {
+        balance_inertia: true,
+        ..LoadOptions::default()
+    };
+    let balanced = load_with(&odd, options).unwrap().model;
+    let i = balanced.bodies[0]
+        .inertia
+        .map(|row| row.map(|v| v.as_const().unwrap()));
+    assert!(
+        (i[0][0] - 5.0 / 3.0).abs() < 1e-12 && (i[2][2] - 5.0 / 3.0).abs() < 1e-12,
+        "{i:?}"
     );
     std::fs::remove_dir_all(&dir).ok();
 }

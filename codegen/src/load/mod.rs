@@ -139,7 +139,8 @@ pub fn load_with(path: &Path, options: LoadOptions) -> Result<Description, LoadE
         if floating.is_floating() {
             return Err(LoadError::FloatingChain(path.to_path_buf()));
         }
-        crate::mjcf::from_mjcf_file(path, &text).map_err(LoadError::Mjcf)?
+        crate::mjcf::from_mjcf_file_with(path, &text, options.balance_inertia)
+            .map_err(LoadError::Mjcf)?
     } else {
         let urdf_options = UrdfOptions {
             floating,

@@ -83,7 +83,7 @@ pub fn is_mjcf(text: &str) -> bool {
 /// # Errors
 /// A [`MjcfError`] at the line of each offending element.
 pub fn from_mjcf_str(xml: &str) -> Result<Description, MjcfError> {
-    import(xml, None)
+    import(xml, None, false)
 }
 
 /// [`from_mjcf_str`] for the text of the file `path`: its `<include>`s are read from its
@@ -92,10 +92,24 @@ pub fn from_mjcf_str(xml: &str) -> Result<Description, MjcfError> {
 /// # Errors
 /// As [`from_mjcf_str`].
 pub fn from_mjcf_file(path: &Path, xml: &str) -> Result<Description, MjcfError> {
-    import(xml, Some(path)).map_err(|e| e.in_file(path))
+    from_mjcf_file_with(path, xml, false)
 }
 
-fn import(text: &str, path: Option<&Path>) -> Result<Description, MjcfError> {
+/// [`from_mjcf_file`], with every body's inertia balanced where it breaks the triangle
+/// inequality when `balance_inertia` (as `<compiler balanceinertia="true"/>` does; the
+/// loader's [`LoadOptions::balance_inertia`](crate::load::LoadOptions::balance_inertia)).
+///
+/// # Errors
+/// As [`from_mjcf_str`].
+pub fn from_mjcf_file_with(
+    path: &Path,
+    xml: &str,
+    balance_inertia: bool,
+) -> Result<Description, MjcfError> {
+    import(xml, Some(path), balance_inertia).map_err(|e| e.in_file(path))
+}
+
+fn import(text: &str, path: Option<&Path>, balance: bool) -> Result<Description, MjcfError> {
     let dir = path.map(|p| p.parent().unwrap_or(Path::new(".")));
     let root = xml::parse(text, None, dir)?;
     if root.tag != "mujoco" {
@@ -105,7 +119,8 @@ fn import(text: &str, path: Option<&Path>) -> Result<Description, MjcfError> {
         )));
     }
     let defaults = Defaults::read(&root)?;
-    let compiler = Compiler::read(&root, &defaults)?;
+    let mut compiler = Compiler::read(&root, &defaults)?;
+    compiler.balanceinertia |= balance;
     let importer = Importer {
         root: &root,
         defaults,
