@@ -381,6 +381,10 @@ pub struct Base {
     /// MuJoCo's `balanceinertia`, instead of a warning.
     #[arg(long)]
     pub balance_inertia: bool,
+    /// In an MJCF model, make each `<joint>` equality with a linear `polycoef` a mimic joint
+    /// (or lock its joint where it names no second joint) instead of keeping every coordinate.
+    #[arg(long)]
+    pub mimic_equalities: bool,
 }
 
 /// Loads `path` as `base` says, its warnings on stderr (with `--strict`, errors that refuse
@@ -393,6 +397,7 @@ pub fn load_description(
         floating: base.floating.unwrap_or_default(),
         balance_inertia: base.balance_inertia,
         strict: base.strict,
+        mimic_equalities: base.mimic_equalities,
     };
     let chain = articulated_codegen::load::load_with(path, options).map_err(|e| e.to_string())?;
     for w in &chain.warnings {

@@ -53,6 +53,7 @@ struct Entry {
     lanes: Option<usize>,
     strict: bool,
     balance_inertia: bool,
+    mimic_equalities: bool,
 }
 
 #[derive(Debug)]
@@ -129,6 +130,7 @@ impl Builder {
             lanes: None,
             strict: false,
             balance_inertia: false,
+            mimic_equalities: false,
         });
         self
     }
@@ -269,6 +271,15 @@ impl Builder {
         self
     }
 
+    /// Make each `<joint>` equality of the MJCF file added last a mimic joint (or a lock) instead
+    /// of keeping its coordinates with a warning (as `mimic_equalities` in `#[chain(…)]`).
+    pub fn mimic_equalities(mut self) -> Self {
+        if let Some(last) = self.sources.last_mut() {
+            last.mimic_equalities = true;
+        }
+        self
+    }
+
     /// Quasi-static motion for the source added last (as `quasi_static`): velocity-product
     /// terms dropped.
     pub fn quasi_static(mut self) -> Self {
@@ -324,6 +335,7 @@ impl Builder {
                         floating: *floating,
                         balance_inertia: entry.balance_inertia,
                         strict: entry.strict,
+                        mimic_equalities: entry.mimic_equalities,
                     };
                     let chain = load_with(&full, options).map_err(BuildError::Load)?;
                     warnings.extend(chain.warnings.iter().map(|w| w.display_in(path)));

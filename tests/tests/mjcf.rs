@@ -291,8 +291,8 @@ fn every_mjcf_model_mujoco_loads_loads_and_agrees() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert_eq!(
-        compared, 56,
-        "6 feature models, 15 exported and 35 real ones"
+        compared, 57,
+        "7 feature models, 15 exported and 35 real ones"
     );
 }
 
@@ -420,4 +420,65 @@ fn shipped_models_exported_to_mjcf_agree_with_mujoco() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert_eq!(compared, 15);
+}
+
+/// `mimic_equalities` (`features/equality.xml`): `b − ref_b = 0.1 − 0.5·(a − ref_a)` becomes the
+/// mimic joint `b = −0.5·a + (0.1 + ref_b + 0.5·ref_a)` and `c` is locked at `ref_c + 0.2`, so
+/// with `G = ∂q_full/∂q` (constant) the coupled model's `M` is `Gᵀ·M_full(q_full)·G` and its `τ`
+/// is `Gᵀ·τ_full(q_full, G·v, G·a)`, with `M_full` and `τ_full` those of the model that keeps
+/// every coordinate (which agrees with MuJoCo above). The quadratic equality stays one, with a
+/// warning.
+#[test]
+fn joint_equalities_become_exact_mimic_joints_and_locks_on_request() {
+    use articulated_codegen::load::{load_with, LoadOptions};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/mujoco/features/equality.xml");
+    let full = Reference::new(&load(&path, FloatingBase::Fixed).unwrap().model).unwrap();
+    let options = LoadOptions {
+        mimic_equalities: true,
+        ..LoadOptions::default()
+    };
+    let chain = load_with(&path, options).unwrap();
+    assert!(
+        chain
+            .warnings
+            .iter()
+            .any(|w| w.message.contains("equality on `e` is not linear")),
+        "{:?}",
+        chain.warnings
+    );
+    let coupled = Reference::new(&chain.model).unwrap();
+    assert_eq!((coupled.nq(), coupled.nv()), (3, 3), "a, d, e");
+    let (ref_a, ref_b, ref_c) = (10f64.to_radians(), 20f64.to_radians(), -15f64.to_radians());
+    let mut g = DMatrix::zeros(5, 3);
+    g[(0, 0)] = 1.0;
+    g[(1, 0)] = -0.5;
+    g[(3, 1)] = 1.0;
+    g[(4, 2)] = 1.0;
+    for (q, v, a) in [
+        ([0.3, 0.05, -0.4], [0.7, -0.2, 0.5], [-1.0, 0.4, 2.0]),
+        ([-1.1, -0.02, 1.0], [-0.3, 0.6, -0.8], [0.5, -1.5, 0.2]),
+    ] {
+        let b = -0.5 * q[0] + (0.1 + ref_b + 0.5 * ref_a);
+        let q_full = [q[0], b, ref_c + 0.2, q[1], q[2]];
+        let m_full = full.mass_matrix(&q_full).unwrap();
+        let expected_m = g.transpose() * &m_full * &g;
+        let m = coupled.mass_matrix(&q).unwrap();
+        assert!(
+            rel_err(m.as_slice(), expected_m.as_slice()) < 1e-13,
+            "{m} against {expected_m}"
+        );
+        let (vf, af) = (
+            &g * DVector::from_row_slice(&v),
+            &g * DVector::from_row_slice(&a),
+        );
+        let expected_tau = g.transpose()
+            * full
+                .inverse_dynamics(&q_full, vf.as_slice(), af.as_slice())
+                .unwrap();
+        let tau = coupled.inverse_dynamics(&q, &v, &a).unwrap();
+        assert!(
+            rel_err(tau.as_slice(), expected_tau.as_slice()) < 1e-13,
+            "{tau} against {expected_tau}"
+        );
+    }
 }

@@ -65,6 +65,8 @@ pub(crate) struct Attr {
     pub strict: bool,
     /// `balance_inertia`: inertias no rigid body has are balanced, not warned about.
     pub balance_inertia: bool,
+    /// `mimic_equalities`: an MJCF model's `<joint>` equalities become mimic joints.
+    pub mimic_equalities: bool,
 }
 
 const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, `mjcf = \"….xml\"`, \
@@ -73,7 +75,8 @@ const KEYS: &str = "expected `file = \"….chain\"`, `urdf = \"….urdf\"`, `mjc
                     `accuracy = fastest | robust`, `lock = [joint(q, …), …]`, \
                     `keep = [body, …]`, `frames = [frame, …]`, \
                     `contacts = [frame: six_d | point, …]`, `loops = [name: point(a, b) | six_d(a, b), …]`, \
-                    `lanes = 2 | 4 | 8 | 16`, `quasi_static`, `strict` or `balance_inertia`";
+                    `lanes = 2 | 4 | 8 | 16`, `quasi_static`, `strict`, `balance_inertia` \
+                    or `mimic_equalities`";
 
 /// Reads every `#[chain(…)]` on `input`.
 pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
@@ -93,6 +96,7 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
     let mut lanes = None;
     let mut strict = false;
     let mut balance_inertia = false;
+    let mut mimic_equalities = false;
     let mut seen = false;
     for attr in input.attrs.iter().filter(|a| a.path().is_ident("chain")) {
         seen = true;
@@ -167,6 +171,7 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
                 Some("quasi_static") => quasi_static = true,
                 Some("strict") => strict = true,
                 Some("balance_inertia") => balance_inertia = true,
+                Some("mimic_equalities") => mimic_equalities = true,
                 _ => return Err(unknown_key(&meta)),
             }
             Ok(())
@@ -221,6 +226,7 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
         lanes,
         strict,
         balance_inertia,
+        mimic_equalities,
     })
 }
 

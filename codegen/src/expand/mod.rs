@@ -170,6 +170,7 @@ fn derive_inner(input: TokenStream) -> syn::Result<TokenStream> {
         floating,
         balance_inertia: attr.balance_inertia,
         strict: attr.strict,
+        mimic_equalities: attr.mimic_equalities,
     };
     let mut chain = load_with(&path, options)
         .map_err(|e| load_error(e, key, &path, manifest_dir.as_deref(), lit))?;

@@ -29,6 +29,10 @@ pub struct LoadOptions {
     pub balance_inertia: bool,
     /// Refuse a file that loads with warnings ([`LoadError::Strict`]).
     pub strict: bool,
+    /// In an MJCF model, make each `<joint>` equality with a linear `polycoef` a mimic joint
+    /// (or lock its joint where it names no second joint) instead of keeping every coordinate
+    /// with a warning ([`crate::mjcf::MjcfOptions::mimic_equalities`]).
+    pub mimic_equalities: bool,
 }
 
 impl From<FloatingBase> for LoadOptions {
@@ -139,8 +143,11 @@ pub fn load_with(path: &Path, options: LoadOptions) -> Result<Description, LoadE
         if floating.is_floating() {
             return Err(LoadError::FloatingChain(path.to_path_buf()));
         }
-        crate::mjcf::from_mjcf_file_with(path, &text, options.balance_inertia)
-            .map_err(LoadError::Mjcf)?
+        let mjcf = crate::mjcf::MjcfOptions {
+            balance_inertia: options.balance_inertia,
+            mimic_equalities: options.mimic_equalities,
+        };
+        crate::mjcf::from_mjcf_file_with(path, &text, mjcf).map_err(LoadError::Mjcf)?
     } else {
         let urdf_options = UrdfOptions {
             floating,

@@ -39,7 +39,8 @@
 //!   included file is reported at that file's line.
 //! - **Sites** become frames of their body (a site named as a body gets `_site` appended).
 //! - **Not represented**, each skipped with a [`Warning`] at its line: equality constraints (the
-//!   dynamics are MuJoCo's without them), tendons, actuators (`τ` is the caller's), a body's
+//!   dynamics are MuJoCo's without them; on request a `<joint>` equality becomes a mimic joint or
+//!   a lock, [`MjcfOptions::mimic_equalities`]), tendons, actuators (`τ` is the caller's), a body's
 //!   `gravcomp`.
 //!
 //! # Errors
@@ -48,10 +49,12 @@
 //! finite or positive where MuJoCo needs them, an inertia no rigid body has: an [`MjcfError`] at
 //! the element's line, every problem of the file at once.
 
+mod equality;
 pub mod export;
 mod shapes;
 mod xml;
 
+use std::collections::HashMap;
 use std::path::Path;
 
 use articulated_dynamics::model::{
@@ -83,7 +86,7 @@ pub fn is_mjcf(text: &str) -> bool {
 /// # Errors
 /// A [`MjcfError`] at the line of each offending element.
 pub fn from_mjcf_str(xml: &str) -> Result<Description, MjcfError> {
-    import(xml, None, false)
+    import(xml, None, MjcfOptions::default())
 }
 
 /// [`from_mjcf_str`] for the text of the file `path`: its `<include>`s are read from its
@@ -92,24 +95,35 @@ pub fn from_mjcf_str(xml: &str) -> Result<Description, MjcfError> {
 /// # Errors
 /// As [`from_mjcf_str`].
 pub fn from_mjcf_file(path: &Path, xml: &str) -> Result<Description, MjcfError> {
-    from_mjcf_file_with(path, xml, false)
+    from_mjcf_file_with(path, xml, MjcfOptions::default())
 }
 
-/// [`from_mjcf_file`], with every body's inertia balanced where it breaks the triangle
-/// inequality when `balance_inertia` (as `<compiler balanceinertia="true"/>` does; the
-/// loader's [`LoadOptions::balance_inertia`](crate::load::LoadOptions::balance_inertia)).
+/// How [`from_mjcf_file_with`] imports.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MjcfOptions {
+    /// Balance every body's inertia that breaks the triangle inequality, as
+    /// `<compiler balanceinertia="true"/>` does (the loader's
+    /// [`LoadOptions::balance_inertia`](crate::load::LoadOptions::balance_inertia)).
+    pub balance_inertia: bool,
+    /// Make each `<joint>` equality with a linear `polycoef` a mimic joint (`joint1` follows
+    /// `joint2`), or lock `joint1` where it names no `joint2`, rather than keep every coordinate
+    /// and warn ([`crate::load::LoadOptions::mimic_equalities`]).
+    pub mimic_equalities: bool,
+}
+
+/// [`from_mjcf_file`] as `options` say.
 ///
 /// # Errors
 /// As [`from_mjcf_str`].
 pub fn from_mjcf_file_with(
     path: &Path,
     xml: &str,
-    balance_inertia: bool,
+    options: MjcfOptions,
 ) -> Result<Description, MjcfError> {
-    import(xml, Some(path), balance_inertia).map_err(|e| e.in_file(path))
+    import(xml, Some(path), options).map_err(|e| e.in_file(path))
 }
 
-fn import(text: &str, path: Option<&Path>, balance: bool) -> Result<Description, MjcfError> {
+fn import(text: &str, path: Option<&Path>, options: MjcfOptions) -> Result<Description, MjcfError> {
     let dir = path.map(|p| p.parent().unwrap_or(Path::new(".")));
     let root = xml::parse(text, None, dir)?;
     if root.tag != "mujoco" {
@@ -120,7 +134,7 @@ fn import(text: &str, path: Option<&Path>, balance: bool) -> Result<Description,
     }
     let defaults = Defaults::read(&root)?;
     let mut compiler = Compiler::read(&root, &defaults)?;
-    compiler.balanceinertia |= balance;
+    compiler.balanceinertia |= options.balance_inertia;
     let importer = Importer {
         root: &root,
         defaults,
@@ -133,6 +147,8 @@ fn import(text: &str, path: Option<&Path>, balance: bool) -> Result<Description,
         errors: Vec::new(),
         total_mass: 0.0,
         counts: Counts::default(),
+        references: HashMap::new(),
+        mimic_equalities: options.mimic_equalities,
     };
     importer.build()
 }
@@ -251,6 +267,10 @@ struct Importer<'a> {
     /// The mass of every MuJoCo body, those welded to the world included (`settotalmass`).
     total_mass: f64,
     counts: Counts,
+    /// Each joint's `ref`, by name (a joint equality's offsets are from them).
+    references: HashMap<String, f64>,
+    /// `<joint>` equalities become mimic joints (or lock their joint) rather than warnings.
+    mimic_equalities: bool,
 }
 
 /// An element of a body, with the class it defaults from and the `<frame>`s around it
@@ -269,6 +289,8 @@ struct Read {
     anchor: [f64; 3],
     /// The placement that takes `ref` out (`Rot(a, −ref)` or `Trans(−a·ref)`).
     fold: Transform,
+    /// Its `ref` (radians for a hinge; 0 for ball and free joints).
+    reference: f64,
     drive: Drive,
     free: bool,
 }
@@ -384,6 +406,9 @@ impl<'a> Importer<'a> {
                 }
             }
         }
+        if self.mimic_equalities {
+            self.joint_equalities();
+        }
         self.errors.sort_by_key(ImportError::sort_key);
         if let Some(e) = ImportError::all(std::mem::take(&mut self.errors)) {
             return Err(e);
@@ -465,6 +490,9 @@ impl<'a> Importer<'a> {
         let root = self.root;
         for section in root.each("equality") {
             for eq in &section.children {
+                if self.mimic_equalities && eq.tag == "joint" {
+                    continue;
+                }
                 let name = eq
                     .own("name")
                     .map(|n| format!(" `{n}`"))
@@ -681,6 +709,7 @@ impl<'a> Importer<'a> {
                 MassProps::ZERO
             };
             self.bodies.push((body_name, props));
+            self.references.insert(j.name.clone(), j.reference);
             self.joints.push(Joint {
                 name: j.name,
                 kind: j.kind,
@@ -754,6 +783,7 @@ impl<'a> Importer<'a> {
             kind,
             anchor,
             fold,
+            reference,
             drive,
             free: ty == "free",
         })
