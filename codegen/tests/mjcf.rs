@@ -77,6 +77,11 @@ fn each_refusal_names_its_line_and_what_is_wrong() {
             "`<replicate>` is not supported yet",
         ),
         (
+            "<body name=\"a\">\n<freejoint align=\"true\"/>\n<geom size=\"1\"/>\n</body>",
+            3,
+            "a free joint aligned with the inertial frame",
+        ),
+        (
             "<body name=\"a\">\n<joint type=\"universal\"/>\n<geom size=\"1\"/>\n</body>",
             4,
             "`<joint type=\"universal\">`: expected one of `hinge`, `slide`, `ball`, `free`",

@@ -177,6 +177,8 @@ pub(super) struct Compiler {
     pub(super) balanceinertia: bool,
     settotalmass: f64,
     autolimits: bool,
+    /// Free bodies without children moved to their inertial frame (`alignfree`).
+    alignfree: bool,
 }
 
 impl Compiler {
@@ -191,6 +193,7 @@ impl Compiler {
             balanceinertia: false,
             settotalmass: -1.0,
             autolimits: true,
+            alignfree: false,
         };
         let bool_of = |e: &Classed, name: &str, now: bool| -> Result<bool, ImportError> {
             Ok(match e.get(name) {
@@ -233,6 +236,7 @@ impl Compiler {
             c.settotalmass = e.number("settotalmass", c.settotalmass)?;
             c.balanceinertia = bool_of(&e, "balanceinertia", c.balanceinertia)?;
             c.autolimits = bool_of(&e, "autolimits", c.autolimits)?;
+            c.alignfree = bool_of(&e, "alignfree", c.alignfree)?;
             if el.own("coordinate").is_some_and(|v| v != "local") {
                 return Err(el.error(
                     "`coordinate=\"global\"` is no longer MuJoCo's: write the model in local \
@@ -641,6 +645,23 @@ impl<'a> Importer<'a> {
             }
             for note in notes {
                 self.warn(i.el, note);
+            }
+        }
+        let childless = !items.iter().any(|i| i.el.tag == "body");
+        if let [j] = joints.as_slice() {
+            let align = items
+                .iter()
+                .find(|i| matches!(i.el.tag.as_str(), "joint" | "freejoint"))
+                .and_then(|i| i.el.own("align"));
+            let aligned =
+                align == Some("true") || (align != Some("false") && self.compiler.alignfree);
+            if j.free && childless && aligned {
+                // MuJoCo moves such a body's frame to its principal axes of inertia, which
+                // changes what `qpos` means.
+                self.errors.push(el.error(format!(
+                    "body `{name}`: a free joint aligned with the inertial frame (`align`, \
+                     `alignfree`) is not supported: set `align=\"false\"`"
+                )));
             }
         }
         let (body, contents) = if joints.is_empty() {
