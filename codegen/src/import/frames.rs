@@ -4,6 +4,7 @@
 //! roll-pitch-yaw of a composed rotation ([`matrix_rpy`]). The 3×3 algebra is the workspace's own
 //! [`Mat3`] and [`Vec3`] on `f64`.
 
+use articulated_dynamics::model::{Body, Value};
 use articulated_dynamics::spatial::{Mat3, Vec3};
 
 /// A rigid transform: a frame's origin `p` and axes `r` (active: `x_outer = r·x_inner + p`) in
@@ -88,6 +89,16 @@ impl MassProps {
         c: Vec3([0.0; 3]),
         i: Mat3([[0.0; 3]; 3]),
     };
+
+    /// The model body `name` with these properties (constants).
+    pub(crate) fn into_body(self, name: String) -> Body {
+        Body {
+            name,
+            mass: Value::Const(self.m),
+            com: self.c.0.map(Value::Const),
+            inertia: self.i.0.map(|row| row.map(Value::Const)),
+        }
+    }
 
     /// The same properties seen from the frame in which `t` describes their frame.
     pub(crate) fn transformed(&self, t: &Transform) -> MassProps {

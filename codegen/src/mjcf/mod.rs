@@ -58,7 +58,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use articulated_dynamics::model::{
-    Body, Drive, Frame, Joint, JointKind, Model, Placement, Value, DEFAULT_GRAVITY,
+    Drive, Frame, Joint, JointKind, Model, Placement, Value, DEFAULT_GRAVITY,
 };
 use articulated_dynamics::spatial::{Mat3, Vec3};
 
@@ -438,12 +438,7 @@ impl<'a> Importer<'a> {
             bodies: self
                 .bodies
                 .into_iter()
-                .map(|(name, mp)| Body {
-                    name,
-                    mass: Value::Const(mp.m),
-                    com: mp.c.0.map(Value::Const),
-                    inertia: mp.i.0.map(|row| row.map(Value::Const)),
-                })
+                .map(|(name, mp)| mp.into_body(name))
                 .collect(),
             joints: self.joints,
             frames: self.frames,

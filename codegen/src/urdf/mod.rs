@@ -69,7 +69,7 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 use articulated_dynamics::model::{
-    Body, Drive, EulerSeq, Frame, Joint, JointKind, Mimic, Model, Placement, Value, DEFAULT_GRAVITY,
+    Drive, EulerSeq, Frame, Joint, JointKind, Mimic, Model, Placement, Value, DEFAULT_GRAVITY,
 };
 use articulated_dynamics::spatial::{Mat3, Vec3};
 
@@ -497,12 +497,7 @@ impl Importer {
             bodies: built
                 .bodies
                 .into_iter()
-                .map(|(name, mp)| Body {
-                    name,
-                    mass: Value::Const(mp.m),
-                    com: mp.c.0.map(Value::Const),
-                    inertia: mp.i.0.map(|row| row.map(Value::Const)),
-                })
+                .map(|(name, mp)| mp.into_body(name))
                 .collect(),
             joints: built.joints,
             frames: built.frames,
