@@ -149,6 +149,14 @@ impl Builder {
         self.push(Source::File(path.as_ref().to_path_buf(), floating.into()))
     }
 
+    /// Adds a MuJoCo MJCF file (`.xml`; its free joints are its own).
+    pub fn mjcf(self, path: impl AsRef<Path>) -> Self {
+        self.push(Source::File(
+            path.as_ref().to_path_buf(),
+            FloatingBase::Fixed,
+        ))
+    }
+
     /// Adds a model built by a program (for example a seeded random tree), with the default
     /// options.
     pub fn model(self, model: Model) -> Self {

@@ -239,3 +239,25 @@ fn an_xml_file_goes_to_the_front_end_its_root_names() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_builder_generates_from_mjcf_with_its_warnings() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/data/mujoco/features/equality.xml");
+    let builder = articulated_codegen::Builder::new().mjcf(&path);
+    let source = builder.to_source().unwrap();
+    assert!(
+        source.contains("pub struct Equality"),
+        "{}",
+        &source[..200.min(source.len())]
+    );
+    assert_eq!(builder.warnings().unwrap().len(), 3, "one per equality");
+    let coupled = articulated_codegen::Builder::new()
+        .mjcf(&path)
+        .mimic_equalities();
+    let warnings = coupled.warnings().unwrap();
+    assert!(
+        warnings.len() == 2 && warnings[1].contains("not linear"),
+        "{warnings:?}"
+    );
+}
