@@ -44,7 +44,7 @@ fn each_refusal_names_its_line_and_what_is_wrong() {
         (
             "<body name=\"a\">\n<joint/>\n<geom type=\"mesh\" mesh=\"m\"/>\n</body>",
             5,
-            "the inertia of `mesh` geoms is not computed yet",
+            "mesh `m`: no `<mesh>` asset has this name",
         ),
         (
             "<body name=\"a\">\n<joint/>\n<geom type=\"capsule\" size=\"0.1\"/>\n</body>",
@@ -260,4 +260,21 @@ fn a_builder_generates_from_mjcf_with_its_warnings() {
         warnings.len() == 2 && warnings[1].contains("not linear"),
         "{warnings:?}"
     );
+}
+
+#[test]
+fn a_mesh_given_by_its_vertices_and_faces_weighs_its_volume() {
+    // The unit cube, outward triangles, 1000 kg/m³: 1000 kg, 1000/6 kg·m² about its centre.
+    let xml = "<mujoco>\n<asset>\n<mesh name=\"cube\" vertex=\"0 0 0 1 0 0 0 1 0 1 1 0 0 0 1 1 0 1 0 1 1 1 1 1\" \
+               face=\"0 2 3 0 3 1 4 5 7 4 7 6 0 1 5 0 5 4 2 6 7 2 7 3 0 4 6 0 6 2 1 3 7 1 7 5\"/>\n\
+               <mesh name=\"hull\" vertex=\"0 0 0 1 0 0 0 1 0 0 0 1\"/>\n</asset>\n<worldbody>\n\
+               <body><joint/><geom type=\"mesh\" mesh=\"cube\"/></body>\n</worldbody>\n</mujoco>";
+    let body = &from_mjcf_str(xml).unwrap().model.bodies[0];
+    let c = |v: &articulated_codegen::model::Value| v.as_const().unwrap();
+    assert!((c(&body.mass) - 1000.0).abs() < 1e-9);
+    assert!(body.com.iter().all(|x| (c(x) - 0.5).abs() < 1e-12));
+    assert!((c(&body.inertia[0][0]) - 1000.0 / 6.0).abs() < 1e-9);
+    // A mesh without faces is its convex hull, which is not computed yet.
+    let e = err(&xml.replace("mesh=\"cube\"", "mesh=\"hull\""));
+    assert!(e.message().contains("convex hull"), "{e}");
 }

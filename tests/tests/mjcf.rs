@@ -291,8 +291,8 @@ fn every_mjcf_model_mujoco_loads_loads_and_agrees() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert_eq!(
-        compared, 57,
-        "7 feature models, 15 exported and 35 real ones"
+        compared, 58,
+        "8 feature models, 15 exported and 35 real ones"
     );
 }
 

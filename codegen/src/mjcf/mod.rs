@@ -28,8 +28,10 @@
 //!   capsules, cylinders, ellipsoids and boxes, solid or `shellinertia`, by `mass` or `density`
 //!   (1000 by default), placed by `pos` and an orientation or by `fromto`. The compiler's
 //!   `boundmass`, `boundinertia`, `balanceinertia` and `settotalmass` apply as MuJoCo applies
-//!   them (the total counts bodies welded to the world, whose mass the model then drops). The
-//!   inertia of mesh geoms is not computed yet: such a body needs an `<inertial>`.
+//!   them (the total counts bodies welded to the world, whose mass the model then drops). Mesh
+//!   geoms from binary STL files (or `vertex` and `face`) with the mesh's `scale` and its
+//!   `inertia` (`legacy`, MuJoCo's default, which over-counts a non-convex mesh as MuJoCo
+//!   does; `exact`; `shell`); a convex hull's inertia (`convex`) is not computed yet.
 //! - **Compiler.** `angle` (degrees by default; quaternions are never angles), `eulerseq`
 //!   (lower case: axes that move, upper case: fixed axes). `<option gravity>` and
 //!   `<flag gravity="disable">` set gravity.
@@ -51,6 +53,7 @@
 
 mod equality;
 pub mod export;
+mod mesh;
 mod shapes;
 mod xml;
 
@@ -149,6 +152,8 @@ fn import(text: &str, path: Option<&Path>, options: MjcfOptions) -> Result<Descr
         counts: Counts::default(),
         references: HashMap::new(),
         mimic_equalities: options.mimic_equalities,
+        dir: dir.map(Path::to_path_buf),
+        meshes: std::cell::RefCell::new(HashMap::new()),
     };
     importer.build()
 }
@@ -179,6 +184,8 @@ pub(super) struct Compiler {
     autolimits: bool,
     /// Free bodies without children moved to their inertial frame (`alignfree`).
     alignfree: bool,
+    /// Where mesh files are (`meshdir`, else `assetdir`), from the model file's directory.
+    meshdir: Option<String>,
 }
 
 impl Compiler {
@@ -194,6 +201,7 @@ impl Compiler {
             settotalmass: -1.0,
             autolimits: true,
             alignfree: false,
+            meshdir: None,
         };
         let bool_of = |e: &Classed, name: &str, now: bool| -> Result<bool, ImportError> {
             Ok(match e.get(name) {
@@ -237,6 +245,12 @@ impl Compiler {
             c.balanceinertia = bool_of(&e, "balanceinertia", c.balanceinertia)?;
             c.autolimits = bool_of(&e, "autolimits", c.autolimits)?;
             c.alignfree = bool_of(&e, "alignfree", c.alignfree)?;
+            if let Some(d) = el
+                .own("meshdir")
+                .or(el.own("assetdir").filter(|_| c.meshdir.is_none()))
+            {
+                c.meshdir = Some(d.to_string());
+            }
             if el.own("coordinate").is_some_and(|v| v != "local") {
                 return Err(el.error(
                     "`coordinate=\"global\"` is no longer MuJoCo's: write the model in local \
@@ -275,6 +289,10 @@ struct Importer<'a> {
     references: HashMap<String, f64>,
     /// `<joint>` equalities become mimic joints (or lock their joint) rather than warnings.
     mimic_equalities: bool,
+    /// The model file's directory, which `<include>` files and meshes are found from.
+    dir: Option<std::path::PathBuf>,
+    /// Each mesh's mass properties once read, by name.
+    meshes: std::cell::RefCell<HashMap<String, mesh::MeshMass>>,
 }
 
 /// An element of a body, with the class it defaults from and the `<frame>`s around it
@@ -891,6 +909,146 @@ impl<'a> Importer<'a> {
         }
     }
 
+    /// A mesh geom's mass properties in the body frame (`None`: massless): the mesh's, for the
+    /// geom's density or mass, placed by the geom's pose. `what` names the geom in errors.
+    fn mesh_geom(&self, item: &Item, what: &str) -> Result<Option<MassProps>, ImportError> {
+        let c = self.classed(item);
+        let el = item.el;
+        if c.get("fromto").is_some() {
+            return Err(el.error(format!("{what}: `fromto` cannot place a mesh geom")));
+        }
+        if c.get("shellinertia") == Some("true") {
+            return Err(el.error(format!(
+                "{what}: a mesh geom's inertia is set on the mesh (`<mesh inertia=\"shell\">`)"
+            )));
+        }
+        let Some(name) = c.get("mesh") else {
+            return Err(el.error(format!("{what}: a mesh geom needs `mesh`")));
+        };
+        let mesh = self
+            .mesh(name)
+            .map_err(|m| el.error(format!("{what}: mesh `{name}`: {m}")))?;
+        let m = match c.array::<1>("mass")? {
+            Some([m]) if mesh.volume > EPS => m,
+            Some(_) => 0.0,
+            None => c.number("density", 1000.0)? * mesh.volume,
+        };
+        if m <= EPS {
+            return Ok(None);
+        }
+        let pose = item.frame.then(&shapes::pose(&c, &self.compiler)?);
+        let scale = m / mesh.volume;
+        let i = Mat3(mesh.inertia.map(|row| row.map(|x| x * scale)));
+        Ok(Some(MassProps {
+            m,
+            c: pose.p + pose.r.mul_vec(Vec3(mesh.com)),
+            i: crate::import::frames::rotate_inertia(&pose.r, &i),
+        }))
+    }
+
+    /// The mass properties of the mesh asset `name` for a unit density, read once.
+    fn mesh(&self, name: &str) -> Result<mesh::MeshMass, String> {
+        if let Some(m) = self.meshes.borrow().get(name) {
+            return Ok(*m);
+        }
+        let stem = |f: &str| {
+            Path::new(f)
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .map(str::to_string)
+        };
+        let asset = self
+            .root
+            .each("asset")
+            .flat_map(|a| a.each("mesh"))
+            .find(|m| match m.own("name") {
+                Some(n) => n == name,
+                None => m.own("file").and_then(stem).as_deref() == Some(name),
+            })
+            .ok_or("no `<mesh>` asset has this name")?;
+        let c = Classed {
+            el: asset,
+            class: asset.own("class").unwrap_or(MAIN),
+            defaults: &self.defaults,
+        };
+        let message = |e: ImportError| e.message().to_string();
+        let mode = match c
+            .keyword("inertia", &["legacy", "exact", "shell", "convex"])
+            .map_err(message)?
+        {
+            "exact" => mesh::MeshInertia::Exact,
+            "shell" => mesh::MeshInertia::Shell,
+            "convex" => {
+                return Err(
+                    "the inertia of its convex hull (`inertia=\"convex\"`) is not \
+                            computed yet: `legacy` (MuJoCo's default) and `exact` are"
+                        .into(),
+                )
+            }
+            _ => mesh::MeshInertia::Legacy,
+        };
+        for moved in ["refpos", "refquat"] {
+            if c.get(moved).is_some() {
+                return Err(format!(
+                    "`{moved}` is not supported (MuJoCo has dropped it)"
+                ));
+            }
+        }
+        let scale = c.array::<3>("scale").map_err(message)?.unwrap_or([1.0; 3]);
+        let mut tris = match (asset.own("file"), asset.own("vertex")) {
+            (Some(file), _) if file.to_ascii_lowercase().ends_with(".stl") => {
+                let dir = self.dir.clone().unwrap_or_default();
+                let under = self.compiler.meshdir.as_deref().unwrap_or("");
+                mesh::read_stl(&dir.join(under).join(file))?
+            }
+            (Some(file), _) => {
+                return Err(format!(
+                    "`{file}`: only binary STL mesh files are read yet (not OBJ or MSH)"
+                ))
+            }
+            (None, Some(_)) => self.inline_mesh(&c)?,
+            (None, None) => return Err("it has neither `file` nor `vertex`".into()),
+        };
+        for t in &mut tris {
+            for v in t.iter_mut() {
+                for k in 0..3 {
+                    v[k] *= scale[k];
+                }
+            }
+        }
+        let m = mesh::mass_properties(&tris, mode)?;
+        self.meshes.borrow_mut().insert(name.to_string(), m);
+        Ok(m)
+    }
+
+    /// The triangles of a mesh given by its `vertex` and `face` attributes (single precision,
+    /// as MuJoCo stores them).
+    fn inline_mesh(&self, c: &Classed) -> Result<Vec<[[f64; 3]; 3]>, String> {
+        let vertex = c
+            .numbers("vertex")
+            .map_err(|e| e.message().to_string())?
+            .unwrap_or_default();
+        let Some(face) = c.get("face") else {
+            return Err("a mesh without `face` is its convex hull, not computed yet".into());
+        };
+        let verts: Vec<[f64; 3]> = vertex
+            .chunks_exact(3)
+            .map(|v| [0, 1, 2].map(|k| f64::from(v[k] as f32)))
+            .collect();
+        let index: Vec<usize> = face
+            .split_whitespace()
+            .map(|t| t.parse::<usize>().ok().filter(|&i| i < verts.len()))
+            .collect::<Option<_>>()
+            .ok_or("its `face` holds an index that is not a vertex")?;
+        if !vertex.len().is_multiple_of(3) || !index.len().is_multiple_of(3) {
+            return Err("its `vertex` and `face` need multiples of 3 numbers".into());
+        }
+        Ok(index
+            .chunks_exact(3)
+            .map(|f| [verts[f[0]], verts[f[1]], verts[f[2]]])
+            .collect())
+    }
+
     /// A geom's mass properties in the body frame, `None` where it adds none (outside
     /// `inertiagrouprange`, massless).
     fn geom_mass(&self, item: &Item, body: &str) -> Result<Option<MassProps>, ImportError> {
@@ -924,6 +1082,7 @@ impl<'a> Importer<'a> {
             "cylinder" => Shape::Cylinder,
             "box" => Shape::Box,
             "plane" => Shape::Massless,
+            "mesh" => return self.mesh_geom(item, &which()),
             other => {
                 return Err(el.error(format!(
                     "{}: the inertia of `{other}` geoms is not computed yet: give the body an \
