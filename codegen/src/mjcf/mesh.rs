@@ -4,9 +4,9 @@
 //! compatibility); `exact` signs them (a closed, outward-oriented mesh); `shell` spreads the mass
 //! over the surface. `convex` (the hull's inertia) needs a convex hull, not computed yet: refused.
 //!
-//! Meshes are read from binary STL files (MuJoCo's STL reader takes only those), after
-//! `scale`, or from the `vertex` and `face` attributes; vertices are single precision, as MuJoCo
-//! stores them.
+//! Meshes are read from binary STL files (MuJoCo's STL reader takes only those), Wavefront OBJ
+//! files (through `tobj`) or the `vertex` and `face` attributes, then scaled (`scale`); vertices
+//! are single precision, as MuJoCo stores them.
 
 use std::path::Path;
 
@@ -67,6 +67,39 @@ pub(super) fn read_stl(path: &Path) -> Result<Vec<[[f64; 3]; 3]>, String> {
             [v(0), v(1), v(2)]
         })
         .collect())
+}
+
+/// The triangles of a Wavefront OBJ file, every object of it, polygons split into fans
+/// (single-precision vertices, as MuJoCo reads them).
+pub(super) fn read_obj(path: &Path) -> Result<Vec<[[f64; 3]; 3]>, String> {
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ..Default::default()
+    };
+    let (models, _materials) = tobj::load_obj(path, &options)
+        .map_err(|e| format!("cannot read `{}` as OBJ: {e}", path.display()))?;
+    let mut tris = Vec::new();
+    for m in &models {
+        let p = &m.mesh.positions;
+        let vertex = |i: u32| -> Option<[f64; 3]> {
+            let i = 3 * i as usize;
+            Some([p.get(i)?, p.get(i + 1)?, p.get(i + 2)?].map(|x| f64::from(*x)))
+        };
+        for f in m.mesh.indices.chunks_exact(3) {
+            let t = [vertex(f[0]), vertex(f[1]), vertex(f[2])];
+            match t {
+                [Some(a), Some(b), Some(c)] => tris.push([a, b, c]),
+                _ => {
+                    return Err(format!(
+                        "`{}`: a face names a vertex it does not have",
+                        path.display()
+                    ))
+                }
+            }
+        }
+    }
+    Ok(tris)
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

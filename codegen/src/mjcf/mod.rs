@@ -29,7 +29,7 @@
 //!   (1000 by default), placed by `pos` and an orientation or by `fromto`. The compiler's
 //!   `boundmass`, `boundinertia`, `balanceinertia` and `settotalmass` apply as MuJoCo applies
 //!   them (the total counts bodies welded to the world, whose mass the model then drops). Mesh
-//!   geoms from binary STL files (or `vertex` and `face`) with the mesh's `scale` and its
+//!   geoms from binary STL and OBJ files (or `vertex` and `face`) with the mesh's `scale` and its
 //!   `inertia` (`legacy`, MuJoCo's default, which over-counts a non-convex mesh as MuJoCo
 //!   does; `exact`; `shell`); a convex hull's inertia (`convex`) is not computed yet.
 //! - **Compiler.** `angle` (degrees by default; quaternions are never angles), `eulerseq`
@@ -995,15 +995,22 @@ impl<'a> Importer<'a> {
             }
         }
         let scale = c.array::<3>("scale").map_err(message)?.unwrap_or([1.0; 3]);
+        // Mesh files are found from the model file's directory, under `meshdir`.
+        let path = |file: &str| {
+            let dir = self.dir.clone().unwrap_or_default();
+            dir.join(self.compiler.meshdir.as_deref().unwrap_or(""))
+                .join(file)
+        };
         let mut tris = match (asset.own("file"), asset.own("vertex")) {
             (Some(file), _) if file.to_ascii_lowercase().ends_with(".stl") => {
-                let dir = self.dir.clone().unwrap_or_default();
-                let under = self.compiler.meshdir.as_deref().unwrap_or("");
-                mesh::read_stl(&dir.join(under).join(file))?
+                mesh::read_stl(&path(file))?
+            }
+            (Some(file), _) if file.to_ascii_lowercase().ends_with(".obj") => {
+                mesh::read_obj(&path(file))?
             }
             (Some(file), _) => {
                 return Err(format!(
-                    "`{file}`: only binary STL mesh files are read yet (not OBJ or MSH)"
+                    "`{file}`: only binary STL and OBJ mesh files are read yet (not MSH)"
                 ))
             }
             (None, Some(_)) => self.inline_mesh(&c)?,
