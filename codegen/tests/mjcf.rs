@@ -278,3 +278,66 @@ fn a_mesh_given_by_its_vertices_and_faces_weighs_its_volume() {
     let e = err(&xml.replace("mesh=\"cube\"", "mesh=\"hull\""));
     assert!(e.message().contains("convex hull"), "{e}");
 }
+
+/// Real models spoiled at random (an attribute's value replaced by a hostile one, an element cut
+/// out, the text cut short): each loads or is refused, never a panic, and a refusal names a line.
+#[test]
+fn spoiled_real_models_are_refused_never_a_panic() {
+    use articulated_dynamics::random::Rng;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/mujoco");
+    let files = [
+        "real/gymnasium/humanoid.xml",
+        "real/gymnasium/ant.xml",
+        "features/joints.xml",
+        "features/orientations.xml",
+    ];
+    let hostile = [
+        "nan", "-1", "0", "1e308", "-1e308", "0 0 0 0", "", "x", "1 2", "inf", "0 0 0",
+    ];
+    let mut rng = Rng::new(0x4D4A_4346);
+    let mut refused = 0;
+    for file in files {
+        let text = std::fs::read_to_string(dir.join(file)).unwrap();
+        let quotes: Vec<usize> = text.match_indices("=\"").map(|(i, _)| i + 2).collect();
+        for _ in 0..150 {
+            let spoiled = match rng.below(3) {
+                0 => {
+                    let start = quotes[rng.below(quotes.len())];
+                    let end = start + text[start..].find('"').unwrap();
+                    format!(
+                        "{}{}{}",
+                        &text[..start],
+                        hostile[rng.below(hostile.len())],
+                        &text[end..]
+                    )
+                }
+                1 => {
+                    // A line cut out: an element, or half of one.
+                    let lines: Vec<usize> = text.match_indices('\n').map(|(i, _)| i).collect();
+                    let k = rng.below(lines.len() - 1);
+                    format!("{}{}", &text[..lines[k]], &text[lines[k + 1]..])
+                }
+                _ => {
+                    let mut cut = rng.below(text.len());
+                    while !text.is_char_boundary(cut) {
+                        cut -= 1;
+                    }
+                    text[..cut].to_string()
+                }
+            };
+            let outcome = std::panic::catch_unwind(|| from_mjcf_str(&spoiled));
+            match outcome {
+                Err(_) => panic!("{file}: a panic on\n{spoiled}"),
+                Ok(Err(e)) => {
+                    refused += 1;
+                    assert!(!e.message().is_empty(), "{file}: an empty error");
+                }
+                Ok(Ok(_)) => {}
+            }
+        }
+    }
+    assert!(
+        refused > 100,
+        "only {refused} of 600 spoiled models refused"
+    );
+}

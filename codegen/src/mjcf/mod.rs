@@ -16,7 +16,8 @@
 //!   turns the body about it (`T = P·Trans(p)·R(q)·Trans(−p)`, MuJoCo's `mj_kinematics`), so
 //!   the model's body frame is put at the anchor and what the body holds is moved by `−p`. A
 //!   hinge's or slide's `ref` is folded into its placement (MuJoCo moves the joint by
-//!   `qpos − ref`), so `q` is `qpos` and the neutral `q` is `ref`.
+//!   `qpos − ref`), so `q` is `qpos` (MuJoCo's initial `qpos0` is `ref`; our neutral `q` stays
+//!   0).
 //! - **Drives.** `armature`, `damping` and `stiffness` (their linear terms), `springref` (the
 //!   spring's rest position), `frictionloss`, a `range` that limits (`limited`, or `autolimits`
 //!   and a range given), a symmetric `actuatorfrcrange` → the joint's [`Drive`]. A ball's or free
