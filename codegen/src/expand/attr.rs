@@ -177,41 +177,16 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
             Ok(())
         })?;
     }
-    let given: Vec<&LitStr> = [&file, &urdf, &mjcf].into_iter().flatten().collect();
-    if let Some(second) = given.get(1) {
-        return Err(syn::Error::new(
-            second.span(),
-            "give one of `file = \"….chain\"`, `urdf = \"….urdf\"` and `mjcf = \"….xml\"`",
-        ));
-    }
-    if let (None, Some((f, _))) = (&urdf, &floating) {
-        if file.is_some() || mjcf.is_some() {
-            return Err(syn::Error::new(
-                f.span(),
-                "`floating` applies to `urdf = …`; in a `.chain` file write the free base as a \
-                 joint, and in MJCF as `<freejoint/>` in the body",
-            ));
-        }
-    }
-    let source = match (file, urdf, mjcf) {
-        (Some(f), _, _) => Source::Chain(f),
-        (_, Some(u), _) => Source::Urdf(u, floating.map_or(FloatingBase::Fixed, |(_, base)| base)),
-        (_, _, Some(m)) => Source::Mjcf(m),
-        (None, None, None) if seen => {
-            return Err(syn::Error::new(
-                Span::call_site(),
-                "#[chain(…)] needs `file = \"….chain\"`, `urdf = \"….urdf\"` or `mjcf = \"….xml\"`",
-            ))
-        }
-        (None, None, None) => {
-            return Err(syn::Error::new(
-                input.ident.span(),
-                "#[derive(Chain)] needs an attribute naming the description: \
-                 #[chain(file = \"models/x.chain\")], #[chain(urdf = \"models/x.urdf\")] or \
-                 #[chain(mjcf = \"models/x.xml\")]",
-            ))
-        }
-    };
+    let source = source(
+        Given {
+            file,
+            urdf,
+            mjcf,
+            floating,
+        },
+        seen,
+        input,
+    )?;
     Ok(Attr {
         source,
         scalar,
@@ -228,6 +203,59 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
         balance_inertia,
         mimic_equalities,
     })
+}
+
+/// The description's file keys as the attribute gives them.
+struct Given {
+    file: Option<LitStr>,
+    urdf: Option<LitStr>,
+    mjcf: Option<LitStr>,
+    floating: Option<(Ident, FloatingBase)>,
+}
+
+/// Where the description is: one file key, `floating` with a URDF only; `seen` whether any
+/// `#[chain(…)]` was written (the error differs), `input` the struct (for where to put it).
+fn source(given: Given, seen: bool, input: &DeriveInput) -> syn::Result<Source> {
+    let Given {
+        file,
+        urdf,
+        mjcf,
+        floating,
+    } = given;
+    let given: Vec<&LitStr> = [&file, &urdf, &mjcf].into_iter().flatten().collect();
+    if let Some(second) = given.get(1) {
+        return Err(syn::Error::new(
+            second.span(),
+            "give one of `file = \"….chain\"`, `urdf = \"….urdf\"` and `mjcf = \"….xml\"`",
+        ));
+    }
+    if let (None, Some((f, _))) = (&urdf, &floating) {
+        if file.is_some() || mjcf.is_some() {
+            return Err(syn::Error::new(
+                f.span(),
+                "`floating` applies to `urdf = …`; in a `.chain` file write the free base as a \
+                 joint, and in MJCF as `<freejoint/>` in the body",
+            ));
+        }
+    }
+    match (file, urdf, mjcf) {
+        (Some(f), _, _) => Ok(Source::Chain(f)),
+        (_, Some(u), _) => Ok(Source::Urdf(
+            u,
+            floating.map_or(FloatingBase::Fixed, |(_, base)| base),
+        )),
+        (_, _, Some(m)) => Ok(Source::Mjcf(m)),
+        (None, None, None) if seen => Err(syn::Error::new(
+            Span::call_site(),
+            "#[chain(…)] needs `file = \"….chain\"`, `urdf = \"….urdf\"` or `mjcf = \"….xml\"`",
+        )),
+        (None, None, None) => Err(syn::Error::new(
+            input.ident.span(),
+            "#[derive(Chain)] needs an attribute naming the description: \
+                 #[chain(file = \"models/x.chain\")], #[chain(urdf = \"models/x.urdf\")] or \
+                 #[chain(mjcf = \"models/x.xml\")]",
+        )),
+    }
 }
 
 /// `errors` as one, or `Ok` for none.

@@ -319,6 +319,15 @@ struct Read {
 }
 
 impl<'a> Importer<'a> {
+    /// `el`'s own attributes and the main class's (bodies, frames, inertials, options).
+    fn plain<'b>(&'b self, el: &'b Element) -> Classed<'b> {
+        Classed {
+            el,
+            class: MAIN,
+            defaults: &self.defaults,
+        }
+    }
+
     fn classed<'b>(&'b self, item: &'b Item) -> Classed<'b> {
         Classed {
             el: item.el,
@@ -340,12 +349,7 @@ impl<'a> Importer<'a> {
     /// The class an element defaults from: its own `class`, else `inherited`.
     fn class_of(&mut self, el: &Element, inherited: &str) -> String {
         let class = el.own("class").unwrap_or(inherited);
-        if !self.defaults.has(class) {
-            self.errors
-                .push(el.error(format!("the default class `{class}` is not defined")));
-            return MAIN.to_string();
-        }
-        class.to_string()
+        self.class_of_name(el, class)
     }
 
     /// The items of `el` (a body, a frame or the world body), through `<frame>`s.
@@ -375,11 +379,7 @@ impl<'a> Importer<'a> {
                     Some(c) => self.class_of_name(child, c),
                     None => childclass.to_string(),
                 };
-                let c = Classed {
-                    el: child,
-                    class: MAIN,
-                    defaults: &self.defaults,
-                };
+                let c = self.plain(child);
                 let pose = shapes::pose(&c, &self.compiler).unwrap_or_else(|e| {
                     self.errors.push(e);
                     Transform::IDENTITY
@@ -400,6 +400,7 @@ impl<'a> Importer<'a> {
         }
     }
 
+    /// `class` where it is defined, else `main` with an error at `el`.
     fn class_of_name(&mut self, el: &Element, class: &str) -> String {
         if self.defaults.has(class) {
             class.to_string()
@@ -486,11 +487,7 @@ impl<'a> Importer<'a> {
     fn gravity(&self) -> Result<[Value; 3], ImportError> {
         let mut g = DEFAULT_GRAVITY;
         for option in self.root.each("option") {
-            let c = Classed {
-                el: option,
-                class: MAIN,
-                defaults: &self.defaults,
-            };
+            let c = self.plain(option);
             if let Some(v) = c.array::<3>("gravity")? {
                 g = v.map(Value::Const);
             }
@@ -623,11 +620,7 @@ impl<'a> Importer<'a> {
             Some(c) => self.class_of_name(el, c),
             None => item.class.clone(),
         };
-        let c = Classed {
-            el,
-            class: MAIN,
-            defaults: &self.defaults,
-        };
+        let c = self.plain(el);
         let pose = shapes::pose(&c, &self.compiler).unwrap_or_else(|e| {
             self.errors.push(e);
             Transform::IDENTITY
@@ -874,11 +867,7 @@ impl<'a> Importer<'a> {
 
     /// An `<inertial>`: its mass, centre and tensor in the body frame.
     fn inertial(&self, el: &Element, name: &str) -> Result<MassProps, ImportError> {
-        let c = Classed {
-            el,
-            class: MAIN,
-            defaults: &self.defaults,
-        };
+        let c = self.plain(el);
         let pos = c
             .array::<3>("pos")?
             .ok_or_else(|| el.error(format!("body `{name}`: `<inertial>` needs `pos`")))?;
