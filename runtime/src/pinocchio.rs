@@ -54,6 +54,9 @@ use core::fmt;
 
 use nalgebra::RealField;
 
+#[cfg(feature = "alloc")]
+use alloc::{format, string::String, vec::Vec};
+
 use crate::configuration::{joints, SizeMismatch};
 use crate::Coordinates;
 
@@ -353,5 +356,114 @@ impl<'a> Layout<'a> {
         self.check_q(q_out.len(), q.len())?;
         self.v_from_pinocchio(v, v_out)?;
         self.q_from_pinocchio(q, q_out)
+    }
+}
+
+/// A model's layout in Pinocchio, owned: what a model read at run time (the CLI, the Python
+/// package) converts with.
+#[cfg(feature = "alloc")]
+#[derive(Clone, Debug)]
+pub struct ModelLayout {
+    coordinates: Vec<Coordinates>,
+    continuous: Vec<usize>,
+    order: Vec<usize>,
+    /// Each of our joints with coordinates: its name and kind.
+    joints: Vec<(String, crate::model::JointKind)>,
+}
+
+#[cfg(feature = "alloc")]
+impl ModelLayout {
+    /// The layout of `model` whose URDF declares the joints named `continuous` continuous and
+    /// whose joints with coordinates Pinocchio takes in the order `order` (by name; what the
+    /// URDF importer reports as `Description::continuous` and `Description::pinocchio_order`).
+    /// An `order` that does not name every joint with coordinates once is taken as ours (a
+    /// `.chain` file's).
+    pub fn of(model: &crate::model::Model, continuous: &[String], order: &[String]) -> Self {
+        let joints: Vec<(String, crate::model::JointKind)> = model
+            .joints
+            .iter()
+            .filter(|j| j.nv() > 0)
+            .map(|j| (j.name.clone(), j.kind))
+            .collect();
+        let continuous = continuous
+            .iter()
+            .filter_map(|c| {
+                let i = model.joints.iter().position(|j| &j.name == c)?;
+                Some(model.q_offset(i))
+            })
+            .collect();
+        let order: Vec<usize> = order
+            .iter()
+            .filter_map(|name| joints.iter().position(|(n, _)| n == name))
+            .collect();
+        let order = if order.len() == joints.len() {
+            order
+        } else {
+            (0..joints.len()).collect()
+        };
+        ModelLayout {
+            coordinates: crate::interpreted::coordinates_of(model),
+            continuous,
+            order,
+            joints,
+        }
+    }
+
+    /// The borrowed [`Layout`] that converts.
+    ///
+    /// # Errors
+    /// As [`Layout::new`] and [`Layout::with_order`].
+    pub fn layout(&self) -> Result<Layout<'_>, LayoutError> {
+        Layout::new(&self.coordinates, &self.continuous)?.with_order(&self.order)
+    }
+
+    /// The names of Pinocchio's `q` and `v` entries (ours, `Model::coordinate_names`, moved
+    /// and renamed: `base.qx, …, base.qw`, `wheel.cos, wheel.sin`).
+    pub fn names(&self, q_names: &[String], v_names: &[String]) -> (Vec<String>, Vec<String>) {
+        let (mut q, mut v) = (Vec::new(), Vec::new());
+        let (mut iq, mut iv) = (Vec::new(), Vec::new());
+        let (mut at_q, mut at_v) = (0, 0);
+        for c in &self.coordinates {
+            iq.push(at_q);
+            iv.push(at_v);
+            at_q += c.nq();
+            at_v += c.nv();
+        }
+        for &j in &self.order {
+            let (Some((&a, &b)), Some(c), Some((name, kind))) = (
+                iq.get(j).zip(iv.get(j)),
+                self.coordinates.get(j),
+                self.joints.get(j),
+            ) else {
+                continue;
+            };
+            let ours = q_names.get(a..a + c.nq()).unwrap_or_default();
+            match (c, kind) {
+                (Coordinates::FreeQuaternion, _) => {
+                    q.extend(ours.iter().take(3).cloned());
+                    q.extend(ours.iter().skip(4).cloned());
+                    q.extend(ours.get(3).cloned());
+                }
+                (Coordinates::Quaternion, _) => {
+                    q.extend(ours.iter().skip(1).cloned());
+                    q.extend(ours.first().cloned());
+                }
+                (Coordinates::Vector(1), crate::model::JointKind::Revolute { .. })
+                    if self.continuous.contains(&a) =>
+                {
+                    q.push(format!("{name}.cos"));
+                    q.push(format!("{name}.sin"));
+                }
+                _ => q.extend(ours.iter().cloned()),
+            }
+            v.extend(
+                v_names
+                    .get(b..b + c.nv())
+                    .unwrap_or_default()
+                    .iter()
+                    .cloned(),
+            );
+        }
+        (q, v)
     }
 }

@@ -81,8 +81,8 @@ impl<T: RealField + Copy> Simulation<T> {
         Ok(n as usize)
     }
 
-    /// The time `t_k` of step `k` of `n` (`t_n = t_end`).
-    fn time(&self, step: usize, n: usize) -> T {
+    /// The time `t_k` of step `k` of `n` (`t_n = t_end`; `n` from [`steps`](Self::steps)).
+    pub fn time(&self, step: usize, n: usize) -> T {
         if step >= n {
             self.t_end
         } else {
