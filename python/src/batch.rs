@@ -42,9 +42,11 @@ impl Arg {
                 )))
             }
         };
-        let values = match array.as_slice() {
-            Ok(s) => s.to_vec(),
-            Err(_) => array.as_array().iter().copied().collect(),
+        // In row-major order whatever the array's layout (`as_slice` would hand a Fortran-ordered
+        // array's memory as it lies: its transpose).
+        let values = match array.is_c_contiguous() {
+            true => array.as_slice().map(<[f64]>::to_vec).unwrap_or_default(),
+            false => array.as_array().iter().copied().collect(),
         };
         Ok(Arg {
             name,
