@@ -35,7 +35,7 @@ PROSE = [ROOT / "ARCHITECTURE.md", ROOT / "docs" / "README.md"] + sorted(
     (ROOT / "docs" / "guide").glob("*.md")
 )
 LINKED = [README] + PROSE
-SOURCES = ["codegen/src", "runtime/src", "dynamics/src", "macros/src", "cli/src"]
+SOURCES = ["codegen/src", "runtime/src", "dynamics/src", "macros/src", "cli/src", "python/src"]
 
 # A ratio: a number written against the sign, `8.8×` (a product of sizes is `6 × 6`).
 RATIO = re.compile(r"\d×")

@@ -20,10 +20,17 @@ and writes BENCHMARKS.md (to a temporary file, then renamed).
 
 Usage: python bench/peers/run.py [--rounds R] [--batches N] [--quick]   (from the repo root,
 after run.sh has built the programs; run.sh passes its arguments through).
+
+It also runs bench/python/timing.py (the speed from Python: `articulated` against `pin`, in the
+Python running this script, which needs `articulated` installed: run.sh installs ./python into
+its venv) for the section "From Python". `--python-only` reruns only that: it measures, then
+rewrites that one section of BENCHMARKS.md in place (the rest of the file unchanged), in any
+Python with `articulated`, `pin` and `mujoco`, e.g. `python bench/peers/run.py --python-only`.
 """
 
 import argparse
 import datetime
+import importlib.util
 import json
 import os
 import platform
@@ -848,6 +855,63 @@ def contact():
     return dict(ours=ours, mujoco=theirs, date=when, commit=environment()["commit"])
 
 
+def python_timing():
+    """bench/python/timing.py as a module (its `section` renders the figures)."""
+    spec = importlib.util.spec_from_file_location("python_timing", os.path.join(ROOT, "bench", "python", "timing.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def python_figures(nproc):
+    """The speed from Python (`bench/python/timing.py`, in this Python: `articulated` against
+    `pin`, batches of 1, 100 and 100,000 states) on `nproc` threads, both sides."""
+    path = os.path.join(OUT, "python.json")
+    os.makedirs(OUT, exist_ok=True)
+    log(f"speed from Python, {nproc} threads (bench/python/timing.py)")
+    subprocess.run(
+        [sys.executable, os.path.join(ROOT, "bench", "python", "timing.py"), path,
+         "--threads", str(nproc)],
+        check=True, env=dict(os.environ, RAYON_NUM_THREADS=str(nproc)), stdout=subprocess.DEVNULL,
+    )
+    with open(path) as f:
+        return json.load(f)
+
+
+def python_report(w, figures):
+    """The section "From Python" from `python_figures`' figures."""
+    if not figures:
+        return
+    w("")
+    for line in python_timing().section(figures):
+        w(line)
+
+
+PYTHON_HEADING = "## From Python"
+
+
+def splice_python(text, figures):
+    """BENCHMARKS.md's `text` with its section "From Python" replaced by one from `figures`
+    (or added after "Many states per call" where it has none), every other line unchanged."""
+    lines = text.split("\n")
+    new = python_timing().section(figures) + [""]
+    heads = [i for i, line in enumerate(lines) if line.startswith("## ")]
+    if PYTHON_HEADING in lines:
+        start = lines.index(PYTHON_HEADING)
+    else:
+        after = [i for i in heads if lines[i] == "## Many states per call"]
+        before = [i for i in heads if lines[i] == "## What each figure includes"]
+        if after:
+            start = next((i for i in heads if i > after[0]), len(lines))
+        elif before:
+            start = before[0]
+        else:
+            raise SystemExit("BENCHMARKS.md has neither the section \"Many states per call\" nor \"What each figure includes\"")
+        return "\n".join(lines[:start] + new + lines[start:])
+    end = next((i for i in heads if i > start), len(lines))
+    return "\n".join(lines[:start] + new + lines[end:])
+
+
 def contact_report(w, c):
     """The section "Simulation with contacts" from `contact`'s figures."""
     if not c:
@@ -997,7 +1061,8 @@ def throughput_report(w, thr):
     w("where a session measured it. Pinocchio has no `f32` build here (its wheel is `double`).")
 
 
-def report(env, models, ops, results, instr, checks, args, load_end, thr=None, contact_figures=None):
+def report(env, models, ops, results, instr, checks, args, load_end, thr=None, contact_figures=None,
+           py_figures=None):
     L = []
     w = L.append
     w("# Benchmarks: `articulated` against Pinocchio and MuJoCo")
@@ -1140,6 +1205,7 @@ def report(env, models, ops, results, instr, checks, args, load_end, thr=None, c
     constrained_report(w, models, ops, results, instr, checks)
     native_report(w, models, ops, results, env)
     throughput_report(w, thr)
+    python_report(w, py_figures)
     contact_report(w, contact_figures)
     bytes_report(w, models, results, code_bytes(os.path.join(OUT, "rust-v3", "release", "peers")))
     w("")
@@ -1801,7 +1867,25 @@ def main():
         "--contact-only", action="store_true",
         help="measure the contact simulation only, and rewrite BENCHMARKS.md with the other figures of the last full run",
     )
+    ap.add_argument(
+        "--python-only", action="store_true",
+        help="measure the speed from Python only (bench/python/timing.py), and rewrite that section of BENCHMARKS.md in place",
+    )
     args = ap.parse_args()
+    if args.python_only:
+        figures = python_figures(int(environment()["nproc"]))
+        last = os.path.join(OUT, "last_run.json")
+        if os.path.exists(last):
+            # Kept with the last full run's figures, for the other reruns' rewrites.
+            with open(last) as f:
+                d = json.load(f)
+            d["python"] = figures
+            with open(last, "w") as f:
+                json.dump(d, f)
+        with open(os.path.join(ROOT, "BENCHMARKS.md"), encoding="utf-8") as f:
+            text = f.read()
+        write_report(splice_python(text, figures))
+        return
     if args.contact_only:
         with open(os.path.join(OUT, "last_run.json")) as f:
             d = json.load(f)
@@ -1811,7 +1895,7 @@ def main():
             json.dump(d, f)
         args.rounds, args.batches = d.get("rounds", 7), d.get("batches", 200)
         write_report(report(d["env"], MODELS, d["ops"], d["results"], d["instr"], d["checks"], args,
-                            d["load_end"], d.get("thr"), d.get("contact")))
+                            d["load_end"], d.get("thr"), d.get("contact"), d.get("python")))
         return
     if args.quick:
         args.rounds, args.batches = 2, 20
@@ -1823,7 +1907,7 @@ def main():
         with open(os.path.join(OUT, "last_run.json"), "w") as f:
             json.dump(d, f)
         args.rounds, args.batches = d.get("rounds", 7), d.get("batches", 200)
-        write_report(report(d["env"], MODELS, d["ops"], d["results"], d["instr"], d["checks"], args, d["load_end"], d["thr"], d.get("contact")))
+        write_report(report(d["env"], MODELS, d["ops"], d["results"], d["instr"], d["checks"], args, d["load_end"], d["thr"], d.get("contact"), d.get("python")))
         return
     env = environment()
     progs, ops, checks = {}, {}, {}
@@ -1856,6 +1940,7 @@ def main():
     results = time_all(MODELS, progs, args.rounds, args.batches)
     thr = throughput(int(env["nproc"]))
     contact_figures = contact()
+    py_figures = python_figures(int(env["nproc"]))
     instr = {}
     if not args.quick:
         def which(name):
@@ -1880,8 +1965,9 @@ def main():
     # The raw figures, should the report need redoing (target/, not committed).
     with open(os.path.join(OUT, "last_run.json"), "w") as f:
         json.dump(dict(env=env, ops=ops, results=results, instr=instr, checks=checks, load_end=load_end,
-                       thr=thr, contact=contact_figures, rounds=args.rounds, batches=args.batches), f)
-    write_report(report(env, MODELS, ops, results, instr, checks, args, load_end, thr, contact_figures))
+                       thr=thr, contact=contact_figures, python=py_figures, rounds=args.rounds,
+                       batches=args.batches), f)
+    write_report(report(env, MODELS, ops, results, instr, checks, args, load_end, thr, contact_figures, py_figures))
 
 
 def write_report(text):

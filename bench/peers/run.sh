@@ -2,6 +2,7 @@
 # The side-by-side comparison against Pinocchio (C++) and MuJoCo (C): the one command.
 #
 #   bash bench/peers/run.sh [--rounds R] [--batches N] [--quick]     (from the repository root)
+#   bash bench/peers/run.sh --python-only    (only the section "From Python", rewritten in place)
 #
 # 1. a Python venv in target/peers/venv with the pinned wheels (Pinocchio's C++ headers and
 #    libraries come with `pin` under site-packages/cmeel.prefix; MuJoCo's C header and library
@@ -13,8 +14,10 @@
 #    machine's CPU, default target; with the feature humanoid-derivatives, the humanoid's
 #    derivative outputs), bench/src/bin/throughput.rs and bench/src/bin/contact_steps.rs
 #    (x86-64-v3), each rebuilt only when its source or flags changed;
-# 3. bench/peers/run.py: values check, timing, callgrind, BENCHMARKS.md.
-# Everything it builds or installs stays under target/peers/ (ignored by git).
+# 3. bench/peers/run.py: values check, timing, callgrind, the speed from Python
+#    (bench/python/timing.py), BENCHMARKS.md.
+# Everything it builds or installs stays under target/peers/ (ignored by git), but for the
+# generated code that timing.py asks `articulated.generate` for (cached in target/pycache).
 set -euo pipefail
 
 cd "$(dirname "$0")/../.."
@@ -51,6 +54,10 @@ if [ "$(cat "$VENV/.requirements" 2>/dev/null)" != "$REQUIREMENTS" ]; then
   "$VENV/bin/pip" install --quiet $REQUIREMENTS
   echo "$REQUIREMENTS" >"$VENV/.requirements"
 fi
+# `articulated` for Python (./python, built by maturin; its Rust in target/peers/rust-python, where
+# cargo rebuilds only what changed), for bench/python/timing.py: the section "From Python".
+step "installing ./python (articulated for Python) into the venv"
+CARGO_TARGET_DIR=$OUT/rust-python "$VENV/bin/pip" install --quiet ./python
 SITE=$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 PREFIX=$SITE/cmeel.prefix
 MJ=$SITE/mujoco
@@ -60,6 +67,11 @@ for f in "$PREFIX/include/pinocchio/algorithm/rnea.hpp" "$PREFIX/include/eigen3/
   "$MJ/include/mujoco/mujoco.h" "$MJLIB"; do
   [ -e "$f" ] || { echo "[run.sh] missing $f: the wheels' layout changed" >&2; exit 1; }
 done
+# The speed from Python alone needs none of the programs below.
+case " $* " in *" --python-only "*)
+  step "running bench/peers/run.py $*"
+  exec "$VENV/bin/python" bench/peers/run.py "$@" ;;
+esac
 
 # --- 2. the timing programs ----------------------------------------------------------------------
 # build OUTPUT SOURCE "COMMAND...": runs COMMAND unless OUTPUT exists and was built by the same

@@ -28,11 +28,11 @@ from ._generate import generate, outputs  # noqa: F401
 PINOCCHIO_NAMES = {
     "rnea": ("inverse_dynamics", "same values"),
     "aba": ("forward_dynamics", "same values"),
-    "crba": ("mass_matrix", "ours is symmetric; Pinocchio fills the upper triangle"),
+    "crba": ("mass_matrix", "same values"),
     "nonLinearEffects": ("nonlinear_effects", "same values"),
     "computeGeneralizedGravity": ("gravity", "same values"),
     "computeCoriolisMatrix": ("coriolis_matrix", "same values"),
-    "computeMinverse": ("mass_matrix_inverse", "ours is symmetric"),
+    "computeMinverse": ("mass_matrix_inverse", "same values"),
     "computeRNEADerivatives": ("inverse_dynamics_derivatives", "(dtau_dq, dtau_dv)"),
     "computeABADerivatives": ("forward_dynamics_derivatives", "(ddq_dq, ddq_dv, Minv)"),
     "centerOfMass": ("center_of_mass", "same values"),

@@ -216,7 +216,9 @@ def generate(path, outputs=None, scalar="f64", frames=(), floating=None, lanes=N
     ``~/.cache/articulated``) and builds it with cargo (minutes; a line of progress on
     stderr unless ``verbose=False``); it is cached by the model as loaded, the options, the
     versions of ``articulated`` and rustc, the Python ABI and the target's flags, so a second
-    call, in this process or another, imports what was built."""
+    call, in this process or another, imports what was built. Every model builds in one target
+    directory (``ARTICULATED_TARGET_DIR``, default ``<cache_dir>/target``), so the dependencies
+    build once."""
     path = Path(path).resolve()
     if scalar not in ("f64", "f32"):
         raise Error(f'scalar={scalar!r}: expected "f64" or "f32"')
@@ -257,7 +259,9 @@ def generate(path, outputs=None, scalar="f64", frames=(), floating=None, lanes=N
         if lock.exists() and not (crate / "Cargo.lock").exists():
             # The versions the package was tested with (cargo drops what the crate does not use).
             shutil.copyfile(lock, crate / "Cargo.lock")
-        built = _build(cargo, crate, root / "target", module, verbose)
+        # One target directory for every model, so the dependencies build once.
+        target = os.environ.get("ARTICULATED_TARGET_DIR") or root / "target"
+        built = _build(cargo, crate, Path(target), module, verbose)
         partial = library.with_suffix(".partial")
         shutil.copyfile(built, partial)
         os.replace(partial, library)  # whole or not at all

@@ -139,9 +139,10 @@ def run_task(source, seed, task, runs, horizon=HORIZON, dt=DT):
         # A faulted run's states are NaN after the fault: its largest tilt is the largest
         # before it (its first state, upright, is always there).
         max_tilt[part] = np.nanmax(np.abs(q[:, :, TILTS]), axis=(1, 2))
-        final[part] = np.abs(q[:, -1, :]).max(axis=1)
+        final[part] = np.abs(q[:, -1, TILTS]).max(axis=1)
         faulted[part] = [f is not None for f in result["faults"]]
-        upright[part] = (final[part] < UPRIGHT_ANGLE) & (np.abs(v[:, -1, :]).max(axis=1) < UPRIGHT_RATE)
+        rates = np.abs(v[:, -1, TILTS]).max(axis=1)
+        upright[part] = (final[part] < UPRIGHT_ANGLE) & (rates < UPRIGHT_RATE)
     fell = faulted | ~(max_tilt <= FALL_TILT)
     balanced = ~fell & upright
     return {
