@@ -39,6 +39,7 @@ PINOCCHIO_NAMES = {
     "jacobianCenterOfMass": ("center_of_mass_jacobian", "same values"),
     "computeCentroidalMomentum": ("centroidal_momentum", "angular first"),
     "computeCentroidalMap": ("centroidal_momentum_matrix", "angular rows first"),
+    "computeCentroidalMomentumTimeVariation": ("centroidal_momentum_rate", "angular first"),
     "computeKineticEnergy": ("kinetic_energy", "same values"),
     "computePotentialEnergy": ("potential_energy", "same values"),
     "updateFramePlacement": ("frame_placement", "(R, p) arrays for an SE3"),

@@ -110,6 +110,12 @@ _WIDTHS = {"q": "Generated::NQ", "v": "Generated::NV", "a": "Generated::NV",
 def _sources(module, path, chosen, scalar, frames, floating, lanes):
     """``Cargo.toml`` and ``src/lib.rs`` of the crate."""
     crates = Path(_native._CRATES).resolve().parent
+    if not (crates / "runtime" / "Cargo.toml").exists():
+        raise Error(
+            f"generate() builds against the crates of the clone the package was installed from, "
+            f"{crates}, which is gone: install the package again from a clone "
+            "(`pip install ./python`)"
+        )
     manifest = f"""# Written by articulated.generate() for {path}: the model's generated code as the
 # extension module `{module}`.
 [package]

@@ -467,6 +467,76 @@ impl Model {
         })
     }
 
+    /// The rate of the centroidal momentum `ḣ_G = A_G·a + Ȧ_G·v`, `(6,)`, laid out as
+    /// `centroidal_momentum`.
+    fn centroidal_momentum_rate(
+        &self,
+        py: Python<'_>,
+        q: In<'_>,
+        v: In<'_>,
+        a: In<'_>,
+    ) -> PyResult<Py<PyAny>> {
+        let args = [self.arg("q", &q)?, self.arg("v", &v)?, self.arg("a", &a)?];
+        let r = &self.reference;
+        run(py, &args, &[&[6]], |x, out| {
+            let h = r.centroidal_momentum_rate(x[0], x[1], x[2]);
+            copy(h.map_err(|e| e.to_string())?.as_slice(), out);
+            Ok(())
+        })
+    }
+
+    /// `Ȧ_G·v`, `(6,)`: the centroidal momentum's rate at `a = 0`.
+    fn centroidal_momentum_drift(
+        &self,
+        py: Python<'_>,
+        q: In<'_>,
+        v: In<'_>,
+    ) -> PyResult<Py<PyAny>> {
+        let args = [self.arg("q", &q)?, self.arg("v", &v)?];
+        let r = &self.reference;
+        run(py, &args, &[&[6]], |x, out| {
+            let h = r.centroidal_momentum_drift(x[0], x[1]);
+            copy(h.map_err(|e| e.to_string())?.as_slice(), out);
+            Ok(())
+        })
+    }
+
+    /// The wrench each joint transmits, `(joints, 6)`, in joint order (fixed joints
+    /// included): `[couple; force]` that the parent exerts on the child, in the child frame
+    /// about its origin, gravity included (Hemami's couples and reaction forces).
+    fn joint_wrenches(
+        &self,
+        py: Python<'_>,
+        q: In<'_>,
+        v: In<'_>,
+        a: In<'_>,
+    ) -> PyResult<Py<PyAny>> {
+        let args = [self.arg("q", &q)?, self.arg("v", &v)?, self.arg("a", &a)?];
+        let r = &self.reference;
+        let joints = r.model().joints.len();
+        run(py, &args, &[&[joints, 6]], |x, out| {
+            let w = r
+                .joint_wrenches(x[0], x[1], x[2])
+                .map_err(|e| e.to_string())?;
+            for (w, o) in w.iter().zip(out.chunks_mut(6)) {
+                o[..3].copy_from_slice(&w.couple);
+                o[3..].copy_from_slice(&w.force);
+            }
+            Ok(())
+        })
+    }
+
+    /// The name of each joint, in the order of `joint_wrenches`' rows.
+    #[getter]
+    fn joints(&self) -> Vec<String> {
+        self.reference
+            .model()
+            .joints
+            .iter()
+            .map(|j| j.name.clone())
+            .collect()
+    }
+
     /// The Coriolis matrix `N(q, v)`, `(nv, nv)`, with `N·v = bias` and `Ṁ − 2N` skew.
     fn coriolis_matrix(&self, py: Python<'_>, q: In<'_>, v: In<'_>) -> PyResult<Py<PyAny>> {
         let n = self.nv_();

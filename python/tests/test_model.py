@@ -41,7 +41,8 @@ METHODS = [
     ("potential_energy", "q"), ("center_of_mass", "q"), ("center_of_mass_velocity", "qv"),
     ("center_of_mass_jacobian", "q"), ("centroidal_momentum", "qv"),
     ("centroidal_momentum_matrix", "q"), ("coriolis_matrix", "qv"),
-    ("mass_matrix_inverse", "q"), ("inverse_dynamics_derivatives", "qva"),
+    ("mass_matrix_inverse", "q"), ("centroidal_momentum_rate", "qva"),
+    ("centroidal_momentum_drift", "qv"), ("joint_wrenches", "qva"), ("inverse_dynamics_derivatives", "qva"),
     ("forward_dynamics_derivatives", "qva"),
 ]
 

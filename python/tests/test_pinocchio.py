@@ -105,6 +105,20 @@ def test_dynamics_against_pinocchio(path, floating):
               pin.jacobianCenterOfMass(model, data, qp[k]))
         h = pin.computeCentroidalMomentum(model, data, qp[k], vp[k])
         close(ours.centroidal_momentum(q[k], v[k]), np.concatenate([h.angular, h.linear]))
+        pin.computeCentroidalMomentumTimeVariation(model, data, qp[k], vp[k], ap[k])
+        close(ours.centroidal_momentum_rate(q[k], v[k], a[k]),
+              np.concatenate([data.dhg.angular, data.dhg.linear]), 1e-11)
+        # The wrench across each joint: Pinocchio's data.f after rnea, in the joint's frame.
+        pin.rnea(model, data, qp[k], vp[k], ap[k])
+        wrenches = ours.joint_wrenches(q[k], v[k], a[k])
+        compared = 0
+        for i, name in enumerate(model.names):
+            if name in ours.joints:
+                f = data.f[i]
+                close(wrenches[ours.joints.index(name)], np.concatenate([f.angular, f.linear]),
+                      1e-11)
+                compared += 1
+        assert compared == model.njoints - 1
 
 
 @pytest.mark.parametrize("path,floating", MODELS[:6], ids=[Path(p).stem for p, _ in MODELS[:6]])
