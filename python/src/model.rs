@@ -4,14 +4,14 @@ use std::path::PathBuf;
 
 use articulated::interpreted::coordinates_of;
 use articulated::pinocchio::ModelLayout;
-use articulated::reference::{Reference, ReferenceFrame};
+use articulated::reference::Reference;
 use articulated::Coordinates;
 use articulated_codegen::load::{load_with, LoadOptions};
 use articulated_codegen::urdf::FloatingBase;
 use numpy::{AllowTypeChange, PyArrayLikeDyn};
 use pyo3::prelude::*;
 
-use crate::batch::{rows, run, Arg};
+use crate::batch::{run, Arg};
 use crate::Error;
 
 /// An array argument: any array-like numpy casts to float64.
@@ -70,12 +70,12 @@ impl Model {
     }
 
     /// `q`, `v`, `a` or `tau` read as one state or a batch.
-    fn arg(&self, name: &'static str, array: &In<'_>) -> PyResult<Arg> {
+    pub(crate) fn arg(&self, name: &'static str, array: &In<'_>) -> PyResult<Arg> {
         let width = if name == "q" { self.nq_() } else { self.nv_() };
         Arg::read(name, array, width)
     }
 
-    fn frame_check(&self, frame: &str) -> PyResult<()> {
+    pub(crate) fn frame_check(&self, frame: &str) -> PyResult<()> {
         if self.reference.model().frame(frame).is_some() {
             return Ok(());
         }
@@ -241,291 +241,6 @@ impl Model {
         })
     }
 
-    /// `M(q)`, `(nv, nv)`: the joint-space inertia matrix (Pinocchio's `crba`, symmetrized).
-    fn mass_matrix(&self, py: Python<'_>, q: In<'_>) -> PyResult<Py<PyAny>> {
-        let n = self.nv_();
-        let r = &self.reference;
-        run(py, &[self.arg("q", &q)?], &[&[n, n]], |x, out| {
-            rows(&r.mass_matrix(x[0]).map_err(|e| e.to_string())?, out);
-            Ok(())
-        })
-    }
-
-    /// `M(q)⁻¹`, `(nv, nv)`; an error where `M` is singular.
-    fn mass_matrix_inverse(&self, py: Python<'_>, q: In<'_>) -> PyResult<Py<PyAny>> {
-        let n = self.nv_();
-        let r = &self.reference;
-        run(py, &[self.arg("q", &q)?], &[&[n, n]], |x, out| {
-            rows(
-                &r.mass_matrix_inverse(x[0]).map_err(|e| e.to_string())?,
-                out,
-            );
-            Ok(())
-        })
-    }
-
-    /// `N(q, v)·v`, `(nv,)`: the velocity-product terms, without gravity.
-    fn bias(&self, py: Python<'_>, q: In<'_>, v: In<'_>) -> PyResult<Py<PyAny>> {
-        let args = [self.arg("q", &q)?, self.arg("v", &v)?];
-        let r = &self.reference;
-        run(py, &args, &[&[self.nv_()]], |x, out| {
-            copy(
-                r.bias(x[0], x[1]).map_err(|e| e.to_string())?.as_slice(),
-                out,
-            );
-            Ok(())
-        })
-    }
-
-    /// `g(q)`, `(nv,)`: the generalized force that holds the chain still.
-    fn gravity(&self, py: Python<'_>, q: In<'_>) -> PyResult<Py<PyAny>> {
-        let r = &self.reference;
-        run(py, &[self.arg("q", &q)?], &[&[self.nv_()]], |x, out| {
-            copy(r.gravity(x[0]).map_err(|e| e.to_string())?.as_slice(), out);
-            Ok(())
-        })
-    }
-
-    /// `N(q, v)·v + g(q)`, `(nv,)` (Pinocchio's `nonLinearEffects`).
-    fn nonlinear_effects(&self, py: Python<'_>, q: In<'_>, v: In<'_>) -> PyResult<Py<PyAny>> {
-        let args = [self.arg("q", &q)?, self.arg("v", &v)?];
-        let r = &self.reference;
-        let zero = vec![0.0; self.nv_()];
-        run(py, &args, &[&[self.nv_()]], |x, out| {
-            let tau = r.inverse_dynamics(x[0], x[1], &zero);
-            copy(tau.map_err(|e| e.to_string())?.as_slice(), out);
-            Ok(())
-        })
-    }
-
-    /// `τ = M·a + N·v + g`, `(nv,)` (Pinocchio's `rnea`).
-    fn inverse_dynamics(
-        &self,
-        py: Python<'_>,
-        q: In<'_>,
-        v: In<'_>,
-        a: In<'_>,
-    ) -> PyResult<Py<PyAny>> {
-        let args = [self.arg("q", &q)?, self.arg("v", &v)?, self.arg("a", &a)?];
-        let r = &self.reference;
-        run(py, &args, &[&[self.nv_()]], |x, out| {
-            let tau = r.inverse_dynamics(x[0], x[1], x[2]);
-            copy(tau.map_err(|e| e.to_string())?.as_slice(), out);
-            Ok(())
-        })
-    }
-
-    /// The accelerations `a` for the generalized forces `tau`, `(nv,)` (Pinocchio's `aba`); an
-    /// error naming the joint where `M` is singular or a value is not finite.
-    fn forward_dynamics(
-        &self,
-        py: Python<'_>,
-        q: In<'_>,
-        v: In<'_>,
-        tau: In<'_>,
-    ) -> PyResult<Py<PyAny>> {
-        let args = [
-            self.arg("q", &q)?,
-            self.arg("v", &v)?,
-            self.arg("tau", &tau)?,
-        ];
-        let r = &self.reference;
-        run(py, &args, &[&[self.nv_()]], |x, out| {
-            let a = r.forward_dynamics(x[0], x[1], x[2]);
-            copy(a.map_err(|e| e.to_string())?.as_slice(), out);
-            Ok(())
-        })
-    }
-
-    /// `(∂τ/∂q, ∂τ/∂v)`, `(nv, nv)` each, `∂/∂q` along the configuration's tangent (Pinocchio's
-    /// `computeRNEADerivatives`).
-    fn inverse_dynamics_derivatives(
-        &self,
-        py: Python<'_>,
-        q: In<'_>,
-        v: In<'_>,
-        a: In<'_>,
-    ) -> PyResult<Py<PyAny>> {
-        let n = self.nv_();
-        let args = [self.arg("q", &q)?, self.arg("v", &v)?, self.arg("a", &a)?];
-        let r = &self.reference;
-        run(py, &args, &[&[n, n], &[n, n]], |x, out| {
-            let (dq, dv) = r
-                .inverse_dynamics_derivatives(x[0], x[1], x[2])
-                .map_err(|e| e.to_string())?;
-            let (first, second) = out.split_at_mut(n * n);
-            rows(&dq, first);
-            rows(&dv, second);
-            Ok(())
-        })
-    }
-
-    /// `(∂a/∂q, ∂a/∂v, M⁻¹)`, `(nv, nv)` each (Pinocchio's `computeABADerivatives`).
-    fn forward_dynamics_derivatives(
-        &self,
-        py: Python<'_>,
-        q: In<'_>,
-        v: In<'_>,
-        tau: In<'_>,
-    ) -> PyResult<Py<PyAny>> {
-        let n = self.nv_();
-        let args = [
-            self.arg("q", &q)?,
-            self.arg("v", &v)?,
-            self.arg("tau", &tau)?,
-        ];
-        let r = &self.reference;
-        run(py, &args, &[&[n, n], &[n, n], &[n, n]], |x, out| {
-            let d = r
-                .forward_dynamics_derivatives(x[0], x[1], x[2])
-                .map_err(|e| e.to_string())?;
-            for (m, o) in d.iter().zip(out.chunks_mut(n * n)) {
-                rows(m, o);
-            }
-            Ok(())
-        })
-    }
-
-    /// `½·vᵀ·M·v`.
-    fn kinetic_energy(&self, py: Python<'_>, q: In<'_>, v: In<'_>) -> PyResult<Py<PyAny>> {
-        let args = [self.arg("q", &q)?, self.arg("v", &v)?];
-        let r = &self.reference;
-        run(py, &args, &[&[]], |x, out| {
-            out[0] = r.kinetic_energy(x[0], x[1]).map_err(|e| e.to_string())?;
-            Ok(())
-        })
-    }
-
-    /// `−Σ m_k·gᵀ·x_k`.
-    fn potential_energy(&self, py: Python<'_>, q: In<'_>) -> PyResult<Py<PyAny>> {
-        let r = &self.reference;
-        run(py, &[self.arg("q", &q)?], &[&[]], |x, out| {
-            out[0] = r.potential_energy(x[0]).map_err(|e| e.to_string())?;
-            Ok(())
-        })
-    }
-
-    /// The centre of mass in the world, `(3,)`.
-    fn center_of_mass(&self, py: Python<'_>, q: In<'_>) -> PyResult<Py<PyAny>> {
-        let r = &self.reference;
-        run(py, &[self.arg("q", &q)?], &[&[3]], |x, out| {
-            copy(
-                r.center_of_mass(x[0])
-                    .map_err(|e| e.to_string())?
-                    .as_slice(),
-                out,
-            );
-            Ok(())
-        })
-    }
-
-    /// The centre of mass's velocity in the world, `(3,)`.
-    fn center_of_mass_velocity(&self, py: Python<'_>, q: In<'_>, v: In<'_>) -> PyResult<Py<PyAny>> {
-        let args = [self.arg("q", &q)?, self.arg("v", &v)?];
-        let r = &self.reference;
-        run(py, &args, &[&[3]], |x, out| {
-            let c = r.center_of_mass_velocity(x[0], x[1]);
-            copy(c.map_err(|e| e.to_string())?.as_slice(), out);
-            Ok(())
-        })
-    }
-
-    /// The centre of mass's Jacobian, `(3, nv)` (Pinocchio's `jacobianCenterOfMass`).
-    fn center_of_mass_jacobian(&self, py: Python<'_>, q: In<'_>) -> PyResult<Py<PyAny>> {
-        let r = &self.reference;
-        run(py, &[self.arg("q", &q)?], &[&[3, self.nv_()]], |x, out| {
-            rows(
-                &r.center_of_mass_jacobian(x[0]).map_err(|e| e.to_string())?,
-                out,
-            );
-            Ok(())
-        })
-    }
-
-    /// The centroidal momentum `[k_G; p]`, `(6,)`, world axes, about the centre of mass (angular
-    /// first; Pinocchio's `computeCentroidalMomentum` is linear first).
-    fn centroidal_momentum(&self, py: Python<'_>, q: In<'_>, v: In<'_>) -> PyResult<Py<PyAny>> {
-        let args = [self.arg("q", &q)?, self.arg("v", &v)?];
-        let r = &self.reference;
-        run(py, &args, &[&[6]], |x, out| {
-            let h = r.centroidal_momentum(x[0], x[1]);
-            copy(h.map_err(|e| e.to_string())?.as_slice(), out);
-            Ok(())
-        })
-    }
-
-    /// The centroidal momentum matrix `A_G`, `(6, nv)`, rows as `centroidal_momentum`.
-    fn centroidal_momentum_matrix(&self, py: Python<'_>, q: In<'_>) -> PyResult<Py<PyAny>> {
-        let r = &self.reference;
-        run(py, &[self.arg("q", &q)?], &[&[6, self.nv_()]], |x, out| {
-            rows(
-                &r.centroidal_momentum_matrix(x[0])
-                    .map_err(|e| e.to_string())?,
-                out,
-            );
-            Ok(())
-        })
-    }
-
-    /// The rate of the centroidal momentum `ḣ_G = A_G·a + Ȧ_G·v`, `(6,)`, laid out as
-    /// `centroidal_momentum`.
-    fn centroidal_momentum_rate(
-        &self,
-        py: Python<'_>,
-        q: In<'_>,
-        v: In<'_>,
-        a: In<'_>,
-    ) -> PyResult<Py<PyAny>> {
-        let args = [self.arg("q", &q)?, self.arg("v", &v)?, self.arg("a", &a)?];
-        let r = &self.reference;
-        run(py, &args, &[&[6]], |x, out| {
-            let h = r.centroidal_momentum_rate(x[0], x[1], x[2]);
-            copy(h.map_err(|e| e.to_string())?.as_slice(), out);
-            Ok(())
-        })
-    }
-
-    /// `Ȧ_G·v`, `(6,)`: the centroidal momentum's rate at `a = 0`.
-    fn centroidal_momentum_drift(
-        &self,
-        py: Python<'_>,
-        q: In<'_>,
-        v: In<'_>,
-    ) -> PyResult<Py<PyAny>> {
-        let args = [self.arg("q", &q)?, self.arg("v", &v)?];
-        let r = &self.reference;
-        run(py, &args, &[&[6]], |x, out| {
-            let h = r.centroidal_momentum_drift(x[0], x[1]);
-            copy(h.map_err(|e| e.to_string())?.as_slice(), out);
-            Ok(())
-        })
-    }
-
-    /// The wrench each joint transmits, `(joints, 6)`, in joint order (fixed joints
-    /// included): `[couple; force]` that the parent exerts on the child, in the child frame
-    /// about its origin, gravity included (Hemami's couples and reaction forces).
-    fn joint_wrenches(
-        &self,
-        py: Python<'_>,
-        q: In<'_>,
-        v: In<'_>,
-        a: In<'_>,
-    ) -> PyResult<Py<PyAny>> {
-        let args = [self.arg("q", &q)?, self.arg("v", &v)?, self.arg("a", &a)?];
-        let r = &self.reference;
-        let joints = r.model().joints.len();
-        run(py, &args, &[&[joints, 6]], |x, out| {
-            let w = r
-                .joint_wrenches(x[0], x[1], x[2])
-                .map_err(|e| e.to_string())?;
-            for (w, o) in w.iter().zip(out.chunks_mut(6)) {
-                o[..3].copy_from_slice(&w.couple);
-                o[3..].copy_from_slice(&w.force);
-            }
-            Ok(())
-        })
-    }
-
     /// The name of each joint, in the order of `joint_wrenches`' rows.
     #[getter]
     fn joints(&self) -> Vec<String> {
@@ -535,119 +250,6 @@ impl Model {
             .iter()
             .map(|j| j.name.clone())
             .collect()
-    }
-
-    /// The Coriolis matrix `N(q, v)`, `(nv, nv)`, with `N·v = bias` and `Ṁ − 2N` skew.
-    fn coriolis_matrix(&self, py: Python<'_>, q: In<'_>, v: In<'_>) -> PyResult<Py<PyAny>> {
-        let n = self.nv_();
-        let args = [self.arg("q", &q)?, self.arg("v", &v)?];
-        let r = &self.reference;
-        run(py, &args, &[&[n, n]], |x, out| {
-            rows(
-                &r.coriolis_matrix(x[0], x[1]).map_err(|e| e.to_string())?,
-                out,
-            );
-            Ok(())
-        })
-    }
-
-    /// A frame's placement in the world: `(R, p)`, `R` `(3, 3)` with the frame's axes as
-    /// columns, `p` `(3,)` its origin.
-    fn frame_placement(&self, py: Python<'_>, q: In<'_>, frame: &str) -> PyResult<Py<PyAny>> {
-        self.frame_check(frame)?;
-        let r = &self.reference;
-        run(py, &[self.arg("q", &q)?], &[&[3, 3], &[3]], |x, out| {
-            let (rot, p) = r.frame_placement(x[0], frame).map_err(|e| e.to_string())?;
-            rows(
-                &nalgebra::DMatrix::from_column_slice(3, 3, rot.as_slice()),
-                &mut out[..9],
-            );
-            copy(p.as_slice(), &mut out[9..]);
-            Ok(())
-        })
-    }
-
-    /// A frame's spatial velocity `[ω; v]`, `(6,)`, in the frame (LOCAL).
-    fn frame_velocity(
-        &self,
-        py: Python<'_>,
-        q: In<'_>,
-        v: In<'_>,
-        frame: &str,
-    ) -> PyResult<Py<PyAny>> {
-        self.frame_check(frame)?;
-        let args = [self.arg("q", &q)?, self.arg("v", &v)?];
-        let r = &self.reference;
-        run(py, &args, &[&[6]], |x, out| {
-            let w = r.frame_velocity(x[0], x[1], frame);
-            copy(w.map_err(|e| e.to_string())?.as_slice(), out);
-            Ok(())
-        })
-    }
-
-    /// A frame's classical acceleration `[ω̇; p̈]`, `(6,)`, world axes at the frame's origin
-    /// (LOCAL_WORLD_ALIGNED).
-    fn frame_acceleration(
-        &self,
-        py: Python<'_>,
-        q: In<'_>,
-        v: In<'_>,
-        a: In<'_>,
-        frame: &str,
-    ) -> PyResult<Py<PyAny>> {
-        self.frame_check(frame)?;
-        let args = [self.arg("q", &q)?, self.arg("v", &v)?, self.arg("a", &a)?];
-        let r = &self.reference;
-        run(py, &args, &[&[6]], |x, out| {
-            let w = r.frame_acceleration(x[0], x[1], x[2], frame);
-            copy(w.map_err(|e| e.to_string())?.as_slice(), out);
-            Ok(())
-        })
-    }
-
-    /// A frame's Jacobian, `(6, nv)`, angular rows first, in `reference`: `"local"`,
-    /// `"world"` or `"local_world_aligned"` (Pinocchio's `getFrameJacobian` with `LOCAL`,
-    /// `WORLD`, `LOCAL_WORLD_ALIGNED`, its rows swapped).
-    #[pyo3(signature = (q, frame, reference="local"))]
-    fn frame_jacobian(
-        &self,
-        py: Python<'_>,
-        q: In<'_>,
-        frame: &str,
-        reference: &str,
-    ) -> PyResult<Py<PyAny>> {
-        self.frame_check(frame)?;
-        let rf = reference_frame(reference)?;
-        let r = &self.reference;
-        run(py, &[self.arg("q", &q)?], &[&[6, self.nv_()]], |x, out| {
-            rows(
-                &r.frame_jacobian(x[0], frame, rf)
-                    .map_err(|e| e.to_string())?,
-                out,
-            );
-            Ok(())
-        })
-    }
-
-    /// A frame's Jacobian's time variation `J̇`, `(6, nv)`, in `reference` as `frame_jacobian`.
-    #[pyo3(signature = (q, v, frame, reference="local"))]
-    fn frame_jacobian_time_variation(
-        &self,
-        py: Python<'_>,
-        q: In<'_>,
-        v: In<'_>,
-        frame: &str,
-        reference: &str,
-    ) -> PyResult<Py<PyAny>> {
-        self.frame_check(frame)?;
-        let rf = reference_frame(reference)?;
-        let args = [self.arg("q", &q)?, self.arg("v", &v)?];
-        let r = &self.reference;
-        run(py, &args, &[&[6, self.nv_()]], |x, out| {
-            let j = r.frame_jacobian_time_variation(x[0], x[1], frame, rf);
-            rows(&j.map_err(|e| e.to_string())?, out);
-            Ok(())
-        })
     }
 
     /// Pinocchio's `nq` for this model: one more per URDF `continuous` joint.
@@ -730,16 +332,4 @@ impl Model {
     pub(crate) fn coordinates(&self) -> &[Coordinates] {
         &self.coordinates
     }
-}
-
-/// `"local"`, `"world"` or `"local_world_aligned"`.
-fn reference_frame(name: &str) -> PyResult<ReferenceFrame> {
-    ReferenceFrame::ALL
-        .into_iter()
-        .find(|r| r.name() == name)
-        .ok_or_else(|| {
-            Error::new_err(format!(
-                "reference={name:?}: expected \"local\", \"world\" or \"local_world_aligned\""
-            ))
-        })
 }
