@@ -187,7 +187,16 @@ fn states<const N: usize>(
         }
         _ => *batch = Some(states),
     }
-    let values: Vec<Scalar> = array.as_array().iter().copied().collect();
+    // Row-major whatever the array's layout: a C-ordered array's memory as it lies, any other
+    // element by element (a Fortran-ordered one's memory is its transpose).
+    let copied;
+    let values: &[Scalar] = match array.as_slice() {
+        Ok(s) if array.is_c_contiguous() => s,
+        _ => {
+            copied = array.as_array().iter().copied().collect::<Vec<_>>();
+            &copied
+        }
+    };
     Ok(values
         .chunks_exact(N)
         .map(SVector::from_column_slice)

@@ -234,7 +234,7 @@ def main():
     parser.add_argument("--address", help="a Ray cluster's address (`auto`, `HOST:6379`, "
                         "`ray://HOST:10001`); default: start a local Ray instance")
     parser.add_argument("--tasks", type=int, default=4, help="Ray tasks (default 4)")
-    parser.add_argument("--runs", type=int, default=1500, help="runs per task (default 1500)")
+    parser.add_argument("--runs", type=int, default=2000, help="runs per task (default 2000)")
     parser.add_argument("--seed", type=int, default=2024, help="the study's seed (default 2024)")
     parser.add_argument("--horizon", type=float, default=HORIZON,
                         help=f"simulated seconds per run (default {HORIZON})")
@@ -242,6 +242,8 @@ def main():
     parser.add_argument("--check", action="store_true",
                         help="run with Ray, then serially, and compare the outcomes bit for bit")
     args = parser.parse_args()
+    if args.serial and args.check:
+        parser.error("--check runs both (Ray, then serially): give it without --serial")
 
     results = {}
     if not args.serial:

@@ -80,6 +80,12 @@ def test_one_state_and_batch_agree(generated):
     for k in range(9):
         assert np.array_equal(generated.inverse_dynamics(q[k], v[k], a[k]), batch[k])
     assert isinstance(generated.kinetic_energy(q[0], v[0]), float)
+    # Any layout reads as the same rows: Fortran order, strided views, lists.
+    assert np.array_equal(generated.inverse_dynamics(np.asfortranarray(q), v, a), batch)
+    wide = np.zeros((9, 14))
+    wide[:, 1::2] = q
+    assert np.array_equal(generated.inverse_dynamics(wide[:, 1::2], v, a), batch)
+    assert np.array_equal(generated.inverse_dynamics(q[0].tolist(), v[0], a[0]), batch[0])
 
 
 def test_errors_of_generated_calls(generated):
