@@ -9,7 +9,9 @@ import sys
 import numpy as np
 import pytest
 
-ray = pytest.importorskip("ray", reason="ray is not installed (pip install ray): the Ray example is not tested")
+ray = pytest.importorskip(
+    "ray", reason="ray is not installed (pip install ray): the Ray example is not tested"
+)
 
 import articulated  # noqa: E402
 
