@@ -132,11 +132,15 @@ crate-type = ["cdylib"]
 articulated = {{ path = {json.dumps(str(crates / "runtime"))}, features = ["rayon"] }}
 pyo3 = {{ version = "0.30", features = ["extension-module"] }}
 numpy = "0.30"
+rayon = "1"
+# A C-ordered batch read where it lies: its rows cast to nalgebra vectors.
+bytemuck = "1"
+nalgebra = {{ version = "0.34", default-features = false, features = ["convert-bytemuck"] }}
 
 [workspace]
 """
     bindings = "\n".join(
-        f"    {o.name}(" + ", ".join(f"{a}: {_WIDTHS[a]}" for a in o.args) + f") => {o.name}_par_batch;"
+        f"    {o.name}(" + ", ".join(f"{a}: {_WIDTHS[a]}" for a in o.args) + f") => {o.name}_batch;"
         for o in chosen
     )
     lib = f"""//! The generated code of {path} for Python, written by articulated.generate().

@@ -1,12 +1,13 @@
 // The bindings of a generated chain, written into each crate `articulated.generate()` builds
 // (after the chain's `#[derive(Chain)]`, whose type is `Generated` in the scalar `Scalar`).
-// Every output's binding takes one state `(n,)` or a batch `(B, n)` per argument and calls the
-// output's `_par_batch` twin (lanes on every core) with the interpreter's lock released.
+// Every output's binding takes one state `(n,)` or a batch `(B, n)` per argument, reads C-ordered
+// arrays where they lie and calls the output's `_batch` twin (lanes) on groups of states spread
+// over every core, with the interpreter's lock released, writing into the result arrays.
 
 use articulated::nalgebra::{SMatrix, SVector};
 use articulated::prelude::*;
-use numpy::ndarray::{ArrayD, IxDyn};
-use numpy::{AllowTypeChange, IntoPyArray, PyArrayLikeDyn, PyUntypedArrayMethods};
+use numpy::ndarray::IxDyn;
+use numpy::{AllowTypeChange, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
@@ -29,8 +30,14 @@ trait Flat: Sized {
     fn zero() -> Self;
     /// The shape of each part.
     fn shapes() -> Vec<Vec<usize>>;
-    /// Appends part `part`'s values to `out`; the error of a failed state.
-    fn write(&self, part: usize, out: &mut Vec<Scalar>) -> Result<(), String>;
+    /// Writes part `part`'s values into `out`, exactly as long; the error of a failed state.
+    fn write(&self, part: usize, out: &mut [Scalar]) -> Result<(), String>;
+    /// The number of values of part `part`.
+    fn size(part: usize) -> usize {
+        Self::shapes()
+            .get(part)
+            .map_or(0, |s| s.iter().product())
+    }
 }
 
 impl Flat for Scalar {
@@ -40,8 +47,8 @@ impl Flat for Scalar {
     fn shapes() -> Vec<Vec<usize>> {
         vec![vec![]]
     }
-    fn write(&self, _: usize, out: &mut Vec<Scalar>) -> Result<(), String> {
-        out.push(*self);
+    fn write(&self, _: usize, out: &mut [Scalar]) -> Result<(), String> {
+        out[0] = *self;
         Ok(())
     }
 }
@@ -57,10 +64,12 @@ impl<const R: usize, const C: usize> Flat for SMatrix<Scalar, R, C> {
             vec![vec![R, C]]
         }
     }
-    fn write(&self, _: usize, out: &mut Vec<Scalar>) -> Result<(), String> {
-        for i in 0..R {
-            for j in 0..C {
-                out.push(self[(i, j)]);
+    fn write(&self, _: usize, out: &mut [Scalar]) -> Result<(), String> {
+        if C == 1 {
+            out.copy_from_slice(self.as_slice());
+        } else {
+            for (k, x) in out.iter_mut().enumerate() {
+                *x = self[(k / C, k % C)];
             }
         }
         Ok(())
@@ -77,7 +86,7 @@ impl Flat for articulated::FramePlacement<Scalar> {
     fn shapes() -> Vec<Vec<usize>> {
         vec![vec![3, 3], vec![3]]
     }
-    fn write(&self, part: usize, out: &mut Vec<Scalar>) -> Result<(), String> {
+    fn write(&self, part: usize, out: &mut [Scalar]) -> Result<(), String> {
         match part {
             0 => self.rotation.write(0, out),
             _ => self.translation.write(0, out),
@@ -95,8 +104,11 @@ impl<X: Flat, const N: usize> Flat for [X; N] {
             .map(|s| std::iter::once(N).chain(s).collect())
             .collect()
     }
-    fn write(&self, part: usize, out: &mut Vec<Scalar>) -> Result<(), String> {
-        self.iter().try_for_each(|x| x.write(part, out))
+    fn write(&self, part: usize, out: &mut [Scalar]) -> Result<(), String> {
+        let size = X::size(part);
+        self.iter()
+            .zip(out.chunks_mut(size.max(1)))
+            .try_for_each(|(x, o)| x.write(part, o))
     }
 }
 
@@ -107,7 +119,7 @@ impl<A: Flat, B: Flat> Flat for (A, B) {
     fn shapes() -> Vec<Vec<usize>> {
         A::shapes().into_iter().chain(B::shapes()).collect()
     }
-    fn write(&self, part: usize, out: &mut Vec<Scalar>) -> Result<(), String> {
+    fn write(&self, part: usize, out: &mut [Scalar]) -> Result<(), String> {
         let a = A::shapes().len();
         if part < a {
             self.0.write(part, out)
@@ -122,18 +134,16 @@ impl<A: Flat, B: Flat, C: Flat> Flat for (A, B, C) {
         (A::zero(), B::zero(), C::zero())
     }
     fn shapes() -> Vec<Vec<usize>> {
-        let ab = <(A, B)>::shapes();
-        ab.into_iter().chain(C::shapes()).collect()
+        <(A, B)>::shapes().into_iter().chain(C::shapes()).collect()
     }
-    fn write(&self, part: usize, out: &mut Vec<Scalar>) -> Result<(), String> {
-        let ab = <(A, B)>::shapes().len();
-        if part < ab {
-            match part < A::shapes().len() {
-                true => self.0.write(part, out),
-                false => self.1.write(part - A::shapes().len(), out),
-            }
+    fn write(&self, part: usize, out: &mut [Scalar]) -> Result<(), String> {
+        let (a, b) = (A::shapes().len(), B::shapes().len());
+        if part < a {
+            self.0.write(part, out)
+        } else if part < a + b {
+            self.1.write(part - a, out)
         } else {
-            self.2.write(part - ab, out)
+            self.2.write(part - a - b, out)
         }
     }
 }
@@ -145,7 +155,7 @@ impl<X: Flat, E: core::fmt::Display> Flat for Result<X, E> {
     fn shapes() -> Vec<Vec<usize>> {
         X::shapes()
     }
-    fn write(&self, part: usize, out: &mut Vec<Scalar>) -> Result<(), String> {
+    fn write(&self, part: usize, out: &mut [Scalar]) -> Result<(), String> {
         match self {
             Ok(x) => x.write(part, out),
             Err(e) => Err(e.to_string()),
@@ -153,14 +163,31 @@ impl<X: Flat, E: core::fmt::Display> Flat for Result<X, E> {
     }
 }
 
+/// An argument's states: the numpy array's own memory where it is C-ordered and aligned (no
+/// copy: a batch's inputs are read where they lie), else a row-major copy.
+enum States<'a, const N: usize> {
+    Borrowed(&'a [SVector<Scalar, N>]),
+    Owned(Vec<SVector<Scalar, N>>),
+}
+
+impl<const N: usize> core::ops::Deref for States<'_, N> {
+    type Target = [SVector<Scalar, N>];
+    fn deref(&self) -> &[SVector<Scalar, N>] {
+        match self {
+            States::Borrowed(s) => s,
+            States::Owned(v) => v,
+        }
+    }
+}
+
 /// Argument `name` as states of `N` values: `(N,)` or `(B, N)`; `batch` is the call's number
 /// of states so far (`Some(None)`: one state), which every argument must agree with.
-fn states<const N: usize>(
+fn states<'a, const N: usize>(
     py: Python<'_>,
     name: &str,
-    array: &PyArrayLikeDyn<'_, Scalar, AllowTypeChange>,
+    array: &'a PyArrayLikeDyn<'_, Scalar, AllowTypeChange>,
     batch: &mut Option<Option<usize>>,
-) -> PyResult<Vec<SVector<Scalar, N>>> {
+) -> PyResult<States<'a, N>> {
     let shape = array.shape().to_vec();
     let states = match shape.as_slice() {
         [n] if *n == N => None,
@@ -187,47 +214,105 @@ fn states<const N: usize>(
         }
         _ => *batch = Some(states),
     }
-    // Row-major whatever the array's layout: a C-ordered array's memory as it lies, any other
-    // element by element (a Fortran-ordered one's memory is its transpose).
-    let copied;
-    let values: &[Scalar] = match array.as_slice() {
-        Ok(s) if array.is_c_contiguous() => s,
-        _ => {
-            copied = array.as_array().iter().copied().collect::<Vec<_>>();
-            &copied
-        }
-    };
-    Ok(values
-        .chunks_exact(N)
-        .map(SVector::from_column_slice)
-        .collect())
-}
-
-/// The results of a call as arrays (a tuple where the output has several parts); the first
-/// failed state (in batch order) raises `articulated.Error`.
-fn finish<R: Flat>(py: Python<'_>, out: Vec<R>, batch: Option<usize>) -> PyResult<Py<PyAny>> {
-    let shapes = R::shapes();
-    let mut parts = Vec::with_capacity(shapes.len());
-    for (p, shape) in shapes.iter().enumerate() {
-        let mut values = Vec::with_capacity(out.len() * shape.iter().product::<usize>());
-        for (k, r) in out.iter().enumerate() {
-            if let Err(e) = r.write(p, &mut values) {
-                return Err(error(
-                    py,
-                    match batch {
-                        Some(_) => format!("state {k} of the batch: {e}"),
-                        None => e,
-                    },
-                ));
+    if array.is_c_contiguous() {
+        if let Ok(values) = array.as_slice() {
+            if let Ok(states) = bytemuck::try_cast_slice(values) {
+                return Ok(States::Borrowed(states));
             }
         }
-        let dims: Vec<usize> = batch.into_iter().chain(shape.iter().copied()).collect();
-        if dims.is_empty() {
-            parts.push(values[0].into_pyobject(py)?.into_any().unbind());
+    }
+    // Any other layout (a Fortran-ordered array's memory is its transpose) element by element.
+    let values: Vec<Scalar> = array.as_array().iter().copied().collect();
+    Ok(States::Owned(
+        values.chunks_exact(N).map(SVector::from_column_slice).collect(),
+    ))
+}
+
+/// States per group of a batch: each group's results go through a buffer this long (it stays
+/// in the cache) into the output arrays, and the groups are spread over rayon's threads.
+const GROUP: usize = 256;
+
+/// Runs `f(range, out)` (the output's batch function on the states in `range`) over the
+/// `n` states of a call, group by group on every core without the interpreter's lock, writing
+/// each state's parts into arrays allocated once; the first failed state (in batch order)
+/// raises `articulated.Error`. `batch`: `None` for one state (arrays without the leading `B`).
+fn call<R, F>(py: Python<'_>, batch: Option<usize>, f: F) -> PyResult<Py<PyAny>>
+where
+    R: Flat + Send,
+    F: Fn(core::ops::Range<usize>, &mut [R]) -> Result<(), articulated::lanes::BatchLengths>
+        + Sync,
+{
+    use numpy::{PyArrayDyn, PyArrayMethods};
+    use rayon::prelude::*;
+    let n = batch.unwrap_or(1);
+    let shapes = R::shapes();
+    let arrays: Vec<Bound<'_, PyArrayDyn<Scalar>>> = shapes
+        .iter()
+        .map(|shape| {
+            let dims: Vec<usize> = batch.into_iter().chain(shape.iter().copied()).collect();
+            PyArrayDyn::<Scalar>::zeros(py, IxDyn(&dims), false)
+        })
+        .collect();
+    let mut guards: Vec<_> = arrays.iter().map(|a| a.readwrite()).collect();
+    let mut slices: Vec<&mut [Scalar]> = Vec::with_capacity(guards.len());
+    for g in guards.iter_mut() {
+        slices.push(g.as_slice_mut().map_err(|e| error(py, e.to_string()))?);
+    }
+    let sizes: Vec<usize> = (0..shapes.len()).map(R::size).collect();
+    // Each group's share of every part.
+    let mut groups: Vec<Vec<&mut [Scalar]>> = (0..n.div_ceil(GROUP)).map(|_| Vec::new()).collect();
+    for (slice, &size) in slices.into_iter().zip(&sizes) {
+        for (g, chunk) in groups.iter_mut().zip(slice.chunks_mut((GROUP * size).max(1))) {
+            g.push(chunk);
+        }
+        if size == 0 {
+            groups.iter_mut().for_each(|g| g.push(&mut []));
+        }
+    }
+    let failure = py.detach(|| {
+        groups
+            .into_par_iter()
+            .enumerate()
+            .map(|(k, mut parts)| {
+                let start = k * GROUP;
+                let end = (start + GROUP).min(n);
+                let mut out: Vec<R> = (start..end).map(|_| R::zero()).collect();
+                if let Err(e) = f(start..end, &mut out) {
+                    return Some((start, e.to_string()));
+                }
+                for (i, r) in out.iter().enumerate() {
+                    for (p, part) in parts.iter_mut().enumerate() {
+                        let at = i * sizes[p];
+                        if let Err(e) = r.write(p, &mut part[at..at + sizes[p]]) {
+                            return Some((start + i, e));
+                        }
+                    }
+                }
+                None
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .flatten()
+            .next()
+    });
+    drop(guards);
+    if let Some((k, message)) = failure {
+        return Err(error(
+            py,
+            match batch {
+                Some(_) => format!("state {k} of the batch: {message}"),
+                None => message,
+            },
+        ));
+    }
+    let mut parts: Vec<Py<PyAny>> = Vec::with_capacity(arrays.len());
+    for a in arrays {
+        if batch.is_none() && a.ndim() == 0 {
+            // One state's number: a Python float.
+            let x: Scalar = a.to_vec().ok().and_then(|v| v.first().copied()).unwrap_or_default();
+            parts.push(x.into_pyobject(py)?.into_any().unbind());
         } else {
-            let array = ArrayD::from_shape_vec(IxDyn(&dims), values)
-                .map_err(|e| error(py, e.to_string()))?;
-            parts.push(array.into_pyarray(py).into_any().unbind());
+            parts.push(a.into_any().unbind());
         }
     }
     if parts.len() == 1 {
@@ -303,12 +388,9 @@ macro_rules! bindings {
                 ) -> PyResult<Py<PyAny>> {
                     let mut batch = None;
                     $(let $arg = states::<{ $n }>(py, stringify!($arg), &$arg, &mut batch)?;)*
-                    let batch = batch.flatten();
-                    let mut out = Vec::new();
-                    out.resize_with(batch.unwrap_or(1), Flat::zero);
-                    py.detach(|| Generated::$par($(&$arg,)* &mut out))
-                        .map_err(|e| error(py, e.to_string()))?;
-                    finish(py, out, batch)
+                    call(py, batch.flatten(), |range, out| {
+                        Generated::$par($(&$arg[range.clone()],)* out)
+                    })
                 }
             )*
         }

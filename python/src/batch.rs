@@ -163,10 +163,12 @@ fn arrays(
     let n = states.unwrap_or(1);
     let mut parts = Vec::with_capacity(shapes.len());
     let mut offset = 0;
+    let mut whole = Some(out);
     for shape in shapes {
         let size: usize = shape.iter().product();
+        let out = whole.as_deref().unwrap_or_default();
         let values: Vec<f64> = if shapes.len() == 1 {
-            out.clone()
+            whole.take().unwrap_or_default()
         } else {
             (0..n)
                 .flat_map(|k| {
