@@ -7,7 +7,7 @@ per state:
 - **ours, interpreted**: `articulated.Model.load(...).inverse_dynamics(Q, V, A)` on a `(B, n)`
   batch (rayon over the states, the GIL released);
 - **ours, generated**: the same call on `articulated.generate(...)` (the generated
-  `_par_batch` functions: SIMD lanes across states, rayon);
+  `_batch` functions, SIMD lanes across states, on groups of states over rayon's threads);
 - **Pinocchio, Python loop**: `pin.rnea(model, data, q, v, a)` called state by state from a
   Python `for` loop over the rows;
 - **Pinocchio, in parallel**: `pin.rneaInParallel(T, pool, Q, V, A)` (`abaInParallel`), a
@@ -25,8 +25,8 @@ largest batches and reported per state: the Python loop on at most `--loop-cap` 
 (default 10,000) and the interpreter on at most `--interp-cap` states of a model
 (default `humanoid=10000`); the output says where.
 
-T is `RAYON_NUM_THREADS` (set here before `articulated` starts its thread pools), `--threads`
-or `os.cpu_count()`. The script also finds out whether the wheel's parallel functions use
+T is `--threads`, else `RAYON_NUM_THREADS`, else `os.cpu_count()`; it is exported as
+`RAYON_NUM_THREADS` before `articulated` (and each generated module) starts its thread pool. The script also finds out whether the wheel's parallel functions use
 OpenMP: the Python module's links (`ldd`: libgomp), its symbols (`GOMP_parallel`), and
 `rneaInParallel` at 1 thread against T threads.
 
@@ -187,6 +187,15 @@ def environment(threads):
     )
 
 
+def cpu_clock():
+    """(the machine's busy seconds, all seconds, over all CPUs; this process's CPU seconds)."""
+    ticks = os.sysconf("SC_CLK_TCK")
+    fields = [int(x) for x in open("/proc/stat").readline().split()[1:9]]
+    idle = fields[3] + fields[4]
+    mine = os.times()
+    return (sum(fields) - idle) / ticks, sum(fields) / ticks, mine.user + mine.system
+
+
 def parse_caps(text):
     caps = {}
     for item in filter(None, (text or "").split(",")):
@@ -203,6 +212,7 @@ def measure(args):
     import articulated
 
     env = environment(threads)
+    clock0 = cpu_clock()
     log(f"threads {threads} (RAYON_NUM_THREADS={os.environ['RAYON_NUM_THREADS']}); "
         f"batches {args.batches}; repeats {args.repeats}")
     interp_caps = parse_caps(args.interp_cap)
@@ -287,6 +297,11 @@ def measure(args):
                     f"{m} {row[m]['best_ns']:.0f} ns" + (f" ({row[m]['states']} states)" if row[m]['states'] != b else "")
                     for m in METHODS))
     env["load_end"] = open("/proc/loadavg").read().split()[:3]
+    clock1 = cpu_clock()
+    # What other processes took of the machine while this ran (a shared VM): busy CPU time
+    # not ours, over all the CPUs' time.
+    env["others_cpu_share"] = max(0.0, ((clock1[0] - clock0[0]) - (clock1[2] - clock0[2]))
+                                  / max(clock1[1] - clock0[1], 1e-9))
     return dict(
         env=env, models=shapes, batches=args.batches, repeats=args.repeats,
         min_time=args.min_time, loop_cap=args.loop_cap, interp_caps=interp_caps,
@@ -315,7 +330,8 @@ def section(d):
     w("`articulated.Model.load(path).inverse_dynamics(Q, V, A)` on `(B, n)` arrays (the reference,")
     w("rayon over the states with the GIL released); **ours, generated** the same call on")
     w("`articulated.generate(path, outputs=[\"inverse_dynamics\", \"forward_dynamics\"])` (its")
-    w("`_par_batch` functions: four states per SIMD lane vector, rayon over the lanes; built by")
+    w("`_batch` functions, four states per SIMD vector, on groups of 256 states over rayon's threads;")
+    w("C-ordered inputs read where they lie, results written into arrays allocated once; built by")
     w(f"`generate()` with cargo for the default target{', RUSTFLAGS ' + repr(env['rustflags']) if env['rustflags'] else ''});")
     w("**Pinocchio, Python loop** is `pin.rnea(model, data, q, v, a)` (`pin.aba`) called state by")
     w("state from a Python `for` loop over the rows; **Pinocchio, in parallel** is")
@@ -343,7 +359,9 @@ def section(d):
     w(f"- {env['cpu']}, `nproc` {env['nproc']}, Linux {env['kernel']}; Python {env['python']}, numpy "
       f"{env['numpy']}, `articulated` {env['articulated']}, {env['rustc']}")
     w(f"- measured {env['date']} at commit `{env['commit']}`; load average at the start "
-      f"{' '.join(env['load'])}, at the end {' '.join(env.get('load_end', ['?']))}")
+      f"{' '.join(env['load'])}, at the end {' '.join(env.get('load_end', ['?']))}"
+      + (f"; other processes took {env['others_cpu_share']:.0%} of the CPUs' time during the run"
+         if "others_cpu_share" in env else ""))
     for name, shape in d["models"].items():
         res = d["results"][name]
         w("")
@@ -408,7 +426,7 @@ def main():
     with open(tmp, "w") as f:
         json.dump(d, f, indent=1)
     os.replace(tmp, args.out)
-    log(f"wrote {args.out}")
+    log(f"wrote {args.out}; other processes took {d['env']['others_cpu_share']:.0%} of the CPUs' time meanwhile")
     print("\n".join(section(d)))
 
 

@@ -34,9 +34,7 @@ trait Flat: Sized {
     fn write(&self, part: usize, out: &mut [Scalar]) -> Result<(), String>;
     /// The number of values of part `part`.
     fn size(part: usize) -> usize {
-        Self::shapes()
-            .get(part)
-            .map_or(0, |s| s.iter().product())
+        Self::shapes().get(part).map_or(0, |s| s.iter().product())
     }
 }
 
@@ -224,7 +222,10 @@ fn states<'a, const N: usize>(
     // Any other layout (a Fortran-ordered array's memory is its transpose) element by element.
     let values: Vec<Scalar> = array.as_array().iter().copied().collect();
     Ok(States::Owned(
-        values.chunks_exact(N).map(SVector::from_column_slice).collect(),
+        values
+            .chunks_exact(N)
+            .map(SVector::from_column_slice)
+            .collect(),
     ))
 }
 
@@ -239,8 +240,7 @@ const GROUP: usize = 256;
 fn call<R, F>(py: Python<'_>, batch: Option<usize>, f: F) -> PyResult<Py<PyAny>>
 where
     R: Flat + Send,
-    F: Fn(core::ops::Range<usize>, &mut [R]) -> Result<(), articulated::lanes::BatchLengths>
-        + Sync,
+    F: Fn(core::ops::Range<usize>, &mut [R]) -> Result<(), articulated::lanes::BatchLengths> + Sync,
 {
     use numpy::{PyArrayDyn, PyArrayMethods};
     use rayon::prelude::*;
@@ -262,39 +262,43 @@ where
     // Each group's share of every part.
     let mut groups: Vec<Vec<&mut [Scalar]>> = (0..n.div_ceil(GROUP)).map(|_| Vec::new()).collect();
     for (slice, &size) in slices.into_iter().zip(&sizes) {
-        for (g, chunk) in groups.iter_mut().zip(slice.chunks_mut((GROUP * size).max(1))) {
+        for (g, chunk) in groups
+            .iter_mut()
+            .zip(slice.chunks_mut((GROUP * size).max(1)))
+        {
             g.push(chunk);
         }
         if size == 0 {
             groups.iter_mut().for_each(|g| g.push(&mut []));
         }
     }
-    let failure = py.detach(|| {
-        groups
-            .into_par_iter()
-            .enumerate()
-            .map(|(k, mut parts)| {
-                let start = k * GROUP;
-                let end = (start + GROUP).min(n);
-                let mut out: Vec<R> = (start..end).map(|_| R::zero()).collect();
-                if let Err(e) = f(start..end, &mut out) {
-                    return Some((start, e.to_string()));
+    let group = |(k, mut parts): (usize, Vec<&mut [Scalar]>)| {
+        let start = k * GROUP;
+        let end = (start + GROUP).min(n);
+        let mut out: Vec<R> = (start..end).map(|_| R::zero()).collect();
+        if let Err(e) = f(start..end, &mut out) {
+            return Some((start, e.to_string()));
+        }
+        for (i, r) in out.iter().enumerate() {
+            for (p, part) in parts.iter_mut().enumerate() {
+                let at = i * sizes[p];
+                if let Err(e) = r.write(p, &mut part[at..at + sizes[p]]) {
+                    return Some((start + i, e));
                 }
-                for (i, r) in out.iter().enumerate() {
-                    for (p, part) in parts.iter_mut().enumerate() {
-                        let at = i * sizes[p];
-                        if let Err(e) = r.write(p, &mut part[at..at + sizes[p]]) {
-                            return Some((start + i, e));
-                        }
-                    }
-                }
-                None
-            })
-            .collect::<Vec<_>>()
-            .into_iter()
-            .flatten()
-            .next()
-    });
+            }
+        }
+        None
+    };
+    // One group (one state, a small batch) is computed here, holding the lock: waking the
+    // pool's threads would cost more than the group.
+    let failure = if groups.len() <= 1 {
+        groups.into_iter().enumerate().find_map(group)
+    } else {
+        py.detach(|| {
+            let failures: Vec<_> = groups.into_par_iter().enumerate().map(group).collect();
+            failures.into_iter().flatten().next()
+        })
+    };
     drop(guards);
     if let Some((k, message)) = failure {
         return Err(error(
@@ -309,7 +313,11 @@ where
     for a in arrays {
         if batch.is_none() && a.ndim() == 0 {
             // One state's number: a Python float.
-            let x: Scalar = a.to_vec().ok().and_then(|v| v.first().copied()).unwrap_or_default();
+            let x: Scalar = a
+                .to_vec()
+                .ok()
+                .and_then(|v| v.first().copied())
+                .unwrap_or_default();
             parts.push(x.into_pyobject(py)?.into_any().unbind());
         } else {
             parts.push(a.into_any().unbind());

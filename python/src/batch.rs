@@ -129,6 +129,13 @@ where
         let inputs: Vec<&[f64]> = args.iter().map(|a| a.state(k)).collect();
         f(&inputs, o)
     };
+    // One state is computed here, holding the lock: waking the pool's threads would cost more.
+    if n == 1 && per > 0 {
+        if let Err(message) = one(0, &mut out) {
+            return Err(failed(states, 0, message));
+        }
+        return arrays(py, out, states, shapes);
+    }
     let failure = py.detach(|| {
         let errors: Vec<Option<String>> = if per == 0 {
             (0..n).map(|k| one(k, &mut []).err()).collect()
@@ -144,12 +151,17 @@ where
             .find_map(|(k, e)| e.map(|e| (k, e)))
     });
     if let Some((k, message)) = failure {
-        return Err(Error::new_err(match states {
-            Some(_) => format!("state {k} of the batch: {message}"),
-            None => message,
-        }));
+        return Err(failed(states, k, message));
     }
     arrays(py, out, states, shapes)
+}
+
+/// The error of state `k`: its message, prefixed by its index in a batch.
+fn failed(states: Option<usize>, k: usize, message: String) -> PyErr {
+    Error::new_err(match states {
+        Some(_) => format!("state {k} of the batch: {message}"),
+        None => message,
+    })
 }
 
 /// Splits `out` (state after state, each the parts one after the other) into one array per part.
