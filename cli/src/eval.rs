@@ -695,27 +695,16 @@ fn contact_kinematics_by_reference(
     names: &[String],
     s: &State,
 ) -> Result<Kinematics, String> {
-    use articulated::reference::ReferenceFrame::Local;
     let text = |e: Error| e.to_string();
     let m = r.mass_matrix(&s.q).map_err(text)?;
     let nle = r.bias(&s.q, &s.v).map_err(text)? + r.gravity(&s.q).map_err(text)?;
-    let zero = vec![0.0; r.nv()];
-    let mut frames = Vec::new();
-    for name in names {
-        let text = |e: Error| format!("frame `{name}`: {e}");
-        let (rotation, translation) = r.frame_placement(&s.q, name).map_err(text)?;
-        frames.push(FrameKinematics {
-            placement: FramePlacement {
-                rotation,
-                translation,
-            },
-            jacobian: r.frame_jacobian(&s.q, name, Local).map_err(text)?,
-            velocity: r.frame_velocity(&s.q, &s.v, name).map_err(text)?,
-            drift: r
-                .frame_acceleration(&s.q, &s.v, &zero, name)
-                .map_err(text)?,
-        });
-    }
+    let frames = names
+        .iter()
+        .map(|name| {
+            FrameKinematics::by_reference(r, &s.q, &s.v, name)
+                .map_err(|e| format!("frame `{name}`: {e}"))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     Ok(Kinematics { m, nle, frames })
 }
 

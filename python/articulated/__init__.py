@@ -47,6 +47,8 @@ PINOCCHIO_NAMES = {
     "getFrameClassicalAcceleration": ("frame_acceleration", "LOCAL_WORLD_ALIGNED, angular first"),
     "getFrameJacobian": ("frame_jacobian", "angular rows first; reference='local'|'world'|'local_world_aligned'"),
     "getFrameJacobianTimeVariation": ("frame_jacobian_time_variation", "angular rows first"),
+    "constraintDynamics": ("constrained_forward_dynamics", "contacts by frame name; angular first"),
+    "impulseDynamics": ("impulse_dynamics", "contacts by frame name; angular first"),
 }
 
 __all__ = ["Error", "Model", "generate", "outputs", "PINOCCHIO_NAMES", "__version__"]

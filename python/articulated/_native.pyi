@@ -91,6 +91,23 @@ class Model:
     def frame_jacobian_time_variation(
         self, q: ArrayLike, v: ArrayLike, frame: str, reference: Reference = "local"
     ) -> Array: ...
+    def constrained_forward_dynamics(
+        self,
+        q: ArrayLike,
+        v: ArrayLike,
+        tau: ArrayLike,
+        contacts: Union[dict[str, str], Sequence[Tuple[str, str]]],
+        baumgarte: Optional[Tuple[float, float]] = None,
+        mu: float = 0.0,
+    ) -> Tuple[Array, Array, Union[float, Array]]: ...
+    def impulse_dynamics(
+        self,
+        q: ArrayLike,
+        v: ArrayLike,
+        contacts: Union[dict[str, str], Sequence[Tuple[str, str]]],
+        restitution: float = 0.0,
+        mu: float = 0.0,
+    ) -> Tuple[Array, Array, Union[float, Array]]: ...
     def to_pinocchio_q(self, q: ArrayLike) -> Array: ...
     def from_pinocchio_q(self, q: ArrayLike) -> Array: ...
     def to_pinocchio_v(self, v: ArrayLike) -> Array: ...

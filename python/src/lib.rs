@@ -5,6 +5,7 @@
 //! code into its own extension module, and the Pinocchio names.
 
 mod batch;
+mod constrained;
 mod evaluate;
 mod model;
 mod simulate;

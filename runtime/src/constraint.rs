@@ -1050,6 +1050,32 @@ pub mod dynamic {
         pub drift: SVector<f64, 6>,
     }
 
+    impl FrameKinematics {
+        /// `frame`'s kinematics at `(q, v)` by the interpreted reference: its placement, LOCAL
+        /// Jacobian, LOCAL velocity and classical acceleration at `q̈ = 0`.
+        ///
+        /// # Errors
+        /// The reference's: an unknown frame, a wrong length, a value that is not finite.
+        pub fn by_reference(
+            r: &crate::reference::Reference,
+            q: &[f64],
+            v: &[f64],
+            frame: &str,
+        ) -> Result<Self, crate::reference::Error> {
+            let zero = alloc::vec![0.0; r.nv()];
+            let (rotation, translation) = r.frame_placement(q, frame)?;
+            Ok(FrameKinematics {
+                placement: FramePlacement {
+                    rotation,
+                    translation,
+                },
+                jacobian: r.frame_jacobian(q, frame, crate::reference::ReferenceFrame::Local)?,
+                velocity: r.frame_velocity(q, v, frame)?,
+                drift: r.frame_acceleration(q, v, &zero, frame)?,
+            })
+        }
+    }
+
     /// The stacked rows ([`super::System`] at run-time sizes).
     #[derive(Clone, Debug, PartialEq)]
     pub struct System {
