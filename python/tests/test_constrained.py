@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import articulated
+from states import random_states
 
 pin = pytest.importorskip("pinocchio")
 ROOT = Path(__file__).resolve().parents[2]
@@ -42,25 +43,13 @@ def ours(vector, kind):
     return np.concatenate([vector[3:], vector[:3]]) if kind == "six_d" else vector[:3]
 
 
-def states(model, n, seed):
-    rng = np.random.default_rng(seed)
-    q = np.tile(model.neutral(), (n, 1))
-    for k, name in enumerate(model.q_names):
-        if name.endswith(".qw"):
-            quat = rng.standard_normal((n, 4))
-            q[:, k:k + 4] = quat / np.linalg.norm(quat, axis=1, keepdims=True)
-        elif not name.endswith((".qx", ".qy", ".qz")):
-            q[:, k] = rng.uniform(-0.5, 0.5, n)
-    return q, rng.standard_normal((n, model.nv)), 10 * rng.standard_normal((n, model.nv))
-
-
 @pytest.mark.parametrize("path,floating,contacts", CASES,
                          ids=["humanoid-feet", "humanoid-foot-hand", "arm7-welded"])
 def test_against_pinocchio(path, floating, contacts):
     model = articulated.Model.load(ROOT / path, floating=floating)
     theirs, cms = pinocchio_side(path, floating, contacts)
     weight = sum(i.mass for i in theirs.inertias) * 9.81
-    q, v, tau = states(model, 4, seed=len(contacts))
+    q, v, tau = random_states(model, 4, seed=len(contacts), spread=0.5, scale=10.0)
     a, forces, residual = model.constrained_forward_dynamics(q, v, tau, dict(contacts))
     v_plus, impulses, _ = model.impulse_dynamics(q, v, dict(contacts), restitution=0.5)
     assert np.max(residual) < 1e-9

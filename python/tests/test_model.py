@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import articulated
+from states import random_states
 
 ROOT = Path(__file__).resolve().parents[2]
 ARM = ROOT / "models" / "arm7.urdf"
@@ -21,18 +22,6 @@ def arm():
 @pytest.fixture(scope="module")
 def humanoid():
     return articulated.Model.load(ROOT / "models" / "humanoid.urdf", floating="quaternion")
-
-
-def random_states(model, n, seed=0):
-    rng = np.random.default_rng(seed)
-    q = np.tile(model.neutral(), (n, 1))
-    for k, name in enumerate(model.q_names):
-        if name.endswith(".qw"):
-            quat = rng.standard_normal((n, 4))
-            q[:, k:k + 4] = quat / np.linalg.norm(quat, axis=1, keepdims=True)
-        elif not name.endswith((".qx", ".qy", ".qz")):
-            q[:, k] = rng.uniform(-2, 2, n)
-    return q, rng.standard_normal((n, model.nv)), rng.standard_normal((n, model.nv))
 
 
 METHODS = [
