@@ -12,6 +12,7 @@ import shutil
 import subprocess
 import sys
 import sysconfig
+import threading
 from collections import namedtuple
 from pathlib import Path
 
@@ -184,8 +185,6 @@ def _build(cargo, crate, target_dir, module, verbose):
     def drain_stderr():
         for line in proc.stderr:
             errors.append(line)
-
-    import threading
 
     reader = threading.Thread(target=drain_stderr, daemon=True)
     reader.start()

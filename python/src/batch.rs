@@ -171,41 +171,43 @@ fn arrays(
     states: Option<usize>,
     shapes: Shapes<'_>,
 ) -> PyResult<Py<PyAny>> {
+    if let [shape] = shapes {
+        return part(py, out, states, shape);
+    }
     let per: usize = shapes.iter().map(|s| s.iter().product::<usize>()).sum();
-    let n = states.unwrap_or(1);
     let mut parts = Vec::with_capacity(shapes.len());
     let mut offset = 0;
-    let mut whole = Some(out);
     for shape in shapes {
         let size: usize = shape.iter().product();
-        let out = whole.as_deref().unwrap_or_default();
-        let values: Vec<f64> = if shapes.len() == 1 {
-            whole.take().unwrap_or_default()
-        } else {
-            (0..n)
-                .flat_map(|k| {
-                    out[k * per + offset..k * per + offset + size]
-                        .iter()
-                        .copied()
-                })
-                .collect()
-        };
+        let values = (0..states.unwrap_or(1))
+            .flat_map(|k| {
+                out[k * per + offset..k * per + offset + size]
+                    .iter()
+                    .copied()
+            })
+            .collect();
         offset += size;
-        let dims: Vec<usize> = states.into_iter().chain(shape.iter().copied()).collect();
-        if dims.is_empty() {
-            // One state's number: a Python float.
-            parts.push(values[0].into_pyobject(py)?.into_any().unbind());
-        } else {
-            let array = ArrayD::from_shape_vec(IxDyn(&dims), values)
-                .map_err(|e| Error::new_err(e.to_string()))?;
-            parts.push(array.into_pyarray(py).into_any().unbind());
-        }
+        parts.push(part(py, values, states, shape)?);
     }
-    if parts.len() == 1 {
-        Ok(parts.pop().expect("one part"))
-    } else {
-        Ok(PyTuple::new(py, parts)?.into_any().unbind())
+    Ok(PyTuple::new(py, parts)?.into_any().unbind())
+}
+
+/// One part's `values` as an array of `shape` (after `B` in a batch), or a Python float for one
+/// state's number.
+fn part(
+    py: Python<'_>,
+    values: Vec<f64>,
+    states: Option<usize>,
+    shape: &[usize],
+) -> PyResult<Py<PyAny>> {
+    let dims: Vec<usize> = states.into_iter().chain(shape.iter().copied()).collect();
+    if dims.is_empty() {
+        let x = values.first().copied().unwrap_or(f64::NAN);
+        return Ok(x.into_pyobject(py)?.into_any().unbind());
     }
+    let array =
+        ArrayD::from_shape_vec(IxDyn(&dims), values).map_err(|e| Error::new_err(e.to_string()))?;
+    Ok(array.into_pyarray(py).into_any().unbind())
 }
 
 /// Copies a column-major nalgebra matrix into `out` row by row.

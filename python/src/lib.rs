@@ -30,10 +30,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // Where the workspace's crates are, for the generated crates of `articulated.generate`.
     m.add("_CRATES", env!("CARGO_MANIFEST_DIR"))?;
-    m.add(
-        "_RUSTC_VERSION_BUILT",
-        option_env!("RUSTC_VERSION").unwrap_or(""),
-    )?;
     Ok(())
 }
 

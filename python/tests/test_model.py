@@ -127,8 +127,8 @@ def test_pinocchio_layout_round_trip(humanoid):
     assert np.array_equal(qp[:, 3:7], np.concatenate([q[:, 4:7], q[:, 3:4]], axis=1))
     assert np.array_equal(humanoid.from_pinocchio_q(qp), q)
     assert np.array_equal(humanoid.from_pinocchio_v(humanoid.to_pinocchio_v(v)), v)
-    assert humanoid.q_names_pinocchio[3:7] == ["root.qx", "root.qy", "root.qz", "root.qw"] or \
-        humanoid.q_names_pinocchio[6].endswith(".qw")
+    assert humanoid.q_names_pinocchio[3:7] == [
+        "root_joint.qx", "root_joint.qy", "root_joint.qz", "root_joint.qw"]
 
 
 def test_params():

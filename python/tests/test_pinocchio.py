@@ -26,6 +26,8 @@ MODELS = [
     ("tests/data/pinocchio/arm6_mixed.urdf", None),
     ("tests/data/pinocchio/tree_two_arms.urdf", None),
 ]
+# The models the slower comparisons (derivatives, frames) run on.
+FEWER = MODELS[:6]
 TOL = 1e-12
 
 
@@ -121,7 +123,7 @@ def test_dynamics_against_pinocchio(path, floating):
         assert compared == model.njoints - 1
 
 
-@pytest.mark.parametrize("path,floating", MODELS[:6], ids=[Path(p).stem for p, _ in MODELS[:6]])
+@pytest.mark.parametrize("path,floating", FEWER, ids=[Path(p).stem for p, _ in FEWER])
 def test_derivatives_against_pinocchio(path, floating):
     ours, model = load(path, floating)
     data = model.createData()
@@ -142,7 +144,7 @@ def test_derivatives_against_pinocchio(path, floating):
         close(in_pin_order(ours, fv[k]), pfv, 1e-9)
 
 
-@pytest.mark.parametrize("path,floating", MODELS[:6], ids=[Path(p).stem for p, _ in MODELS[:6]])
+@pytest.mark.parametrize("path,floating", FEWER, ids=[Path(p).stem for p, _ in FEWER])
 def test_frames_against_pinocchio(path, floating):
     ours, model = load(path, floating)
     data = model.createData()
