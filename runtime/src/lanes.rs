@@ -9,8 +9,10 @@
 //! in one vector instruction (`x86-64-v3`: four `f64` in a 256-bit register; the default
 //! target: two 128-bit instructions). The statements are the
 //! scalar function's, operand for operand, with the same fused multiply–adds, divisions and
-//! sines (the lanes' sines and cosines are [`crate::math::sincos_array`]'s polynomial), so a
-//! state's result in a batch is the scalar function's, bit for bit, whichever lane it sits in.
+//! sines (the lanes' sines and cosines are [`crate::math::sincos_array`]'s polynomial in `f64`,
+//! `libm::sincosf`'s algorithm in `f32`), so a state's result in a batch is the scalar
+//! function's, bit for bit, whichever lane it sits in (in `f32`, but for the rare argument where
+//! the two sines differ in their last bit).
 //!
 //! The batch function ([`crate::InverseDynamics::inverse_dynamics_batch`] and its kind) takes
 //! the slices a user holds (`&[SVector<f64, NQ>]`), gathers `N` states at a time into lanes
@@ -121,7 +123,7 @@ pub trait Simd:
 /// One lane type and its operators, over a vector of `wide`.
 macro_rules! lane_type {
     ($(#[$doc:meta])* $name:ident($wide:ty, $t:ty, $n:literal), transpose: $transpose:expr,
-     |$x:ident| $sincos:expr) => {
+     by $transposed:path, |$x:ident| $sincos:expr) => {
         $(#[$doc])*
         #[derive(Clone, Copy, Debug, PartialEq)]
         #[repr(transparent)]
@@ -202,7 +204,7 @@ macro_rules! lane_type {
                 for (b, block) in blocks.enumerate() {
                     let at = b * $n;
                     let rows: [$wide; $n] = core::array::from_fn(|e| block[e].0);
-                    for (o, t) in out.iter_mut().zip(<$wide>::transpose(rows)) {
+                    for (o, t) in out.iter_mut().zip($transposed(rows)) {
                         if let Some(dst) = o.as_deref_mut().and_then(|o| o.get_mut(at..at + $n)) {
                             dst.copy_from_slice(t.as_array());
                         }
@@ -337,13 +339,138 @@ fn sincos_f64<W: crate::math::Angles + Copy, const N: usize>(
     (from_array(s), from_array(c))
 }
 
-/// The sines and cosines of `f32` lanes: in `f64` (as [`sincos_f64`]), rounded; within 1 ulp
-/// of the scalar code's `libm::sincosf` and equal to it for nearly every argument (see
-/// [`crate::math::sincosf`], which computes the same one angle at a time).
+/// The sines and cosines of `f32` lanes: [`libm::sincosf`]'s algorithm, four lanes at a time
+/// in `f64` (its reduction by a 33 + 53-bit π/2, then its degree-9 and degree-8 kernels, the
+/// quadrant applied by masks), so the scalar code's values for nearly every argument and
+/// within an ulp of them for every one (see [`sincosf_x4`]). Where a lane is at or beyond the
+/// reduction's range (`|x| ≥ 2^28·π/2`), infinite or NaN, every lane takes `libm::sincosf`.
+///
+/// The lanes' sines were first `f64`'s ([`crate::math::sincos_array`]) rounded: its kernels
+/// carry twice the coefficients `f32` needs, so a lane of `f32` paid what a lane of `f64` does.
 #[inline(always)]
 fn sincos_f32<const N: usize>(x: [f32; N]) -> ([f32; N], [f32; N]) {
-    let (s, c) = crate::math::sincos_array(x.map(f64::from));
-    (s.map(|s| s as f32), c.map(|c| c as f32))
+    // libm's `rem_pio2f`: below these bits (`|x| < 2^28·π/2`) its one-step reduction.
+    const MEDIUM: u32 = 0x4dc9_0fdb;
+    if !x.iter().all(|x| x.to_bits() & 0x7fff_ffff < MEDIUM) {
+        return sincos_f32_libm(x);
+    }
+    let (mut sin, mut cos) = ([0.0; N], [0.0; N]);
+    for ((x, s), c) in x
+        .chunks_exact(4)
+        .zip(sin.chunks_exact_mut(4))
+        .zip(cos.chunks_exact_mut(4))
+    {
+        let (vs, vc) = sincosf_x4(wide::f64x4::new(core::array::from_fn(|l| {
+            x.get(l).map_or(0.0, |&x| f64::from(x))
+        })));
+        for ((s, c), (vs, vc)) in s
+            .iter_mut()
+            .zip(c)
+            .zip(vs.to_array().into_iter().zip(vc.to_array()))
+        {
+            (*s, *c) = (vs as f32, vc as f32);
+        }
+    }
+    (sin, cos)
+}
+
+/// [`sincos_f32`] lane by lane through [`libm::sincosf`]: arguments beyond the reduction's
+/// range, infinities and NaN.
+#[cold]
+fn sincos_f32_libm<const N: usize>(x: [f32; N]) -> ([f32; N], [f32; N]) {
+    let (mut sin, mut cos) = ([0.0; N], [0.0; N]);
+    for ((x, s), c) in x.iter().zip(&mut sin).zip(&mut cos) {
+        (*s, *c) = libm::sincosf(*x);
+    }
+    (sin, cos)
+}
+
+/// [`libm::sincosf`] of four `f32` arguments held exactly in `f64`, `|x| < 2^28·π/2`, before
+/// the final rounding to `f32`: `n = rint(x·2/π)`, `y = x − n·p1 − n·p1t` (`rem_pio2f`, the
+/// same operations unfused), then `k_sinf`/`k_cosf` on `y` and the quadrant `n mod 4`.
+///
+/// libm itself skips the reduction below `π/4` (the same `y`) and, up to `9π/4`, subtracts a
+/// multiple of π/2 rounded to one `f64` where this subtracts it in two parts: a `y` within an
+/// `f64` ulp of libm's, so the `f32` results differ from libm's only where the exact value lies
+/// within about `2^-29` ulp of an `f32` rounding boundary (`runtime/tests/math.rs` counts them).
+#[inline(always)]
+fn sincosf_x4(x: wide::f64x4) -> (wide::f64x4, wide::f64x4) {
+    use wide::{f64x4, u64x4};
+    // libm's `rem_pio2f` constants (2/π; π/2 as 33 bits and the rest) and `k_sinf`'s and
+    // `k_cosf`'s coefficients, by their bits (their comments give them so).
+    const TOINT: f64 = 1.5 / f64::EPSILON;
+    const INV_PIO2: f64 = core::f64::consts::FRAC_2_PI;
+    const PIO2_1: f64 = f64::from_bits(0x3ff9_21fb_5000_0000);
+    const PIO2_1T: f64 = f64::from_bits(0x3e51_10b4_611a_6263);
+    const S: [f64; 4] = [
+        f64::from_bits(0xbfc5_5555_54cb_ac77),
+        f64::from_bits(0x3f81_1110_896e_fbb2),
+        f64::from_bits(0xbf2a_00f9_e2ca_e774),
+        f64::from_bits(0x3ec6_cd87_8c3b_46a7),
+    ];
+    const C: [f64; 4] = [
+        f64::from_bits(0xbfdf_ffff_fd0c_5e81),
+        f64::from_bits(0x3fa5_5553_e105_3a42),
+        f64::from_bits(0xbf56_c087_e80f_1e27),
+        f64::from_bits(0x3ef9_9342_e0ee_5069),
+    ];
+    let splat = f64x4::splat;
+    let t = x * splat(INV_PIO2) + splat(TOINT);
+    let n = t - splat(TOINT);
+    let y = x - n * splat(PIO2_1) - n * splat(PIO2_1T);
+    let z = y * y;
+    let w = z * z;
+    // k_sinf: (y + s·(S1 + z·S2)) + s·w·(S3 + z·S4), s = z·y.
+    let sy = z * y;
+    let sin = (y + sy * (splat(S[0]) + z * splat(S[1]))) + sy * w * (splat(S[2]) + z * splat(S[3]));
+    // k_cosf: ((1 + z·C0) + w·C1) + (w·z)·(C2 + z·C3).
+    let cos = ((splat(1.0) + z * splat(C[0])) + w * splat(C[1]))
+        + (w * z) * (splat(C[2]) + z * splat(C[3]));
+    // The quadrant, from the low bits of `t` (`n` in its last place): odd swaps sine and cosine;
+    // the sine is negated in quadrants 2 and 3, the cosine in 1 and 2.
+    let bits: u64x4 = wide::bytemuck::cast(t);
+    let odd: f64x4 = wide::bytemuck::cast(u64x4::splat(0) - (bits & u64x4::splat(1)));
+    let (s, c) = (odd.bitselect(cos, sin), odd.bitselect(sin, cos));
+    let sign_s: f64x4 = wide::bytemuck::cast((bits & u64x4::splat(2)) << 62);
+    let sign_c: f64x4 = wide::bytemuck::cast(((bits + u64x4::splat(1)) & u64x4::splat(2)) << 62);
+    // `sin(±0) = ±0`, as libm returns its tiny arguments (the kernel would give `+0` for `−0`).
+    let zero = x.simd_eq(splat(0.0));
+    (zero.bitselect(x, s ^ sign_s), c ^ sign_c)
+}
+
+/// Four vectors of four `f64` transposed: `out[j].lane(i) == rows[i].lane(j)`.
+///
+/// `wide`'s own transpose builds each row from cross-lane unpacks, each several shuffles after
+/// the compiler lowers it; with AVX this is the textbook eight: four in-lane unpacks and four
+/// 128-bit permutes.
+#[inline(always)]
+#[allow(unsafe_code)] // As `math::mul_add`: see the SAFETY note.
+fn transpose_f64x4(rows: [wide::f64x4; 4]) -> [wide::f64x4; 4] {
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
+    {
+        use core::arch::x86_64::{
+            __m256d, _mm256_permute2f128_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd,
+        };
+        let [a, b, c, d]: [__m256d; 4] = rows.map(wide::bytemuck::cast);
+        // `t0 = [a0 b0 a2 b2]`, `t1 = [a1 b1 a3 b3]`, `t2 = [c0 d0 c2 d2]`, `t3 = [c1 d1 c3 d3]`.
+        // SAFETY: the intrinsics need AVX, and this block is compiled only when the build
+        // enables it for every function, the guarantee under which `wide` emits AVX itself.
+        let t: [__m256d; 4] = unsafe {
+            let (t0, t1) = (_mm256_unpacklo_pd(a, b), _mm256_unpackhi_pd(a, b));
+            let (t2, t3) = (_mm256_unpacklo_pd(c, d), _mm256_unpackhi_pd(c, d));
+            [
+                _mm256_permute2f128_pd::<0x20>(t0, t2),
+                _mm256_permute2f128_pd::<0x20>(t1, t3),
+                _mm256_permute2f128_pd::<0x31>(t0, t2),
+                _mm256_permute2f128_pd::<0x31>(t1, t3),
+            ]
+        };
+        t.map(wide::bytemuck::cast)
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
+    {
+        wide::f64x4::transpose(rows)
+    }
 }
 
 lane_type!(
@@ -354,12 +481,14 @@ lane_type!(
         all(target_feature = "neon", target_arch = "aarch64"),
         target_feature = "simd128"
     )),
+    by wide::f64x2::transpose,
     |x| sincos_f64(x, |v| v.to_array(), wide::f64x2::new)
 );
 lane_type!(
     /// Four `f64` states (`lanes: 4`): one 256-bit vector with AVX, two 128-bit ones without.
     F64x4(wide::f64x4, f64, 4),
     transpose: cfg!(target_feature = "avx"),
+    by transpose_f64x4,
     |x| sincos_f64(x, |v| v.to_array(), wide::f64x4::new)
 );
 lane_type!(
@@ -367,12 +496,14 @@ lane_type!(
     /// AVX.
     F64x8(wide::f64x8, f64, 8),
     transpose: false,
+    by wide::f64x8::transpose,
     |x| sincos_f64(x, |v| v.to_array(), wide::f64x8::new)
 );
 lane_type!(
     /// Four `f32` states (`lanes: 4` in `f32`): one 128-bit vector.
     F32x4(wide::f32x4, f32, 4),
     transpose: cfg!(target_feature = "sse"),
+    by wide::f32x4::transpose,
     |x| {
         let (s, c) = sincos_f32(x.to_array());
         (wide::f32x4::new(s), wide::f32x4::new(c))
@@ -382,6 +513,7 @@ lane_type!(
     /// Eight `f32` states (`lanes: 8` in `f32`): one 256-bit vector with AVX.
     F32x8(wide::f32x8, f32, 8),
     transpose: cfg!(target_feature = "avx"),
+    by wide::f32x8::transpose,
     |x| {
         let (s, c) = sincos_f32(x.to_array());
         (wide::f32x8::new(s), wide::f32x8::new(c))
@@ -392,6 +524,7 @@ lane_type!(
     /// 256-bit ones with AVX.
     F32x16(wide::f32x16, f32, 16),
     transpose: false,
+    by wide::f32x16::transpose,
     |x| {
         let (s, c) = sincos_f32(x.to_array());
         (wide::f32x16::new(s), wide::f32x16::new(c))

@@ -1,4 +1,4 @@
-//! `articulated::math::sincos` and `sincosf` against `libm`, against std's `sin_cos` (glibc)
+//! `articulated::math::sincos` and `sincosf`, and the `f32` lanes' sines, against `libm`, against std's `sin_cos` (glibc)
 //! and against an independent reference: exact reduction by a 256-bit π/2 in integer
 //! arithmetic, then Taylor series in double-double.
 //!
@@ -7,6 +7,7 @@
 
 use std::f64::consts::FRAC_PI_2;
 
+use articulated::lanes::{F32x8, Simd};
 use articulated::math::{sincos, sincos_array, sincosf, SINCOS_FAST_LIMIT};
 use articulated_dynamics::random::Rng;
 
@@ -317,7 +318,11 @@ impl Stats32 {
     }
 
     fn check(&mut self, x: f32) {
-        let (s, c) = sincosf(x);
+        self.check_result(x, sincosf(x));
+    }
+
+    /// `(s, c)`, computed for `x`, within an ulp of libm's and of glibc's `f64` rounded.
+    fn check_result(&mut self, x: f32, (s, c): (f32, f32)) {
         let (ls, lc) = libm::sincosf(x);
         let (gs, gc) = f64::from(x).sin_cos();
         let d = ulps32(s, ls).max(ulps32(c, lc));
@@ -398,6 +403,80 @@ fn sincosf_agrees_with_libm() {
         stats.check(x);
     }
     stats.report();
+}
+
+/// The `f32` lanes' sines and cosines ([`F32x8`], the scalar of `f32` batch code) against
+/// `libm::sincosf`, the scalar `f32` code's: within an ulp everywhere (as [`sincosf`]), and
+/// identical but for a rare argument (the reduction subtracts π/2 in two parts where libm
+/// rounds a multiple of it first, see `lanes::sincosf_x4`). Eight arguments per call, the ranges
+/// of [`sincosf_agrees_with_libm`], a group that mixes the fallback's arguments with ordinary
+/// ones, and the sign of zero.
+#[test]
+fn f32_lanes_agree_with_libm() {
+    let lanes = |x: [f32; 8]| {
+        let (s, c) = F32x8::from_fn(|l| x[l]).sincos();
+        std::array::from_fn::<_, 8, _>(|l| (s.lane(l), c.lane(l)))
+    };
+    let mut rng = Rng::new(0x5EED_0006);
+    let mut check = |name, x: &mut dyn FnMut(&mut Rng) -> f32| {
+        let mut stats = Stats32::new(name);
+        for _ in 0..RANDOM_POINTS / 8 {
+            let group: [f32; 8] = std::array::from_fn(|_| x(&mut rng));
+            for (x, r) in group.into_iter().zip(lanes(group)) {
+                stats.check_result(x, r);
+            }
+        }
+        stats.report();
+        assert!(
+            stats.identical * 1000 >= stats.points * 999,
+            "{name}: {} of {} identical to libm",
+            stats.identical,
+            stats.points
+        );
+    };
+    for (name, r) in [
+        ("lanes |x| < 1", 1.0),
+        ("lanes |x| < 10", 10.0),
+        ("lanes |x| < 1e4", 1e4),
+        ("lanes |x| < 4e8 (reduced)", 4e8),
+        ("lanes |x| < 1e30 (libm)", 1e30),
+    ] {
+        check(name, &mut |rng| rng.symmetric(r) as f32);
+    }
+    check("lanes, random bit patterns", &mut |rng| {
+        f32::from_bits(rng.next_u64() as u32)
+    });
+    let mut k = -10_000i32;
+    check("lanes, near k*pi/2 +-1ulp", &mut |rng| {
+        k += 1;
+        let x = (f64::from(k) * FRAC_PI_2) as f32;
+        [x.next_down(), x, x.next_up()][(rng.next_u64() % 3) as usize]
+    });
+    // A lane beyond the reduction among ordinary ones, infinities, NaN and both zeros: each lane
+    // its own value.
+    let x = [
+        0.5,
+        1e9,
+        -0.0,
+        0.0,
+        f32::INFINITY,
+        3.0,
+        f32::NAN,
+        f32::from_bits(1),
+    ];
+    for (l, (x, (s, c))) in x.into_iter().zip(lanes(x)).enumerate() {
+        let (ls, lc) = libm::sincosf(x);
+        assert!(
+            s.to_bits() == ls.to_bits() && c.to_bits() == lc.to_bits()
+                || s.is_nan() && ls.is_nan() && c.is_nan() && lc.is_nan(),
+            "lane {l}: sincos({x:e}) = ({s:e}, {c:e}), libm ({ls:e}, {lc:e})"
+        );
+    }
+    let r = lanes([-0.0, 1.0, -0.0, 0.0, 2.0, 3.0, 4.0, 5.0]);
+    assert_eq!(
+        (r[0].0.to_bits(), r[2].0.to_bits()),
+        ((-0.0f32).to_bits(), (-0.0f32).to_bits())
+    );
 }
 
 // --- the double-double reference -----------------------------------------------------------

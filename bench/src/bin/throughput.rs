@@ -192,9 +192,10 @@ macro_rules! time_output {
             *w = <$c>::$output($(&$arg[i]),+);
         }
         let worst = out.iter().zip(&want).map(|(o, w)| o.difference(w)).fold(0.0, f64::max);
-        // In f64 the lanes are the scalar function bit for bit; in f32 their sines and cosines
-        // are within an ulp of `libm::sincosf`'s.
-        if worst > if $prec == "f64" { 0.0 } else { 1e-4 } {
+        // The lanes are the scalar function bit for bit in `f64`; in `f32` their sines and
+        // cosines are `libm::sincosf`'s algorithm, identical but for a rare argument, which
+        // would move a result by an ulp or so.
+        if worst > if $prec == "f64" { 0.0 } else { 1e-6 } {
             return Err(format!("{} {}: the batch differs from the scalar function by {worst:e}", $model, stringify!($output)));
         }
         let output = stringify!($output);
