@@ -182,11 +182,24 @@ macro_rules! lane_type {
                 let Ok(full) = <&[SVector<$t, K>; $n]>::try_from(states) else {
                     return gather_padded(states);
                 };
-                // Entry by entry: the compiler loads each lane's value into its place (the
-                // transposes of `wide` measured slower here, through memory).
-                let values: [Self; K] = core::array::from_fn(|k| {
-                    $name(<$wide>::new(core::array::from_fn(|l| full[l].data.0[0][k])))
-                });
+                // Blocks of `LANES` entries by transposes in registers where the target has
+                // them (one load per state and block), the rest entry by entry, each lane's
+                // value loaded into its place. The transposes of `wide` for `F64x4` measured
+                // slower than entry by entry (through memory); `transpose_f64x4`'s are faster.
+                let mut values: [Self; K] = [Self::ZERO; K];
+                let whole = if $transpose { K / $n * $n } else { 0 };
+                let mut rows: [_; $n] = core::array::from_fn(|l| full[l].as_slice().chunks_exact($n));
+                for dst in values[..whole].chunks_exact_mut($n) {
+                    let block: [$wide; $n] = core::array::from_fn(|l| {
+                        rows[l].next().and_then(|c| <[$t; $n]>::try_from(c).ok()).map_or(<$wide>::ZERO, <$wide>::new)
+                    });
+                    for (d, t) in dst.iter_mut().zip($transposed(block)) {
+                        *d = $name(t);
+                    }
+                }
+                for (k, d) in values.iter_mut().enumerate().skip(whole) {
+                    *d = $name(<$wide>::new(core::array::from_fn(|l| full[l].data.0[0][k])));
+                }
                 SVector::from_array_storage(nalgebra::ArrayStorage([values]))
             }
             #[inline(always)]
@@ -386,13 +399,15 @@ fn sincos_f32_libm<const N: usize>(x: [f32; N]) -> ([f32; N], [f32; N]) {
 }
 
 /// [`libm::sincosf`] of four `f32` arguments held exactly in `f64`, `|x| < 2^28·π/2`, before
-/// the final rounding to `f32`: `n = rint(x·2/π)`, `y = x − n·p1 − n·p1t` (`rem_pio2f`, the
-/// same operations unfused), then `k_sinf`/`k_cosf` on `y` and the quadrant `n mod 4`.
+/// the final rounding to `f32`: `n = rint(x·2/π)`, `y = x − n·p1 − n·p1t` (`rem_pio2f`), then
+/// `k_sinf`/`k_cosf` on `y` and the quadrant `n mod 4`: libm's operations, fused in pairs where
+/// the target has FMA (half the instructions; libm rounds each product).
 ///
 /// libm itself skips the reduction below `π/4` (the same `y`) and, up to `9π/4`, subtracts a
-/// multiple of π/2 rounded to one `f64` where this subtracts it in two parts: a `y` within an
-/// `f64` ulp of libm's, so the `f32` results differ from libm's only where the exact value lies
-/// within about `2^-29` ulp of an `f32` rounding boundary (`runtime/tests/math.rs` counts them).
+/// multiple of π/2 rounded to one `f64` where this subtracts it in two parts; with the fused
+/// operations, the `f64` result is within a few `f64` ulps of libm's, so the `f32` results
+/// differ from libm's only where the exact value lies within about `2^-26` `f32`-ulp of a
+/// rounding boundary (`runtime/tests/math.rs` counts them: none in its 1.4 million arguments).
 #[inline(always)]
 fn sincosf_x4(x: wide::f64x4) -> (wide::f64x4, wide::f64x4) {
     use wide::{f64x4, u64x4};
@@ -415,17 +430,18 @@ fn sincosf_x4(x: wide::f64x4) -> (wide::f64x4, wide::f64x4) {
         f64::from_bits(0x3ef9_9342_e0ee_5069),
     ];
     let splat = f64x4::splat;
-    let t = x * splat(INV_PIO2) + splat(TOINT);
+    let t = x.mul_add(splat(INV_PIO2), splat(TOINT));
     let n = t - splat(TOINT);
-    let y = x - n * splat(PIO2_1) - n * splat(PIO2_1T);
+    let y = n.mul_neg_add(splat(PIO2_1T), n.mul_neg_add(splat(PIO2_1), x));
     let z = y * y;
     let w = z * z;
     // k_sinf: (y + s·(S1 + z·S2)) + s·w·(S3 + z·S4), s = z·y.
     let sy = z * y;
-    let sin = (y + sy * (splat(S[0]) + z * splat(S[1]))) + sy * w * (splat(S[2]) + z * splat(S[3]));
+    let sin_head = sy.mul_add(z.mul_add(splat(S[1]), splat(S[0])), y);
+    let sin = (sy * w).mul_add(z.mul_add(splat(S[3]), splat(S[2])), sin_head);
     // k_cosf: ((1 + z·C0) + w·C1) + (w·z)·(C2 + z·C3).
-    let cos = ((splat(1.0) + z * splat(C[0])) + w * splat(C[1]))
-        + (w * z) * (splat(C[2]) + z * splat(C[3]));
+    let cos_head = w.mul_add(splat(C[1]), z.mul_add(splat(C[0]), splat(1.0)));
+    let cos = (w * z).mul_add(z.mul_add(splat(C[3]), splat(C[2])), cos_head);
     // The quadrant, from the low bits of `t` (`n` in its last place): odd swaps sine and cosine;
     // the sine is negated in quadrants 2 and 3, the cosine in 1 and 2.
     let bits: u64x4 = wide::bytemuck::cast(t);
