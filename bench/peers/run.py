@@ -841,7 +841,35 @@ def throughput(nproc):
         cmd += ["--floating"] if floating else []
         cmd += ["--states", os.path.join(OUT, "states", f"{name}.pin.txt"), "--throughput", tlist, name]
         pin[name] = run_json(cmd)
-    return dict(threads=threads, ours=ours, pinocchio=pin, targets=targets)
+    when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    return dict(threads=threads, ours=ours, pinocchio=pin, targets=targets, date=when,
+                commit=environment()["commit"])
+
+
+def throughput_states():
+    """The states files Pinocchio's throughput reads, drawn as a full run draws them where a
+    `--throughput-only` run finds none."""
+    for name, urdf, floating in THROUGHPUT_MODELS:
+        path = os.path.join(OUT, "states", f"{name}.pin.txt")
+        if not os.path.exists(path):
+            pm = pinocchio_model(urdf, floating)
+            write_states(path, draw_states(pm, name), pm.nq, pm.nv)
+
+
+THROUGHPUT_HEADING = "## Many states per call"
+
+
+def splice_throughput(text, thr):
+    """BENCHMARKS.md's `text` with its section "Many states per call" replaced by one from
+    `thr`, every other line unchanged."""
+    lines = text.split("\n")
+    if THROUGHPUT_HEADING not in lines:
+        raise SystemExit(f"BENCHMARKS.md has no section \"{THROUGHPUT_HEADING[3:]}\": run the whole run.sh")
+    new = []
+    throughput_report(new.append, thr)
+    start = lines.index(THROUGHPUT_HEADING)
+    end = next((i for i, line in enumerate(lines) if i > start and line.startswith("## ")), len(lines))
+    return "\n".join(lines[:start] + new[1:] + [""] + lines[end:])
 
 
 def contact():
@@ -982,6 +1010,9 @@ def throughput_report(w, thr):
     w("`-O3 -march=x86-64-v3 -fopenmp`). Ours built for x86-64-v3 (`bench/src/bin/throughput.rs`);")
     w("256 states per call, best of 7 rounds. Ratios: lanes over the scalar loop on one thread;")
     w("ours over Pinocchio at the same thread count, per state.")
+    if thr.get("commit"):
+        w(f"Measured {thr['date']} at commit {thr['commit']} (`bash bench/peers/run.sh --throughput-only`")
+        w("rewrites this section alone).")
     threads = thr["threads"]
     top = max(threads)
     ours = thr["ours"]
@@ -1861,7 +1892,8 @@ def main():
     ap.add_argument("--quick", action="store_true", help="2 rounds of 20 batches, no callgrind (a dry run)")
     ap.add_argument(
         "--throughput-only", action="store_true",
-        help="measure the states per second only, and rewrite BENCHMARKS.md with the other figures of the last full run",
+        help="measure the states per second only, and rewrite BENCHMARKS.md with the other figures of the last full run "
+        "(with none here, that section alone, in place)",
     )
     ap.add_argument(
         "--contact-only", action="store_true",
@@ -1899,6 +1931,14 @@ def main():
         return
     if args.quick:
         args.rounds, args.batches = 2, 20
+    if args.throughput_only and not os.path.exists(os.path.join(OUT, "last_run.json")):
+        # No full run here to rewrite the rest from: this section alone, in place.
+        throughput_states()
+        thr = throughput(int(environment()["nproc"]))
+        with open(os.path.join(ROOT, "BENCHMARKS.md"), encoding="utf-8") as f:
+            text = f.read()
+        write_report(splice_throughput(text, thr))
+        return
     if args.throughput_only:
         with open(os.path.join(OUT, "last_run.json")) as f:
             d = json.load(f)

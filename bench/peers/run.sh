@@ -3,6 +3,8 @@
 #
 #   bash bench/peers/run.sh [--rounds R] [--batches N] [--quick]     (from the repository root)
 #   bash bench/peers/run.sh --python-only    (only the section "From Python", rewritten in place)
+#   bash bench/peers/run.sh --throughput-only    (only "Many states per call": its programs alone
+#                                                  are built, the section rewritten in place)
 #
 # 1. a Python venv in target/peers/venv with the pinned wheels (Pinocchio's C++ headers and
 #    libraries come with `pin` under site-packages/cmeel.prefix; MuJoCo's C header and library
@@ -54,10 +56,14 @@ if [ "$(cat "$VENV/.requirements" 2>/dev/null)" != "$REQUIREMENTS" ]; then
   "$VENV/bin/pip" install --quiet $REQUIREMENTS
   echo "$REQUIREMENTS" >"$VENV/.requirements"
 fi
+THROUGHPUT_ONLY=false
+case " $* " in *" --throughput-only "*) THROUGHPUT_ONLY=true ;; esac
 # `articulated` for Python (./python, built by maturin; its Rust in target/peers/rust-python, where
 # cargo rebuilds only what changed), for bench/python/timing.py: the section "From Python".
-step "installing ./python (articulated for Python) into the venv"
-CARGO_TARGET_DIR=$OUT/rust-python "$VENV/bin/pip" install --quiet ./python
+if ! $THROUGHPUT_ONLY; then
+  step "installing ./python (articulated for Python) into the venv"
+  CARGO_TARGET_DIR=$OUT/rust-python "$VENV/bin/pip" install --quiet ./python
+fi
 SITE=$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 PREFIX=$SITE/cmeel.prefix
 MJ=$SITE/mujoco
@@ -104,6 +110,29 @@ EOF
 )
 PIN_INC="-I$PREFIX/include -I$PREFIX/include/eigen3 -I$PREFIX/include/urdfdom_headers"
 PIN_LIBS="-L$PREFIX/lib -Wl,-rpath,$PREFIX/lib -lpinocchio_parsers -lpinocchio_default"
+# omp: the states per second (--throughput), Pinocchio's parallel algorithms (OpenMP).
+build_omp() {
+  build "$BIN/pinocchio_omp" bench/peers/pinocchio_timing.cpp "g++ -std=c++17 -O3 -DNDEBUG $CPU_FLAGS -fopenmp -DEIGEN_MAX_ALIGN_BYTES=16 \
+    -DEIGEN_MALLOC_ALREADY_ALIGNED=1 $PIN_DEFS $PIN_INC bench/peers/pinocchio_timing.cpp \
+    -o $BIN/pinocchio_omp $PIN_LIBS"
+}
+# The states per second alone: Pinocchio's OpenMP build and our `throughput` for three targets.
+if $THROUGHPUT_ONLY; then
+  step "Pinocchio's OpenMP build, a few minutes when the source changed"
+  build_omp
+  for target in v3 native default; do
+    step "building ours (throughput) for the $target target (cargo, target/peers/rust-$target)"
+    case $target in
+      v3) flags="-C target-cpu=x86-64-v3" ;;
+      native) flags="-C target-cpu=native" ;;
+      default) flags="" ;;
+    esac
+    RUSTFLAGS="$flags" CARGO_TARGET_DIR=$OUT/rust-$target \
+      cargo build --release --quiet -p articulated-bench --bin throughput --features humanoid-derivatives
+  done
+  step "running bench/peers/run.py $*"
+  exec "$VENV/bin/python" bench/peers/run.py "$@"
+fi
 step "Pinocchio: four builds of its headers, a few minutes each when the source changed"
 # v3: Pinocchio's algorithms compiled here. The model comes from the wheel's parser library
 # (built for baseline x86-64), so Eigen keeps that build's alignment and allocator.
@@ -118,10 +147,7 @@ build "$BIN/pinocchio_native" bench/peers/pinocchio_timing.cpp "g++ -std=c++17 -
 build "$BIN/pinocchio_wheel" bench/peers/pinocchio_timing.cpp "g++ -std=c++17 -O3 -DNDEBUG \
   -DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION $PIN_DEFS $PIN_INC bench/peers/pinocchio_timing.cpp \
   -o $BIN/pinocchio_wheel $PIN_LIBS"
-# omp: the states per second (--throughput), Pinocchio's parallel algorithms (OpenMP).
-build "$BIN/pinocchio_omp" bench/peers/pinocchio_timing.cpp "g++ -std=c++17 -O3 -DNDEBUG $CPU_FLAGS -fopenmp -DEIGEN_MAX_ALIGN_BYTES=16 \
-  -DEIGEN_MALLOC_ALREADY_ALIGNED=1 $PIN_DEFS $PIN_INC bench/peers/pinocchio_timing.cpp \
-  -o $BIN/pinocchio_omp $PIN_LIBS"
+build_omp
 build "$BIN/mujoco_timing" bench/peers/mujoco_timing.c "gcc -std=c11 -O3 -DNDEBUG $CPU_FLAGS -Wall -I$MJ/include \
   bench/peers/mujoco_timing.c -o $BIN/mujoco_timing $MJLIB -Wl,-rpath,$MJ"
 
