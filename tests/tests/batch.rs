@@ -7,7 +7,7 @@
 mod common;
 
 use articulated::lanes::BatchLengths;
-use articulated::nalgebra::SVector;
+use articulated::nalgebra::{SMatrix, SVector};
 use articulated::prelude::*;
 use common::batch::{assert_within, same, states};
 
@@ -300,6 +300,37 @@ fn a_state_that_fails_gets_its_error_and_its_neighbours_their_values() {
         );
         assert_eq!(out[i].is_err(), i == 5, "state {i}");
     }
+}
+
+#[test]
+fn a_batch_of_one_state_is_the_scalar_function() {
+    // One state goes to the scalar function rather than a padded group of lanes: its value,
+    // its error, its own parameters (a batch of one that read the wrong argument or another
+    // state's parameters would differ).
+    let (q, v, mut a) = (states::<7>(2, 30), states::<7>(2, 31), states::<7>(2, 32));
+    let mut tau = [SVector::<f64, 7>::zeros()];
+    Arm7::inverse_dynamics_batch(&q[..1], &v[..1], &a[..1], &mut tau).unwrap();
+    assert_eq!(tau[0], Arm7::inverse_dynamics(&q[0], &v[0], &a[0]));
+    let mut m = [SMatrix::<f64, 7, 7>::zeros()];
+    Arm7::mass_matrix_batch(&q[1..], &mut m).unwrap();
+    assert_eq!(m[0], Arm7::mass_matrix(&q[1]));
+    a[1][2] = f64::NAN;
+    let mut acc = [Ok(SVector::<f64, 7>::zeros())];
+    Arm7::forward_dynamics_batch(&q[1..], &v[1..], &a[1..], &mut acc).unwrap();
+    assert_eq!(acc[0], Arm7::forward_dynamics(&q[1], &v[1], &a[1]));
+    assert!(acc[0].is_err());
+    let (qp, vp, ap) = (states::<2>(1, 33), states::<2>(1, 34), states::<2>(1, 35));
+    let ps = payload_sweep(4);
+    let mut t = [SVector::<f64, 2>::zeros()];
+    Payload::inverse_dynamics_batch_with_each(&qp, &vp, &ap, &ps[3..], &mut t).unwrap();
+    assert_eq!(
+        t[0],
+        Payload::inverse_dynamics_with(&qp[0], &vp[0], &ap[0], &ps[3])
+    );
+    assert_ne!(
+        t[0],
+        Payload::inverse_dynamics_with(&qp[0], &vp[0], &ap[0], &ps[0])
+    );
 }
 
 #[test]

@@ -192,6 +192,16 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
             quote!(::articulated::lanes::Split::scatter(&values, out);),
         )
     };
+    // A batch of one state goes to the scalar function, which computes what its lane would, bit
+    // for bit, without computing three padding lanes (what a call from Python with one state
+    // is). Outside the loop: a branch in it slowed the humanoid's forward dynamics in lanes.
+    let with = spec.with_name();
+    let single = quote! {
+        if let ([o], #([#names]),*) = (&mut *out, #(#names),*) {
+            *o = Self::#with(#(#names,)* ::articulated::lanes::params_of(p, 0));
+            return Ok(());
+        }
+    };
     let (params_ty, element) = (&cx.params_ty, &cx.element);
     let np_lit = Literal::usize_unsuffixed(np);
     // The parameters in lanes: each group's own where `p` holds one set per state, the same
@@ -243,6 +253,7 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
                 #body
             }
             ::articulated::lanes::check_batch(out.len(), &[#((#strs, #names.len())),*], p.len())?;
+            #single
             #params
             #stage
             for #pattern in #zipped {
