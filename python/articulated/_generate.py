@@ -108,6 +108,26 @@ _WIDTHS = {"q": "Generated::NQ", "v": "Generated::NV", "a": "Generated::NV",
            "tau": "Generated::NV", "base": "6"}
 
 
+# The crates a generated crate builds from, by path: the workspace's runtime and what it uses.
+_SOURCE_CRATES = ("runtime", "macros", "codegen", "dynamics")
+
+
+def _crate_sources():
+    """A digest of the Rust sources and manifests of the crates a generated crate builds from
+    (the clone the package was installed from): the version alone stays the same while a
+    checkout's generator changes, and a module cached before the change would be reused."""
+    crates = Path(_native._CRATES).resolve().parent
+    digest = hashlib.sha256()
+    for name in _SOURCE_CRATES:
+        root = crates / name
+        files = [root / "Cargo.toml"] + sorted((root / "src").rglob("*.rs"))
+        for f in files:
+            if f.is_file():
+                digest.update(str(f.relative_to(crates)).encode())
+                digest.update(f.read_bytes())
+    return digest.hexdigest()
+
+
 def _sources(module, path, chosen, scalar, frames, floating, lanes):
     """``Cargo.toml`` and ``src/lib.rs`` of the crate."""
     crates = Path(_native._CRATES).resolve().parent
@@ -224,7 +244,8 @@ def generate(path, outputs=None, scalar="f64", frames=(), floating=None, lanes=N
     The first call writes a crate under ``cache_dir`` (default ``$ARTICULATED_CACHE`` or
     ``~/.cache/articulated``) and builds it with cargo (minutes; a line of progress on
     stderr unless ``verbose=False``); it is cached by the model as loaded, the options, the
-    versions of ``articulated`` and rustc, the Python ABI and the target's flags, so a second
+    versions of ``articulated`` and rustc, the sources of the crates it builds from (the clone
+    the package was installed from), the Python ABI and the target's flags, so a second
     call, in this process or another, imports what was built. Every model builds in one target
     directory (``ARTICULATED_TARGET_DIR``, default ``<cache_dir>/target``), so the dependencies
     build once."""
@@ -243,6 +264,7 @@ def generate(path, outputs=None, scalar="f64", frames=(), floating=None, lanes=N
         "outputs": [o.name for o in chosen],
         "scalar": scalar, "frames": frames, "floating": floating, "lanes": lanes,
         "articulated": _native.__version__,
+        "sources": _crate_sources(),
         "glue": (_HERE / "glue.rs").read_text(),
         "rustc": _toolchain(cargo),
         "python": [sys.implementation.cache_tag, sysconfig.get_config_var("EXT_SUFFIX")],

@@ -112,6 +112,28 @@ def test_second_call_is_cached(generated, cache, monkeypatch):
     # Another option is another key: it would build.
     with pytest.raises(AssertionError, match="rebuilt"):
         articulated.generate(ARM, outputs=["gravity"], cache_dir=cache, verbose=False)
+    # So is a change to the sources it builds from (a checkout's generator), same version.
+    monkeypatch.setattr(_generate, "_crate_sources", lambda: "another generator")
+    with pytest.raises(AssertionError, match="rebuilt"):
+        articulated.generate(ARM, outputs=OUTPUTS, frames=["link7"], cache_dir=cache,
+                             verbose=False)
+
+
+def test_sources_digest_follows_the_crates(tmp_path, monkeypatch):
+    # A tree laid out as the clone: the digest changes with a source file of the crates a
+    # generated crate builds from, not with another file.
+    for crate in _generate._SOURCE_CRATES:
+        (tmp_path / crate / "src").mkdir(parents=True)
+        (tmp_path / crate / "Cargo.toml").write_text(f"[package]\nname = '{crate}'\n")
+        (tmp_path / crate / "src" / "lib.rs").write_text("// lib\n")
+    (tmp_path / "python").mkdir()
+    monkeypatch.setattr(_generate._native, "_CRATES", str(tmp_path / "python"))
+    before = _generate._crate_sources()
+    assert _generate._crate_sources() == before
+    (tmp_path / "README.md").write_text("not a source")
+    assert _generate._crate_sources() == before
+    (tmp_path / "codegen" / "src" / "emit.rs").write_text("// a new pass\n")
+    assert _generate._crate_sources() != before
 
 
 def test_f32(cache, reference):
