@@ -188,10 +188,14 @@ macro_rules! lane_type {
                 // slower than entry by entry (through memory); `transpose_f64x4`'s are faster.
                 let mut values: [Self; K] = [Self::ZERO; K];
                 let whole = if $transpose { K / $n * $n } else { 0 };
-                let mut rows: [_; $n] = core::array::from_fn(|l| full[l].as_slice().chunks_exact($n));
+                let mut rows: [_; $n] =
+                    core::array::from_fn(|l| full[l].as_slice().chunks_exact($n));
                 for dst in values[..whole].chunks_exact_mut($n) {
                     let block: [$wide; $n] = core::array::from_fn(|l| {
-                        rows[l].next().and_then(|c| <[$t; $n]>::try_from(c).ok()).map_or(<$wide>::ZERO, <$wide>::new)
+                        rows[l]
+                            .next()
+                            .and_then(|c| <[$t; $n]>::try_from(c).ok())
+                            .map_or(<$wide>::ZERO, <$wide>::new)
                     });
                     for (d, t) in dst.iter_mut().zip($transposed(block)) {
                         *d = $name(t);
