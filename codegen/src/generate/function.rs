@@ -156,25 +156,7 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
         |(z, p), a| (quote!(#z.zip(#a.chunks(#n_lit))), quote!((#p, #a))),
     );
     let lane = &lanes.scalar;
-    let zero = quote!(<#lane as ::articulated::lanes::Simd>::ZERO);
-    // The staged matrix: declared once per call, zero where the function never stores, passed
-    // to each group by `&mut` and scattered from there.
-    let (stage, stage_param, stage_arg) = match &staged {
-        Some((name, r, c)) => {
-            let (r, c) = (Literal::usize_unsuffixed(*r), Literal::usize_unsuffixed(*c));
-            let ty = quote!(::articulated::nalgebra::SMatrix::<#lane, #r, #c>);
-            (
-                quote! {
-                    let mut #name = #ty::from_array_storage(
-                        ::articulated::nalgebra::ArrayStorage([[#zero; #r]; #c])
-                    );
-                },
-                quote!(#name: &mut #ty,),
-                quote!(&mut #name,),
-            )
-        }
-        None => (quote!(), quote!(), quote!()),
-    };
+    let (stage, stage_param, stage_arg) = stage_tokens(staged.as_ref(), lane);
     let call = quote!(lanes(#(&::articulated::lanes::gather(#names),)* &lanes_p, #stage_arg));
     let (call, scatter) = if spec.fallible {
         (
@@ -202,28 +184,9 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
             return Ok(());
         }
     };
-    let (params_ty, element) = (&cx.params_ty, &cx.element);
+    let params_ty = &cx.params_ty;
     let np_lit = Literal::usize_unsuffixed(np);
-    // The parameters in lanes: each group's own where `p` holds one set per state, the same
-    // set in every lane (gathered once) where it holds one for all. None: an empty array.
-    let (params, group_params) = if np == 0 {
-        (quote!(let lanes_p: [#lane; 0] = [];), quote!())
-    } else {
-        let fields = &cx.param_idents;
-        (
-            quote! {
-                let fields = |p: &#params_ty| -> [#element; #np_lit] { [#(p.#fields),*] };
-                let once = (p.len() == 1)
-                    .then(|| ::articulated::lanes::gather_params::<#lane, _, #np_lit>(p, fields));
-            },
-            quote! {
-                let lanes_p = match once {
-                    Some(p) => p,
-                    None => ::articulated::lanes::gather_params(&p[k * #n_lit..], fields),
-                };
-            },
-        )
-    };
+    let (params, group_params) = lane_params(cx, lane, &n_lit);
     let allow = match traced.output {
         Output::KineticEnergy | Output::PotentialEnergy => {
             quote!(#[allow(clippy::let_and_return)])
@@ -264,6 +227,56 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
             Ok(())
         }
     })
+}
+
+/// The staged matrix of a batch (see [`staged`]): its declaration, once per call and zero where
+/// the function never stores, the lane function's parameter and the argument each group passes
+/// it by `&mut`; nothing where the output has none.
+fn stage_tokens(
+    staged: Option<&(proc_macro2::Ident, usize, usize)>,
+    lane: &TokenStream,
+) -> (TokenStream, TokenStream, TokenStream) {
+    let Some((name, r, c)) = staged else {
+        return (quote!(), quote!(), quote!());
+    };
+    let zero = quote!(<#lane as ::articulated::lanes::Simd>::ZERO);
+    let (r, c) = (Literal::usize_unsuffixed(*r), Literal::usize_unsuffixed(*c));
+    let ty = quote!(::articulated::nalgebra::SMatrix::<#lane, #r, #c>);
+    (
+        quote! {
+            let mut #name = #ty::from_array_storage(
+                ::articulated::nalgebra::ArrayStorage([[#zero; #r]; #c])
+            );
+        },
+        quote!(#name: &mut #ty,),
+        quote!(&mut #name,),
+    )
+}
+
+/// The runtime parameters in lanes of a batch over groups of `n` states: what the call
+/// prepares once, and what each group `k` binds as `lanes_p`. Each group's own where `p` holds
+/// one set per state, the same set in every lane (gathered once) where it holds one for all;
+/// an empty array where the chain has none.
+fn lane_params(cx: &Context, lane: &TokenStream, n: &Literal) -> (TokenStream, TokenStream) {
+    let np = cx.param_idents.len();
+    if np == 0 {
+        return (quote!(let lanes_p: [#lane; 0] = [];), quote!());
+    }
+    let (params_ty, element, fields) = (&cx.params_ty, &cx.element, &cx.param_idents);
+    let np = Literal::usize_unsuffixed(np);
+    (
+        quote! {
+            let fields = |p: &#params_ty| -> [#element; #np] { [#(p.#fields),*] };
+            let once = (p.len() == 1)
+                .then(|| ::articulated::lanes::gather_params::<#lane, _, #np>(p, fields));
+        },
+        quote! {
+            let lanes_p = match once {
+                Some(p) => p,
+                None => ::articulated::lanes::gather_params(&p[k * #n..], fields),
+            };
+        },
+    )
 }
 
 /// The fewest entries of a [`staged`] matrix.
