@@ -29,6 +29,22 @@ impl OpCounts {
     }
 }
 
+/// The operations of two functions together (a composed one and its parts).
+impl core::ops::Add for OpCounts {
+    type Output = Self;
+
+    fn add(self, other: Self) -> Self {
+        OpCounts {
+            adds: self.adds + other.adds,
+            muls: self.muls + other.muls,
+            divs: self.divs + other.divs,
+            negs: self.negs + other.negs,
+            sin_cos: self.sin_cos + other.sin_cos,
+            sqrts: self.sqrts + other.sqrts,
+        }
+    }
+}
+
 impl fmt::Display for OpCounts {
     /// `12 add/sub, 20 mul, 0 div, 1 neg, 2 sin/cos, 0 sqrt (35 total)`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

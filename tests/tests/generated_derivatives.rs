@@ -1,6 +1,8 @@
 //! The generated derivative outputs (`inverse_dynamics_derivatives`,
 //! `forward_dynamics_derivatives`, `mass_matrix_inverse`) of every small shipped model, of a
-//! free-floating quaternion chain and of a chain with a quaternion ball joint (`data/ball.chain`), each checked
+//! free-floating quaternion chain, of a chain with a quaternion ball joint (`data/ball.chain`) and
+//! of the humanoid's legs on its free base (`data/legs.chain`, whose `forward_dynamics_derivatives`
+//! the generator composes of smaller functions), each checked
 //! three ways on random states:
 //! - against central finite differences of the generated values (`inverse_dynamics`,
 //!   `forward_dynamics`), the configuration moved along the runtime's own retraction
@@ -75,6 +77,7 @@ with_derivatives!(TreeModel, "../models/tree.chain");
 with_derivatives!(FallingCat, "../models/falling_cat.chain");
 
 with_derivatives!(Ball, "data/ball.chain");
+with_derivatives!(Legs, "data/legs.chain");
 
 /// The step of a central difference at `x`: `ε^(1/3)·max(1, |x|)`, rounded so that `x ± h`
 /// are exact.
@@ -286,6 +289,16 @@ fn shipped_models() {
 fn quaternion_joints() {
     check::<FallingCat, { FallingCat::NQ }, { FallingCat::NV }>("../models/falling_cat.chain", 16);
     check::<Ball, { Ball::NQ }, { Ball::NV }>("data/ball.chain", 16);
+}
+
+/// A chain large enough that its `forward_dynamics_derivatives` is composed of
+/// `forward_dynamics`, `inverse_dynamics_derivatives` and `mass_matrix_inverse` and two
+/// products (`codegen/src/generate/composed.rs`): the humanoid's legs on its free quaternion
+/// base, 18 velocities. The same three checks; the finite differences and the reference do not
+/// go through the composition.
+#[test]
+fn composed_forward_dynamics_derivatives() {
+    check::<Legs, { Legs::NQ }, { Legs::NV }>("data/legs.chain", 8);
 }
 
 /// Pinocchio's derivatives: the generated arm on its fixed and floating (Euler) bases.

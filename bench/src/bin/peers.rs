@@ -43,8 +43,9 @@
 //!
 //! The derivative outputs: `arm7`'s are small (about 4,100 and 6,400 operations). The humanoid's
 //! (`inverse_dynamics_derivatives` about 41,000 operations, `forward_dynamics_derivatives`
-//! 131,000, `mass_matrix_inverse` 21,000; measured when they were 41,000, 144,000 and 34,000)
-//! take this binary's release build from 53 to 120 s
+//! 131,000 traced whole, `mass_matrix_inverse` 21,000; measured when they were 41,000, 144,000
+//! and 34,000, before `forward_dynamics_derivatives` was composed of the other two, which it is
+//! now: `codegen/src/generate/composed.rs`) took this binary's release build from 53 to 120 s
 //! (x86-64-v3) and from 96 to 204 s (default target), and cost 2.5–3 min in the test profile
 //! (opt-level 1 with debug info; measured on a crate of their own) that CI's `cargo test
 //! --workspace` builds this binary with: hence the feature `humanoid-derivatives`, off by

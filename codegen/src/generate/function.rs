@@ -57,6 +57,38 @@ pub(super) fn item(cx: &Context, traced: &Traced) -> syn::Result<TokenStream> {
     })
 }
 
+/// `traced`'s function as an associated function `name` of the chain's own impl, with the
+/// output's signature but no trait, batch twin or docs beyond `doc`: a part that a composed
+/// output calls ([`super::composed`]). Never inlined: a part is large, and LLVM inlines a
+/// private function with one caller whatever its size, which would make the composed function
+/// the one large function composing avoids.
+pub(super) fn part(
+    cx: &Context,
+    traced: &Traced,
+    name: &proc_macro2::Ident,
+    doc: &str,
+) -> syn::Result<TokenStream> {
+    let Signature {
+        after_params, ret, ..
+    } = signature(cx, traced.output);
+    let (args, p_arg, body) = function(cx, traced)?;
+    // Generic over the scalar on the function, not on the impl, which would not constrain it.
+    let (params_ty, generics) = (&cx.params_ty, &cx.impl_generics);
+    Ok(quote! {
+        #[doc = #doc]
+        #[inline(never)]
+        fn #name #generics(#(#args)* #p_arg: &#params_ty, #after_params) #ret {
+            #body
+        }
+    })
+}
+
+/// The trait of an output, as `<Self as Trait<…>>`'s path (`::articulated::ForwardDynamics<f64,
+/// 7, 7>`).
+pub(super) fn trait_path(cx: &Context, output: Output) -> TokenStream {
+    signature(cx, output).trait_
+}
+
 /// A function's arguments before the parameters (`q: &SVector<f64, 7>,` …), the parameters'
 /// name (`_p` where unread) and its body, in `cx`'s scalar (lanes for [`batch`]).
 fn function(

@@ -4,6 +4,7 @@
 //! InverseDynamics, ForwardDynamics}`): one function per output in `function.rs`, their docs in
 //! `docs.rs`, the type, its constants, its parameter struct and its `Chain` impl here.
 
+mod composed;
 mod constraints;
 mod docs;
 mod function;
@@ -353,30 +354,23 @@ impl<'a> Context<'a> {
     /// the fewest operations kept ([`trace_with`]: the recursions over a symbolic scalar, then
     /// `crate::optimize`), held to the size limit and to finite constants, then emitted as
     /// straight-line code in its trait impl ([`function::item`]: `crate::emit`, the signature
-    /// and result from `crate::outputs`, the docs). Returns the impl, its `*_OPS` constant and
-    /// its figures.
+    /// and result from `crate::outputs`, the docs). `forward_dynamics_derivatives` past
+    /// [`composed::COMPOSE_OPS`] is composed of three smaller functions instead
+    /// ([`composed::item`]). Returns the impl, its `*_OPS` constant and its figures.
     fn function(&self, output: Output) -> syn::Result<(TokenStream, TokenStream, FunctionReport)> {
-        let (accuracy, quasi_static) = (self.options.accuracy, self.options.quasi_static);
-        let traced = if output.spec().uses_nf() {
-            crate::trace::frames::trace(self.model, output, &self.frames(), quasi_static)
-        } else {
-            trace_with(self.model, output, accuracy, quasi_static)
-        };
+        let traced = self.trace(output);
         let ops = traced.graph.op_counts(&function::outputs(self, &traced));
-        if ops.total() > MAX_OPS {
-            return Err(syn::Error::new(
-                Span::call_site(),
-                format!(
-                    "`{}` of `{}` takes {} operations, past the generator's limit of {MAX_OPS} \
-                     per function (the compiler would take minutes on it); generate fewer \
-                     outputs, or what the scene moves (`keep: […]`, `lock: […]`)",
-                    output.name(),
-                    self.model.name,
-                    ops.total()
-                ),
-            ));
+        if output == Output::ForwardDynamicsDerivatives && ops.total() > composed::COMPOSE_OPS {
+            let (item, composed_ops) = composed::item(self, ops)?;
+            let report = FunctionReport {
+                output,
+                ops: composed_ops,
+                variant: traced.variant,
+                candidates: traced.candidates,
+            };
+            return Ok((item, ops_const(output.name(), &composed_ops), report));
         }
-        self.finite_at_rest(&traced)?;
+        self.checked(&traced, &ops)?;
         let item = function::item(self, &traced)?;
         let report = FunctionReport {
             output,
@@ -385,6 +379,35 @@ impl<'a> Context<'a> {
             candidates: traced.candidates,
         };
         Ok((item, ops_const(output.name(), &ops), report))
+    }
+
+    /// `output` traced every way there is, the fewest operations kept.
+    fn trace(&self, output: Output) -> crate::trace::Traced {
+        let (accuracy, quasi_static) = (self.options.accuracy, self.options.quasi_static);
+        if output.spec().uses_nf() {
+            crate::trace::frames::trace(self.model, output, &self.frames(), quasi_static)
+        } else {
+            trace_with(self.model, output, accuracy, quasi_static)
+        }
+    }
+
+    /// Refuses a traced function past the size limit ([`MAX_OPS`]) or with constants that
+    /// overflow ([`Context::finite_at_rest`]).
+    fn checked(&self, traced: &crate::trace::Traced, ops: &OpCounts) -> syn::Result<()> {
+        if ops.total() > MAX_OPS {
+            return Err(syn::Error::new(
+                Span::call_site(),
+                format!(
+                    "`{}` of `{}` takes {} operations, past the generator's limit of {MAX_OPS} \
+                     per function (the compiler would take minutes on it); generate fewer \
+                     outputs, or what the scene moves (`keep: […]`, `lock: […]`)",
+                    traced.output.name(),
+                    self.model.name,
+                    ops.total()
+                ),
+            ));
+        }
+        self.finite_at_rest(traced)
     }
 
     /// The frames of `frames: [...]` on the model, in that order (the check stage made sure
