@@ -185,15 +185,8 @@ fn doc(
             COMPOSE_OPS
         ),
         format!(
-            "Operations, the three parts and the products: {} add/sub, {} mul, {} div, {} neg, \
-             {} sin/cos, {} sqrt ({} in all).",
-            ops.adds,
-            ops.muls,
-            ops.divs,
-            ops.negs,
-            ops.sin_cos,
-            ops.sqrts,
-            ops.total()
+            "Operations, the three parts and the products: {}.",
+            docs::operations(ops)
         ),
     ];
     if let Some(source) = cx.source {

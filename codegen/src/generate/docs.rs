@@ -162,16 +162,7 @@ pub(super) fn function_doc(cx: &Context, traced: &Traced) -> Vec<String> {
     let ops = traced
         .graph
         .op_counts(&super::function::outputs(cx, traced));
-    let mut figures = format!(
-        "Operations: {} add/sub, {} mul, {} div, {} neg, {} sin/cos, {} sqrt ({} in all).",
-        ops.adds,
-        ops.muls,
-        ops.divs,
-        ops.negs,
-        ops.sin_cos,
-        ops.sqrts,
-        ops.total()
-    );
+    let mut figures = format!("Operations: {}.", operations(&ops));
     if cx.options.scalar != ScalarKind::Generic {
         figures += " A product added once is fused into its sum with `math::mul_add`: one FMA \
                     instruction where the target has it (`-C target-cpu=x86-64-v3` or newer).";
@@ -188,6 +179,21 @@ pub(super) fn function_doc(cx: &Context, traced: &Traced) -> Vec<String> {
         lines.extend(wrap(p));
     }
     lines
+}
+
+/// `ops` as the docs give them: `12 add/sub, 20 mul, 0 div, 1 neg, 2 sin/cos, 0 sqrt (35 in
+/// all)`.
+pub(super) fn operations(ops: &crate::sym::OpCounts) -> String {
+    format!(
+        "{} add/sub, {} mul, {} div, {} neg, {} sin/cos, {} sqrt ({} in all)",
+        ops.adds,
+        ops.muls,
+        ops.divs,
+        ops.negs,
+        ops.sin_cos,
+        ops.sqrts,
+        ops.total()
+    )
 }
 
 /// How the function computes it, and which variants the generator compared.
