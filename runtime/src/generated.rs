@@ -450,14 +450,14 @@ pub mod __private {
     /// (`rows[c]`: the rows of column `c` that can be non-zero; the others are taken as zero),
     /// with `fma(a, b, c) = a·b + c`. What a composed `forward_dynamics_derivatives` returns,
     /// `∂q̈/∂x = −M⁻¹·∂τ/∂x` (`A = M⁻¹`, `D = ∂τ/∂x`), where the generator found the
-    /// derivatives of inverse dynamics sparse: about 40 % of the humanoid's `∂τ/∂q` entries are
-    /// zero at every state.
+    /// derivatives of inverse dynamics sparse (a joint's torque does not depend on the
+    /// coordinates below it, nor on a base's position).
     ///
     /// Column by column: each result column accumulates `A`'s columns in a local array, which
     /// the compiler keeps in vector registers for the chains this is used on (a column of 37 is
     /// ten AVX registers), and is stored once. Written out here rather than left to nalgebra's
     /// product, which is dense and, for sizes it does not specialize, goes through its generic
-    /// kernel (the humanoid's two products took twice as long).
+    /// kernel, slower on the humanoid's.
     #[inline]
     pub fn minus_product<T: nalgebra::RealField + Copy, const N: usize>(
         a: &nalgebra::SMatrix<T, N, N>,

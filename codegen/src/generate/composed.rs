@@ -3,10 +3,10 @@
 //!
 //! Traced whole, the derivatives of forward dynamics are one straight-line function of the most
 //! operations the generator knows, and for a large chain that is the wrong measure of speed: the
-//! humanoid's is 131,378 operations, about 800 KB of machine code run once per call, many times
-//! what a core's instruction caches hold, so it runs at about one instruction per cycle, bound
-//! by fetching its code rather than by its arithmetic (measured in the stop note of the session
-//! that found it, and `BENCHMARKS.md`'s derivative tables). Composed, the same values come from
+//! humanoid's is hundreds of kilobytes of machine code run once per call, many times what a
+//! core's instruction caches hold, so it runs at about one instruction per cycle, bound by
+//! fetching its code rather than by its arithmetic (`BENCHMARKS.md`'s derivative tables have
+//! its time and instructions). Composed, the same values come from
 //! three functions of a few tens of thousands of operations each and two products that are
 //! loops (Carpentier & Mansard 2018, §III: the derivatives of forward dynamics from those of
 //! inverse dynamics):
@@ -30,14 +30,13 @@ use crate::outputs::Arg;
 use crate::sym::{Node, OpCounts};
 
 /// The most operations of a traced `forward_dynamics_derivatives` that the generator emits as
-/// one function; past it, the composition. Measured side by side, x86-64-v3, the traced and the
-/// composed function of the same chain in one binary (an uncommitted harness; the figures are
-/// in the commit that set this): arm7 (6,320 operations traced) composed was 0.9× as fast, the
-/// humanoid's legs on its free base (`keep`, 18 velocities, 33,647 operations) 1.1×, its legs,
-/// torso and arms (29 velocities, 80,510) 1.5×, the whole humanoid (131,378) 2.2×.
+/// one function; past it, the composition. Set between the chains measured side by side
+/// (x86-64-v3, the traced and the composed function in one binary): arm7 (6,320 operations
+/// traced) ran faster traced, the humanoid's legs on its free base (`keep`, 33,647) and every
+/// larger chain faster composed. The figures are in the message of the commit that set it.
 pub(super) const COMPOSE_OPS: usize = 20_000;
 
-/// The parts, each as a name for its private function and what it returns.
+/// The parts, each with what it returns (for its private function's docs).
 const PARTS: [(Output, &str); 3] = [
     (Output::ForwardDynamics, "q̈, as `forward_dynamics`"),
     (

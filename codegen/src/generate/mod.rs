@@ -360,18 +360,14 @@ impl<'a> Context<'a> {
     fn function(&self, output: Output) -> syn::Result<(TokenStream, TokenStream, FunctionReport)> {
         let traced = self.trace(output);
         let ops = traced.graph.op_counts(&function::outputs(self, &traced));
-        if output == Output::ForwardDynamicsDerivatives && ops.total() > composed::COMPOSE_OPS {
-            let (item, composed_ops) = composed::item(self, ops)?;
-            let report = FunctionReport {
-                output,
-                ops: composed_ops,
-                variant: traced.variant,
-                candidates: traced.candidates,
-            };
-            return Ok((item, ops_const(output.name(), &composed_ops), report));
-        }
-        self.checked(&traced, &ops)?;
-        let item = function::item(self, &traced)?;
+        let (item, ops) = if output == Output::ForwardDynamicsDerivatives
+            && ops.total() > composed::COMPOSE_OPS
+        {
+            composed::item(self, ops)?
+        } else {
+            self.checked(&traced, &ops)?;
+            (function::item(self, &traced)?, ops)
+        };
         let report = FunctionReport {
             output,
             ops,
