@@ -48,8 +48,9 @@ impl State {
             Var::A(i) => (&self.a, i),
             Var::Tau(i) => (&self.tau, i),
             Var::Param(i) => (&self.params, i),
-            // Only joint wrenches bottom-up read a base wrench, and `eval` does not print them.
-            Var::Base(_) => return 0.0,
+            // Only joint wrenches bottom-up read a base wrench, and only the parts of composed
+            // constrained derivatives read forces: `eval` prints neither.
+            Var::Base(_) | Var::Force(_) => return 0.0,
         };
         values.get(i).copied().unwrap_or(f64::NAN)
     }

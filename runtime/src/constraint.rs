@@ -1331,7 +1331,7 @@ where
 
 /// The Cholesky factor of the leading `n × n` block of `a` (the rest left as it is), or the
 /// first row whose pivot is not above `tolerance` times its unreduced diagonal entry.
-fn cholesky<N: Dim>(
+pub(crate) fn cholesky<N: Dim>(
     a: &OMatrix<f64, N, N>,
     n: usize,
     tolerance: f64,
@@ -1365,7 +1365,7 @@ where
 }
 
 /// `x` with `L·x = b` for the leading `n` entries.
-fn forward<N: Dim>(l: &OMatrix<f64, N, N>, b: &mut OVector<f64, N>, n: usize)
+pub(crate) fn forward<N: Dim>(l: &OMatrix<f64, N, N>, b: &mut OVector<f64, N>, n: usize)
 where
     DefaultAllocator: Allocator<N, N> + Allocator<N>,
 {
@@ -1379,7 +1379,7 @@ where
 }
 
 /// `x` with `Lᵀ·x = b` for the leading `n` entries.
-fn backward<N: Dim>(l: &OMatrix<f64, N, N>, b: &mut OVector<f64, N>, n: usize)
+pub(crate) fn backward<N: Dim>(l: &OMatrix<f64, N, N>, b: &mut OVector<f64, N>, n: usize)
 where
     DefaultAllocator: Allocator<N, N> + Allocator<N>,
 {

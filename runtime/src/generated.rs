@@ -482,4 +482,7 @@ pub mod __private {
         }
         out
     }
+
+    /// The parts of a composed `constrained_forward_dynamics_derivatives` put together.
+    pub use crate::constraint::derivatives::composed as constrained_derivatives;
 }

@@ -430,3 +430,85 @@ fn derivatives_agree_with_pinocchio() {
     }
     println!("worst against Pinocchio: {worst:.1e}");
 }
+
+declared!(
+    LegsStanding,
+    file = "data/legs.chain",
+    [left_foot, right_foot],
+    contacts = [left_foot: six_d, right_foot: six_d]
+);
+
+/// The humanoid's legs on their free quaternion base standing on both soles: their traced
+/// derivatives would be more operations than the generator emits as one function, so they are
+/// composed (`codegen/src/generate/constrained_composed.rs`: the solve, `M⁻¹`, the residuals'
+/// derivatives, then the solve's linear map and its products at run time). Against central
+/// differences of the chain's own `constrained_forward_dynamics` (the traced solve, which
+/// shares no code with the products), each matrix to 1e-6 of its largest entry, at three
+/// states; the residual of the solution at rounding.
+#[test]
+fn composed_derivatives_match_central_differences() {
+    const NQ: usize = LegsStanding::NQ;
+    const NV: usize = LegsStanding::NV;
+    const R: usize = LegsStanding::CONSTRAINT_ROWS;
+    // The generated function's docs say it is composed: its helper is what this test reaches.
+    assert!(LegsStanding::CONSTRAINED_FORWARD_DYNAMICS_DERIVATIVES_OPS.total() > 20_000);
+    let mut worst = 0.0f64;
+    for seed in [0.0, 1.0, 2.0] {
+        let (q, v, tau) = state::<LegsStanding, NQ, NV>(seed);
+        let d = LegsStanding::constrained_forward_dynamics_derivatives(&q, &v, &tau).unwrap();
+        assert!(d.solution.residual < 1e-10, "{}", d.solution.residual);
+        let solve = |q: &SVector<f64, NQ>, v: &SVector<f64, NV>, tau: &SVector<f64, NV>| {
+            LegsStanding::constrained_forward_dynamics(q, v, tau).unwrap()
+        };
+        let (qdd, forces) = solve(&q, &v, &tau);
+        let scale = max_abs(qdd.as_slice()).max(1.0);
+        assert!(
+            common::abs_err(d.solution.acceleration.as_slice(), qdd.as_slice()) < 1e-12 * scale
+        );
+        let h = 1e-6;
+        let mut fd = [(
+            SMatrix::<f64, NV, NV>::zeros(),
+            SMatrix::<f64, R, NV>::zeros(),
+        ); 3];
+        for k in 0..NV {
+            let moved = |s: f64| {
+                let mut delta = [0.0; NV];
+                delta[k] = s * h;
+                let mut out = [0.0; NQ];
+                assert!(retract(
+                    LegsStanding::COORDINATES,
+                    q.as_slice(),
+                    &delta,
+                    &mut out
+                ));
+                SVector::<f64, NQ>::from(out)
+            };
+            let e = SVector::<f64, NV>::from_fn(|i, _| if i == k { h } else { 0.0 });
+            let pairs = [
+                (solve(&moved(1.0), &v, &tau), solve(&moved(-1.0), &v, &tau)),
+                (solve(&q, &(v + e), &tau), solve(&q, &(v - e), &tau)),
+                (solve(&q, &v, &(tau + e)), solve(&q, &v, &(tau - e))),
+            ];
+            for (into, (plus, minus)) in fd.iter_mut().zip(pairs) {
+                into.0.set_column(k, &((plus.0 - minus.0) / (2.0 * h)));
+                into.1.set_column(k, &((plus.1 - minus.1) / (2.0 * h)));
+            }
+        }
+        let err =
+            |ours: &[f64], theirs: &[f64]| common::abs_err(ours, theirs) / max_abs(theirs).max(1.0);
+        let [(q_a, q_f), (v_a, v_f), (t_a, t_f)] = &fd;
+        for (name, e) in [
+            ("∂q̈/∂q", err(d.dqdd_dq.as_slice(), q_a.as_slice())),
+            ("∂q̈/∂v", err(d.dqdd_dv.as_slice(), v_a.as_slice())),
+            ("∂q̈/∂τ", err(d.dqdd_dtau.as_slice(), t_a.as_slice())),
+            ("∂f/∂q", err(d.dforces_dq.as_slice(), q_f.as_slice())),
+            ("∂f/∂v", err(d.dforces_dv.as_slice(), v_f.as_slice())),
+            ("∂f/∂τ", err(d.dforces_dtau.as_slice(), t_f.as_slice())),
+        ] {
+            println!("legs standing (seed {seed}): {name} {e:.1e}");
+            worst = worst.max(e);
+        }
+        let _ = forces;
+    }
+    assert!(worst < 1e-6, "{worst:.1e}");
+}

@@ -10,7 +10,7 @@ use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use super::function::{self, Used};
-use super::{docs, Context};
+use super::{constrained_composed, docs, Context};
 use crate::emit;
 use crate::options::{ContactKind, ScalarKind};
 use crate::outputs::Output;
@@ -25,11 +25,15 @@ const PIVOT_TOLERANCE: f64 = 1e-10;
 const PIVOT_TOLERANCE_F32: f64 = crate::trace::PIVOT_TOL_F32;
 
 /// The constants and the function, with the function's operations; nothing for a description
-/// without constraints.
+/// without constraints. `fdd_composed`: `forward_dynamics_derivatives` was composed (its
+/// private parts are there to share).
 ///
 /// # Errors
 /// A constant that cannot be emitted (as every function's).
-pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Vec<(&'static str, OpCounts)>)> {
+pub(super) fn items(
+    cx: &Context,
+    fdd_composed: bool,
+) -> syn::Result<(TokenStream, Vec<(&'static str, OpCounts)>)> {
     let options = cx.options;
     if !options.constrained() {
         return Ok((quote!(), Vec::new()));
@@ -91,9 +95,14 @@ pub(super) fn items(cx: &Context) -> syn::Result<(TokenStream, Vec<(&'static str
     {
         let traced = constrained::trace_derivatives(cx.model, &cx.frames(), &constraints);
         let ops = traced.ops();
+        let (function, ops) = if constrained_composed::composes(&ops) {
+            let solve_ops = all_ops[0].1;
+            constrained_composed::item(cx, &constraints, (&ops, &solve_ops), fdd_composed)?
+        } else {
+            (derivatives_function(cx, &traced, &constraints)?, ops)
+        };
         all_ops.push((super::CONSTRAINED_DERIVATIVES, ops));
         let ops_const = super::ops_const(super::CONSTRAINED_DERIVATIVES, &ops);
-        let function = derivatives_function(cx, &traced, &constraints)?;
         let nv = Literal::usize_unsuffixed(cx.nv);
         let rows = Literal::usize_unsuffixed(options.constraint_rows());
         let batch = batch(
@@ -474,7 +483,7 @@ fn pivot_checks(
     mass.chain(delassus).collect()
 }
 
-fn vector_type(cx: &Context, n: usize) -> TokenStream {
+pub(super) fn vector_type(cx: &Context, n: usize) -> TokenStream {
     let (scalar, n) = (&cx.scalar, Literal::usize_unsuffixed(n));
     quote!(::articulated::nalgebra::SVector<#scalar, #n>)
 }
@@ -565,6 +574,24 @@ fn loops_doc(cx: &Context) -> Vec<String> {
 }
 
 fn derivatives_doc(traced: &ConstrainedTraced) -> Vec<String> {
+    let mut paragraphs = derivatives_doc_head();
+    paragraphs.push(format!(
+        "Generated for these constraints: the solve of `constrained_forward_dynamics`, then the \
+         residuals `r₁ = ID(q, v, q̈) − Jᵀ·f − τ` and `r₂ = J·q̈ + γ` differentiated at fixed \
+         `(q̈, f)` by forward mode along each tangent direction (a body's motion does not \
+         depend on the joints below it: those terms fold away), and `[M −Jᵀ; J 0]` solved for \
+         each column with the factorizations of the solve: {} ({}). The runtime's \
+         `articulated::constraint::derivatives::forward_dynamics_derivatives_of` computes the \
+         same for any subset of the constraints.",
+        traced.ops(),
+        traced.variant
+    ));
+    paragraphs.extend(derivatives_doc_errors());
+    paragraphs
+}
+
+/// What `constrained_forward_dynamics_derivatives` returns, traced or composed.
+pub(super) fn derivatives_doc_head() -> Vec<String> {
     vec![
         "`constrained_forward_dynamics` and its derivatives with respect to `q`, `v` and `τ`, \
          for the constraints the description declares (`Self::CONTACTS`, then `Self::LOOPS`): \
@@ -574,17 +601,12 @@ fn derivatives_doc(traced: &ConstrainedTraced) -> Vec<String> {
          `constrained_forward_dynamics` documents (a six-dimensional constraint's wrench in its \
          frame). `solution.residual` is `max |J·q̈ + γ|` over the rows, in world axes."
             .to_string(),
-        format!(
-            "Generated for these constraints: the solve of `constrained_forward_dynamics`, then \
-             the residuals `r₁ = ID(q, v, q̈) − Jᵀ·f` and `r₂ = J·q̈ + γ` differentiated at \
-             fixed `(q̈, f)` by forward mode along each tangent direction (a body's motion does \
-             not depend on the joints below it: those terms fold away), and `[M −Jᵀ; J 0]` \
-             solved for each column with the factorizations of the solve: {} ({}). The runtime's \
-             `articulated::constraint::derivatives::forward_dynamics_derivatives_of` computes \
-             the same for any subset of the constraints.",
-            traced.ops(),
-            traced.variant
-        ),
+    ]
+}
+
+/// The errors of `constrained_forward_dynamics_derivatives`, traced or composed.
+pub(super) fn derivatives_doc_errors() -> Vec<String> {
+    vec![
         "# Errors".to_string(),
         "As `constrained_forward_dynamics`; `ConstraintError::NonFinite` where a derivative is \
          not finite."

@@ -820,6 +820,7 @@ pub(super) struct Used {
     pub(super) a: Vec<bool>,
     pub(super) tau: Vec<bool>,
     pub(super) base: Vec<bool>,
+    pub(super) forces: Vec<bool>,
     pub(super) params: bool,
 }
 
@@ -847,6 +848,7 @@ impl Used {
             a: vec![false; nv],
             tau: vec![false; nv],
             base: vec![false; base],
+            forces: Vec::new(),
             params: false,
         };
         for s in graph.live(outputs) {
@@ -857,6 +859,12 @@ impl Used {
                     Var::A(i) => u.a[i] = true,
                     Var::Tau(i) => u.tau[i] = true,
                     Var::Base(i) => u.base[i] = true,
+                    Var::Force(i) => {
+                        if u.forces.len() <= i {
+                            u.forces.resize(i + 1, false);
+                        }
+                        u.forces[i] = true;
+                    }
                     Var::Param(_) => u.params = true,
                 }
             }

@@ -5,6 +5,7 @@
 //! `docs.rs`, the type, its constants, its parameter struct and its `Chain` impl here.
 
 mod composed;
+mod constrained_composed;
 mod constraints;
 mod docs;
 mod function;
@@ -235,6 +236,7 @@ impl<'a> Context<'a> {
             Var::A(i) => format_ident!("a{}", i),
             Var::Tau(i) => format_ident!("tau{}", i),
             Var::Base(i) => format_ident!("base{}", i),
+            Var::Force(i) => format_ident!("force{}", i),
             // In lanes, the parameters are an array of lanes (`generate::function::batch`).
             Var::Param(i) if self.lanes.is_some() => {
                 let i = proc_macro2::Literal::usize_unsuffixed(i);
@@ -295,8 +297,10 @@ impl<'a> Context<'a> {
         let mut items = Vec::new();
         let mut consts = Vec::new();
         let mut functions = Vec::new();
+        let mut composed = false;
         for &output in &self.options.outputs {
-            let (item, ops, report) = self.function(output)?;
+            let (item, ops, report, is_composed) = self.function(output)?;
+            composed |= is_composed;
             items.push(item);
             consts.push(ops);
             functions.push(report);
@@ -315,7 +319,7 @@ impl<'a> Context<'a> {
         );
         let params_item = self.params_item();
         let chain_impl = self.chain_impl();
-        let (constraints, constrained_ops) = constraints::items(self)?;
+        let (constraints, constrained_ops) = constraints::items(self, composed)?;
         let contact_scene = constraints::scene(self);
         // Only where frames are named (a constant nothing reads is a warning in the user's
         // crate).
@@ -356,13 +360,17 @@ impl<'a> Context<'a> {
     /// straight-line code in its trait impl ([`function::item`]: `crate::emit`, the signature
     /// and result from `crate::outputs`, the docs). `forward_dynamics_derivatives` past
     /// [`composed::COMPOSE_OPS`] is composed of three smaller functions instead
-    /// ([`composed::item`]). Returns the impl, its `*_OPS` constant and its figures.
-    fn function(&self, output: Output) -> syn::Result<(TokenStream, TokenStream, FunctionReport)> {
+    /// ([`composed::item`]). Returns the impl, its `*_OPS` constant, its figures and whether it
+    /// was composed.
+    fn function(
+        &self,
+        output: Output,
+    ) -> syn::Result<(TokenStream, TokenStream, FunctionReport, bool)> {
         let traced = self.trace(output);
         let ops = traced.graph.op_counts(&function::outputs(self, &traced));
-        let (item, ops) = if output == Output::ForwardDynamicsDerivatives
-            && ops.total() > composed::COMPOSE_OPS
-        {
+        let composed =
+            output == Output::ForwardDynamicsDerivatives && ops.total() > composed::COMPOSE_OPS;
+        let (item, ops) = if composed {
             composed::item(self, ops)?
         } else {
             self.checked(&traced, &ops)?;
@@ -374,7 +382,7 @@ impl<'a> Context<'a> {
             variant: traced.variant,
             candidates: traced.candidates,
         };
-        Ok((item, ops_const(output.name(), &ops), report))
+        Ok((item, ops_const(output.name(), &ops), report, composed))
     }
 
     /// `output` traced every way there is, the fewest operations kept.

@@ -69,6 +69,9 @@ pub enum Var {
     /// Component `i` of the wrench the world exerts on the root body (`[n; f]`), for joint
     /// wrenches bottom-up.
     Base(usize),
+    /// Constraint force `f[i]` (one per constraint row), an input of the parts of the composed
+    /// constrained derivatives.
+    Force(usize),
 }
 
 impl fmt::Display for Var {
@@ -81,6 +84,7 @@ impl fmt::Display for Var {
             Var::Tau(i) => write!(f, "tau{i}"),
             Var::Param(i) => write!(f, "p{i}"),
             Var::Base(i) => write!(f, "base{i}"),
+            Var::Force(i) => write!(f, "force{i}"),
         }
     }
 }

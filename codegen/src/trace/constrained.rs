@@ -151,7 +151,7 @@ impl ConstrainedTraced {
 /// way `M` and `h` can be formed (specialized recursions, `M`'s off-diagonal entries in the root
 /// frame or not, regrouped inertias or not), and keeps the fewest operations.
 pub fn trace(model: &Model, frames: &[FrameAt], constraints: &[Constraint]) -> ConstrainedTraced {
-    trace_with(model, frames, constraints, false)
+    trace_with(model, frames, constraints, Mode::Solve)
 }
 
 /// [`trace`] with the residuals `J·q̈ + γ` (one per row, world axes) and the derivatives after
@@ -162,15 +162,24 @@ pub fn trace_derivatives(
     frames: &[FrameAt],
     constraints: &[Constraint],
 ) -> ConstrainedTraced {
-    trace_with(model, frames, constraints, true)
+    trace_with(model, frames, constraints, Mode::Derivatives)
 }
 
-/// [`trace`] with the derivatives ([`trace_derivatives`]'s values) or without.
+/// What [`trace_with`] traces after `q̈` and the forces.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Mode {
+    /// Nothing.
+    Solve,
+    /// The residuals and the derivatives ([`trace_derivatives`]).
+    Derivatives,
+}
+
+/// [`trace`] with what `mode` adds.
 fn trace_with(
     model: &Model,
     frames: &[FrameAt],
     constraints: &[Constraint],
-    derivatives: bool,
+    mode: Mode,
 ) -> ConstrainedTraced {
     let variants = [false, true].into_iter().flat_map(|regrouped| {
         [Formulation::Specialized, Formulation::SpecializedRootFrame].map(|formulation| Variant {
@@ -183,7 +192,7 @@ fn trace_with(
         })
     });
     let traced: Vec<ConstrainedTraced> = variants
-        .map(|v| trace_variant(model, frames, constraints, v, derivatives).rebuilt(reciprocals))
+        .map(|v| trace_variant(model, frames, constraints, v, mode).rebuilt(reciprocals))
         .collect();
     let candidates = traced.iter().map(|t| (t.variant, t.ops())).collect();
     let mut best = fewest(traced, |t| t.ops().total());
@@ -196,7 +205,7 @@ fn trace_variant(
     frames: &[FrameAt],
     constraints: &[Constraint],
     variant: Variant,
-    derivatives: bool,
+    mode: Mode,
 ) -> ConstrainedTraced {
     let (graph, (values, mass, delassus)) = sym::trace(|| {
         let (tree, turns) = symbolic_tree(model, variant.regrouped);
@@ -238,7 +247,7 @@ fn trace_variant(
             .collect();
         let mut values = qdd.clone();
         values.extend(&forces);
-        if derivatives {
+        if mode == Mode::Derivatives {
             // `max |J·q̈ + γ|` for the solution's report, then the derivatives.
             values.extend(rows.iter().zip(&drift).enumerate().map(|(r, (row, &d))| {
                 let x = row.iter().zip(&qdd).fold(d, |s, (&j, &a)| s + j * a);
@@ -437,28 +446,33 @@ fn residuals<T: Scalar>(
     out
 }
 
-/// `∂q̈/∂q`, `∂q̈/∂v`, `∂q̈/∂τ` (`nv × nv` each), then `∂f/∂q`, `∂f/∂v`, `∂f/∂τ` (`rows × nv`
-/// each), row-major (module docs): the residuals' derivatives along each tangent direction by
-/// forward mode ([`residuals`] on duals), each column solved with the solve's factorizations.
-fn derivative_values(
+/// The residuals' derivatives at `(q, v)` with `(q̈, f)` held fixed: `∂r/∂q` and `∂r/∂v`,
+/// `r = (r₁, r₂)` (`(nv + rows) × nv` each, row-major, `∂/∂q` along the configuration's
+/// tangent), by forward mode ([`residuals`] on duals, one pass per tangent direction); and
+/// `r₂ = J·q̈ + γ` itself. `r₂` in world axes (`world`: the solve's), or in the runtime's
+/// (a six-dimensional constraint's rows in its frame: the composed derivatives').
+fn residual_jacobians(
     at: &Point<'_>,
-    solver: &Kkt,
     placed: &[Frame<Sym>],
     qdd: &[Sym],
     forces: &[Sym],
-) -> Vec<Sym> {
+    world: bool,
+) -> (Vec<Sym>, Vec<Sym>, Vec<Sym>) {
     let (tree, c) = (at.tree, at.coupling);
     let (nv, rows, nt) = (qdd.len(), forces.len(), tree.nv);
     let dual_tree = map_tree(tree, Dual::constant);
     let constant = |x: &[Sym]| -> Vec<Dual<Sym>> { x.iter().map(|&x| Dual::constant(x)).collect() };
     let (qc, vc, params) = (constant(at.q), constant(at.v), constant(at.params));
     let (qdd_c, forces_c) = (constant(qdd), constant(forces));
+    // Each frame's `world_R_frame` as a constant: at the solution `r₂ = 0`, so a turned
+    // residual's derivative is the turned derivative.
     let w: Vec<Mat3<Dual<Sym>>> = placed
         .iter()
         .map(|f| Mat3(f.rotation.0.map(|r| r.map(Dual::constant))))
         .collect();
-    let run = |q: &[Dual<Sym>], v: &[Dual<Sym>]| -> Vec<Sym> {
-        let r = residuals(
+    let identity = vec![Mat3::identity(); placed.len()];
+    let run = |q: &[Dual<Sym>], v: &[Dual<Sym>]| -> Vec<Dual<Sym>> {
+        let mut r = residuals(
             &dual_tree,
             c,
             at.frames,
@@ -466,14 +480,28 @@ fn derivative_values(
             &params,
             (q, v),
             (&qdd_c, &forces_c),
-            &w,
+            if world { &w } else { &identity },
         );
-        r.into_iter().map(|x| x.du).collect()
+        if !world {
+            // A six-dimensional loop's rows, in world axes at `a`'s origin, into `a`'s frame.
+            let mut start = nv;
+            for &constraint in at.constraints {
+                if let Constraint::LoopSixD(a, _) = constraint {
+                    for s in [start, start + 3] {
+                        let x = w[a].tr_mul_vec(Vec3([r[s], r[s + 1], r[s + 2]]));
+                        r[s..s + 3].copy_from_slice(&x.0);
+                    }
+                }
+                start += constraint.rows();
+            }
+        }
+        r
     };
     // Columns by tree velocity, `(nv + rows) × nt` row-major, then through the coupling.
     let n = nv + rows;
     let mut by_q = vec![Sym::zero(); n * nt];
     let mut by_v = vec![Sym::zero(); n * nt];
+    let mut r2 = Vec::new();
     for k in 0..nt {
         let tangent = configuration_tangent(tree, at.q, k);
         let qk: Vec<Dual<Sym>> =
@@ -481,8 +509,12 @@ fn derivative_values(
                 .zip(tangent)
                 .map(|(&x, d)| Dual::seeded(x, d, Wrt::Q(k)))
                 .collect();
-        for (i, x) in run(&qk, &vc).into_iter().enumerate() {
-            by_q[i * nt + k] = x;
+        let r = run(&qk, &vc);
+        if k == 0 {
+            r2 = r[nv..].iter().map(|x| x.re).collect();
+        }
+        for (i, x) in r.into_iter().enumerate() {
+            by_q[i * nt + k] = x.du;
         }
         let vk: Vec<Dual<Sym>> = at
             .v
@@ -491,10 +523,25 @@ fn derivative_values(
             .map(|(i, &x)| Dual::seeded(x, Sym::from_f64(f64::from(u8::from(i == k))), Wrt::V(k)))
             .collect();
         for (i, x) in run(&qc, &vk).into_iter().enumerate() {
-            by_v[i * nt + k] = x;
+            by_v[i * nt + k] = x.du;
         }
     }
-    let (by_q, by_v) = (c.reduce_columns(&by_q, n), c.reduce_columns(&by_v, n));
+    (c.reduce_columns(&by_q, n), c.reduce_columns(&by_v, n), r2)
+}
+
+/// `∂q̈/∂q`, `∂q̈/∂v`, `∂q̈/∂τ` (`nv × nv` each), then `∂f/∂q`, `∂f/∂v`, `∂f/∂τ` (`rows × nv`
+/// each), row-major (module docs): the residuals' derivatives along each tangent direction by
+/// forward mode ([`residual_jacobians`]), each column solved with the solve's factorizations.
+fn derivative_values(
+    at: &Point<'_>,
+    solver: &Kkt,
+    placed: &[Frame<Sym>],
+    qdd: &[Sym],
+    forces: &[Sym],
+) -> Vec<Sym> {
+    let (nv, rows) = (qdd.len(), forces.len());
+    let n = nv + rows;
+    let (by_q, by_v, _) = residual_jacobians(at, placed, qdd, forces, true);
     // Each column solved: `(∂q̈, ∂f)` for `(∂r₁, ∂r₂)`; for `τ`, `∂r₁ = −e_j`, `∂r₂ = 0`.
     let column = |m: &[Sym], j: usize| -> (Vec<Sym>, Vec<Sym>) {
         let dr1: Vec<Sym> = (0..nv).map(|i| -m[i * nv + j]).collect();
@@ -530,6 +577,80 @@ fn derivative_values(
         }
     }
     values
+}
+
+/// The residuals' derivatives for the composed `constrained_forward_dynamics_derivatives`: a
+/// graph of `q`, `v`, `q̈` (inputs `A`) and the forces (inputs `Force`) whose values are
+/// `∂r/∂q`, `∂r/∂v` (`(nv + rows) × nv` each, row-major), the rows `J` (`rows × nv`,
+/// row-major) and `r₂ = J·q̈ + γ`, `r = (r₁, r₂)` ([`residuals`]), all in the runtime's axes (a
+/// six-dimensional constraint's rows and wrench in its frame, as `constrained_forward_dynamics`
+/// returns the wrench); traced on the tree with its inertias regrouped and not, the fewer
+/// operations kept.
+pub fn trace_residual_jacobians(
+    model: &Model,
+    frames: &[FrameAt],
+    constraints: &[Constraint],
+) -> (Graph, Vec<Sym>) {
+    let rows: usize = constraints.iter().map(|c| c.rows()).sum();
+    let traced = [false, true].map(|regrouped| {
+        let variant = Variant {
+            regrouped,
+            formulation: Formulation::Specialized,
+            method: None,
+            analytic: false,
+            coriolis: false,
+            quasi_static: false,
+        };
+        let (graph, values) = sym::trace(|| {
+            let (tree, turns) = symbolic_tree(model, regrouped);
+            let c = model.coupling();
+            let (q, v, qdd) = model_inputs(model, &c, &turns, variant, Var::A);
+            let forces = inputs(rows, Var::Force);
+            let params = inputs(model.params.len(), Var::Param);
+            let k = Kinematics::new(&tree, &q, &v);
+            let placed: Vec<_> = frames.iter().map(|f| k.frame(f, &params)).collect();
+            let at = Point {
+                tree: &tree,
+                coupling: &c,
+                frames,
+                constraints,
+                params: &params,
+                q: &q,
+                v: &v,
+            };
+            let (by_q, by_v, r2) = residual_jacobians(&at, &placed, &qdd, &forces, false);
+            let zero = vec![Sym::zero(); tree.nv];
+            let (world_rows, _) = rows_and_drift(&k, &c, &placed, constraints, &zero, model.nv());
+            // Each column's six-dimensional rows turned into their frames (`Wᵀ`).
+            let mut rows_j = vec![Sym::zero(); rows * model.nv()];
+            for col in 0..model.nv() {
+                let mut x: Vec<Sym> = world_rows.iter().map(|r| r[col]).collect();
+                turn(&placed, constraints, &mut x, |w, x| w.tr_mul_vec(x));
+                for (r, x) in x.into_iter().enumerate() {
+                    rows_j[r * model.nv() + col] = x;
+                }
+            }
+            let label = |stem: &'static str, x: Vec<Sym>| {
+                let nv = model.nv();
+                x.into_iter()
+                    .enumerate()
+                    .map(move |(i, x)| x.label(format_args!("{stem}_{}_{}", i / nv, i % nv)))
+            };
+            let mut values: Vec<Sym> = label("dr_dq", by_q).chain(label("dr_dv", by_v)).collect();
+            values.extend(label("j", rows_j));
+            values.extend(
+                r2.into_iter()
+                    .enumerate()
+                    .map(|(i, x)| x.label(format_args!("residual_{i}"))),
+            );
+            values
+        });
+        let (graph, values) = reciprocals(&graph, &values);
+        reassociate(&graph, &values)
+    });
+    fewest(traced.into_iter().collect(), |(g, values)| {
+        g.op_counts(values).total()
+    })
 }
 
 /// The constraints' rows (`nv` columns each) and drifts, stacked in order (module docs), from

@@ -503,3 +503,159 @@ fn to_local(w: &nalgebra::Matrix3<f64>, c: &SVector<f64, 6>) -> SVector<f64, 6> 
     let l = w.tr_mul(&c.fixed_rows::<3>(3));
     SVector::<f64, 6>::new(a[0], a[1], a[2], l[0], l[1], l[2])
 }
+
+/// The parts of a composed `constrained_forward_dynamics_derivatives` put together (`f64`):
+/// from the solution `(q̈, f)` and its residual, `M⁻¹`, the residuals' derivatives `∂r/∂q`,
+/// `∂r/∂v` (`N × NV`, `N = NV + R`, visited where `dq`, `dv` list their rows) and the rows
+/// `J` (`R × NV`), all in the rows' axes:
+///
+/// - `G = J·M⁻¹·Jᵀ = L·Lᵀ`, each pivot held above `tolerance` of its unreduced value (the
+///   check of the generated solve; `Err(row)` at the first that is not), and `G⁻¹`;
+/// - the solve's linear map `N = [P Yᵀ; −Y G⁻¹]` (`[M −Jᵀ; J 0]⁻¹` with its last `R`
+///   columns negated), `Y = G⁻¹·J·M⁻¹`, `P = M⁻¹ − M⁻¹·Jᵀ·Y`: `∂q̈/∂τ = P`, `∂f/∂τ = −Y`;
+/// - `(∂q̈, ∂f) = −N·∂r` for `q` and `v`.
+///
+/// Every product column by column into a local array (vector registers), as
+/// `articulated::__private::minus_product`; `M⁻¹` is symmetric, so `M⁻¹·Jᵀ` accumulates `M⁻¹`'s columns.
+#[doc(hidden)]
+pub fn composed<const NV: usize, const R: usize, const N: usize>(
+    solution: Solution<NV, R>,
+    minv: &SMatrix<f64, NV, NV>,
+    (dr_dq, dr_dv): (&SMatrix<f64, N, NV>, &SMatrix<f64, N, NV>),
+    (dq, dv): (&[&[u16]; NV], &[&[u16]; NV]),
+    j: &SMatrix<f64, R, NV>,
+    tolerance: f64,
+) -> Result<Derivatives<NV, R>, usize> {
+    const { assert!(N == NV + R, "N is NV + R") };
+    let fma = crate::math::mul_add;
+    let minv_columns = &minv.data.0;
+    // `Wᵀ = M⁻¹·Jᵀ`, `NV × R`, by column.
+    let mut wt = [[0.0; NV]; R];
+    for (r, column) in wt.iter_mut().enumerate() {
+        let mut acc = [0.0; NV];
+        for (k, m) in minv_columns.iter().enumerate() {
+            let x = j[(r, k)];
+            if x != 0.0 {
+                for (acc, &m) in acc.iter_mut().zip(m) {
+                    *acc = fma(x, m, *acc);
+                }
+            }
+        }
+        *column = acc;
+    }
+    // `G = J·Wᵀ`, then `G = L·Lᵀ` and `G⁻¹`.
+    let mut g = SMatrix::<f64, R, R>::zeros();
+    for (column, w) in g.data.0.iter_mut().zip(&wt) {
+        let mut acc = [0.0; R];
+        for (jc, &x) in j.data.0.iter().zip(w) {
+            for (acc, &j) in acc.iter_mut().zip(jc) {
+                *acc = fma(x, j, *acc);
+            }
+        }
+        *column = acc;
+    }
+    let l = super::cholesky(&g, R, tolerance)?;
+    let mut ginv = SMatrix::<f64, R, R>::identity();
+    for mut column in ginv.column_iter_mut() {
+        let mut x: SVector<f64, R> = column.clone_owned();
+        super::forward(&l, &mut x, R);
+        super::backward(&l, &mut x, R);
+        column.copy_from(&x);
+    }
+    // `Yᵀ = Wᵀ·G⁻¹`, `NV × R`, by column.
+    let mut yt = [[0.0; NV]; R];
+    for (column, gc) in yt.iter_mut().zip(&ginv.data.0) {
+        let mut acc = [0.0; NV];
+        for (w, &x) in wt.iter().zip(gc) {
+            for (acc, &w) in acc.iter_mut().zip(w) {
+                *acc = fma(x, w, *acc);
+            }
+        }
+        *column = acc;
+    }
+    // `N`, by column: `[P; −Y]` (`P = M⁻¹ − Wᵀ·Y`), then `[Yᵀ; G⁻¹]`.
+    let mut map = [[0.0; N]; N];
+    for (c, (column, m)) in map.iter_mut().zip(minv_columns).enumerate() {
+        // `−Y`'s column `c`.
+        let mut minus_y = [0.0; R];
+        for (out, y) in minus_y.iter_mut().zip(&yt) {
+            *out = -y.get(c).copied().unwrap_or(0.0);
+        }
+        let mut acc = *m;
+        for (w, &x) in wt.iter().zip(&minus_y) {
+            for (acc, &w) in acc.iter_mut().zip(w) {
+                *acc = fma(x, w, *acc);
+            }
+        }
+        stack(column, &acc, &minus_y);
+    }
+    for (column, (y, gc)) in map.iter_mut().skip(NV).zip(yt.iter().zip(&ginv.data.0)) {
+        stack(column, y, gc);
+    }
+    let mut out = Derivatives {
+        solution,
+        dqdd_dq: SMatrix::zeros(),
+        dqdd_dv: SMatrix::zeros(),
+        dqdd_dtau: SMatrix::zeros(),
+        dforces_dq: SMatrix::zeros(),
+        dforces_dv: SMatrix::zeros(),
+        dforces_dtau: SMatrix::zeros(),
+    };
+    for (c, column) in map.iter().take(NV).enumerate() {
+        split(column, &mut out.dqdd_dtau, &mut out.dforces_dtau, c);
+    }
+    // `−N·∂r`, column by column, over the entries of `∂r` that can be non-zero.
+    for (d, rows, (top, bottom)) in [
+        (dr_dq, dq, (&mut out.dqdd_dq, &mut out.dforces_dq)),
+        (dr_dv, dv, (&mut out.dqdd_dv, &mut out.dforces_dv)),
+    ] {
+        for (c, (rows, d)) in rows.iter().zip(&d.data.0).enumerate() {
+            let mut acc = [0.0; N];
+            for &k in *rows {
+                let k = usize::from(k);
+                // The generator lists rows below `N` only.
+                let (Some(&x), Some(column)) = (d.get(k), map.get(k)) else {
+                    continue;
+                };
+                for (acc, &a) in acc.iter_mut().zip(column) {
+                    *acc = fma(-x, a, *acc);
+                }
+            }
+            split(&acc, top, bottom, c);
+        }
+    }
+    Ok(out)
+}
+
+/// Column `c` of `top` (the first `NV` values of `column`) and of `bottom` (the rest).
+#[inline(always)]
+fn split<const NV: usize, const R: usize, const N: usize>(
+    column: &[f64; N],
+    top: &mut SMatrix<f64, NV, NV>,
+    bottom: &mut SMatrix<f64, R, NV>,
+    c: usize,
+) {
+    if let (Some(t), Some(b)) = (top.data.0.get_mut(c), bottom.data.0.get_mut(c)) {
+        for (out, &x) in t.iter_mut().zip(column) {
+            *out = x;
+        }
+        for (out, &x) in b.iter_mut().zip(column.iter().skip(NV)) {
+            *out = x;
+        }
+    }
+}
+
+/// `column = [top; bottom]`.
+#[inline(always)]
+fn stack<const NV: usize, const R: usize, const N: usize>(
+    column: &mut [f64; N],
+    top: &[f64; NV],
+    bottom: &[f64; R],
+) {
+    for (out, &x) in column.iter_mut().zip(top) {
+        *out = x;
+    }
+    for (out, &x) in column.iter_mut().skip(NV).zip(bottom) {
+        *out = x;
+    }
+}

@@ -1,0 +1,337 @@
+//! `constrained_forward_dynamics_derivatives` of a large chain, composed of two smaller
+//! generated functions and a product rather than traced whole (as
+//! [`composed`](super::composed) does for `forward_dynamics_derivatives`, for the same reason:
+//! traced whole, the humanoid's on two feet is a few hundred thousand operations of
+//! straight-line code, bound by fetching it).
+//!
+//! At the solution `(q̈, f)` the residuals `r₁ = ID(q, v, q̈) − Jᵀ·f − τ` and `r₂ = J·q̈ + γ`
+//! vanish for every state, so along any direction (Pinocchio's
+//! `computeConstraintDynamicsDerivatives` takes the same path)
+//!
+//! ```text
+//! (∂q̈, ∂f) = −N·(∂r₁, ∂r₂),   N = [M −Jᵀ; J 0]⁻¹ with its second block column negated
+//! ```
+//!
+//! whose first `nv` columns are `∂(q̈, f)/∂τ` (`∂r₁/∂τ = −1`). The parts:
+//!
+//! ```text
+//! (q̈, f)              = constrained_forward_dynamics(q, v, τ)?
+//! M⁻¹                 = mass_matrix_inverse(q)?
+//! (∂r/∂q, ∂r/∂v, r₂, J) = residuals(q, v, q̈, f)     forward mode, one Newton–Euler pass per
+//!                                                   tangent direction
+//! N                   = from M⁻¹ and J             G = J·M⁻¹·Jᵀ factored, dense products
+//! (∂q̈, ∂f)/∂q = −N·∂r/∂q,  (∂q̈, ∂f)/∂v = −N·∂r/∂v
+//! ```
+//!
+//! the last products visiting only the entries of `∂r` the traced residuals can make non-zero
+//! (`articulated::__private::minus_product`), all in the runtime's axes (a six-dimensional
+//! constraint's rows and wrench in its frame).
+
+use proc_macro2::{Ident, Literal, Span, TokenStream};
+use quote::{format_ident, quote};
+
+use super::composed::COMPOSE_OPS;
+use super::constraints::vector_type;
+use super::function::{self, Used};
+use super::{docs, Context};
+use crate::emit;
+use crate::options::Output;
+use crate::sym::{Graph, Node, OpCounts, Sym};
+use crate::trace::constrained::{self, Constraint};
+
+/// Whether a traced `constrained_forward_dynamics_derivatives` of `ops` is emitted composed.
+pub(super) fn composes(ops: &OpCounts) -> bool {
+    ops.total() > COMPOSE_OPS
+}
+
+/// The composed function (`traced_ops`: what the traced function would have taken, `solve_ops`:
+/// `constrained_forward_dynamics`'), preceded by the parts the chain does not have already, as
+/// private functions; and its operation count. `fdd_composed`: the composed
+/// `forward_dynamics_derivatives` has its `M⁻¹` part.
+pub(super) fn item(
+    cx: &Context,
+    constraints: &[Constraint],
+    (traced_ops, solve_ops): (&OpCounts, &OpCounts),
+    fdd_composed: bool,
+) -> syn::Result<(TokenStream, OpCounts)> {
+    let (nv, rows) = (cx.nv, cx.options.constraint_rows());
+    let n = nv + rows;
+    let (graph, values) =
+        constrained::trace_residual_jacobians(cx.model, &cx.frames(), constraints);
+    let residual_ops = graph.op_counts(&values);
+    let (dq_rows, dv_rows) = (
+        nonzero_rows(&graph, &values[..n * nv], n, nv),
+        nonzero_rows(&graph, &values[n * nv..2 * n * nv], n, nv),
+    );
+    let visited = dq_rows.iter().chain(&dv_rows).map(Vec::len).sum::<usize>();
+    let minv = cx.trace(Output::MassMatrixInverse);
+    let minv_ops = minv.graph.op_counts(&function::outputs(cx, &minv));
+    cx.checked(&minv, &minv_ops)?;
+    let mut privates = vec![residuals_function(cx, &graph, &values)?];
+    let minv_call = if cx.options.outputs.contains(&Output::MassMatrixInverse) {
+        let trait_ = function::trait_path(cx, Output::MassMatrixInverse);
+        quote!(<Self as #trait_>::mass_matrix_inverse_with)
+    } else if fdd_composed {
+        quote!(Self::forward_dynamics_derivatives_part_mass_matrix_inverse)
+    } else {
+        let name =
+            format_ident!("constrained_forward_dynamics_derivatives_part_mass_matrix_inverse");
+        let doc = " Part of [`constrained_forward_dynamics_derivatives`]\
+                   (Self::constrained_forward_dynamics_derivatives): `M⁻¹`, as \
+                   `mass_matrix_inverse`.";
+        privates.push(function::part(cx, &minv, &name, doc)?);
+        quote!(Self::#name)
+    };
+    // The dense products of `N` (`J·M⁻¹`, `G`, `G⁻¹·J·M⁻¹`, `P`: about `rows·nv²` each and
+    // `G`'s factorization), then the two sparse ones: a multiply and an add per visited entry
+    // of `∂r` and row of `N`, and the entry's negation.
+    let mut ops = *solve_ops + minv_ops + residual_ops;
+    let dense = 3 * rows * nv * nv + rows * rows * nv + rows * rows * rows;
+    ops.muls += dense + visited * n;
+    ops.adds += dense + visited * n;
+    ops.divs += rows * rows;
+    ops.negs += visited;
+
+    let [dq_const, dv_const] = [("DQ", &dq_rows), ("DV", &dv_rows)].map(|(name, rows)| {
+        let name = Ident::new(name, Span::call_site());
+        let columns = rows.iter().map(|r| {
+            let r = r.iter().map(|&k| Literal::u16_unsuffixed(k));
+            quote!(&[#(#r),*])
+        });
+        let nv = Literal::usize_unsuffixed(nv);
+        quote!(const #name: [&[u16]; #nv] = [#(#columns),*];)
+    });
+    // Each row of `G`: its constraint and its row there, for `ConstraintError::Redundant`.
+    let owners = constraints.iter().enumerate().flat_map(|(c, constraint)| {
+        (0..constraint.rows()).map(move |row| {
+            let (c, row) = (Literal::usize_unsuffixed(c), Literal::usize_unsuffixed(row));
+            quote!((#c, #row))
+        })
+    });
+    let paragraphs = doc(
+        cx,
+        (traced_ops, &ops),
+        [solve_ops, &minv_ops, &residual_ops],
+        visited,
+    );
+    let docs = docs::lines(&paragraphs)
+        .into_iter()
+        .map(|d| quote!(#[doc = #d]));
+    let (q_ty, v_ty) = (vector_type(cx, cx.nq), vector_type(cx, nv));
+    let params_ty = &cx.params_ty;
+    let params = if cx.param_idents.is_empty() {
+        quote!(&())
+    } else {
+        quote!(&<#params_ty>::defaults())
+    };
+    let (nv, r, n) = (
+        Literal::usize_unsuffixed(nv),
+        Literal::usize_unsuffixed(rows),
+        Literal::usize_unsuffixed(n),
+    );
+    let private = quote!(::articulated::__private);
+    let error = quote!(::articulated::constraint::ConstraintError);
+    let tokens = quote! {
+        #(#privates)*
+        #(#docs)*
+        pub fn constrained_forward_dynamics_derivatives(
+            q: &#q_ty,
+            v: &#v_ty,
+            tau: &#v_ty,
+        ) -> ::core::result::Result<
+            ::articulated::constraint::derivatives::Derivatives<#nv, #r>,
+            #error,
+        > {
+            // The rows of each column of `∂r/∂q` and `∂r/∂v` that can be non-zero.
+            #dq_const
+            #dv_const
+            // The constraint and its row of each row of `G`.
+            const OWNERS: [(usize, usize); #r] = [#(#owners),*];
+            let (qdd, forces) = Self::constrained_forward_dynamics(q, v, tau)?;
+            let minv = #minv_call(q, #params)
+                .map_err(|e| #error::MassMatrix { velocity: e.velocity })?;
+            let (dr_dq, dr_dv, residual, rows) =
+                Self::constrained_forward_dynamics_derivatives_part_residuals(q, v, &qdd, &forces);
+            let solution = ::articulated::constraint::Solution {
+                acceleration: qdd,
+                forces,
+                rows: #r,
+                residual,
+                iterations: 1,
+            };
+            let derivatives = #private::constrained_derivatives::<#nv, #r, #n>(
+                solution,
+                &minv,
+                (&dr_dq, &dr_dv),
+                (&DQ, &DV),
+                &rows,
+                ::articulated::constraint::PIVOT_TOLERANCE,
+            )
+            .map_err(|k| {
+                let (contact, row) = OWNERS[k];
+                #error::Redundant { contact, row }
+            })?;
+            if !derivatives.all_finite() {
+                return Err(#error::NonFinite);
+            }
+            Ok(derivatives)
+        }
+    };
+    Ok((tokens, ops))
+}
+
+/// The residuals part: `∂r/∂q`, `∂r/∂v` and the rows `J` (stored entry by entry where they
+/// are computed) and `max |r₂|`, from `(q, v)` and the solution `(q̈, f)`.
+fn residuals_function(cx: &Context, graph: &Graph, values: &[Sym]) -> syn::Result<TokenStream> {
+    let (nv, rows) = (cx.nv, cx.options.constraint_rows());
+    let n = nv + rows;
+    let (sink, declare) = sink(
+        cx,
+        &[("dr_dq", n, nv), ("dr_dv", n, nv), ("rows", rows, nv)],
+    );
+    let emitted = emit::straight_line_into(
+        graph,
+        values,
+        cx.options.scalar,
+        &|var| cx.input(var),
+        Some(&sink),
+        None,
+    )?;
+    let mut used = Used::in_graph(graph, values, cx.nq, nv, 0);
+    used.forces.resize(rows, false);
+    let [bind_q, bind_v, bind_a, bind_f] = [
+        ("q", &used.q),
+        ("v", &used.v),
+        ("a", &used.a),
+        ("force", &used.forces),
+    ]
+    .map(|(name, used)| function::destructure(name, used));
+    let params_ty = &cx.params_ty;
+    let bind_params = used
+        .params
+        .then(|| quote!(let p = &<#params_ty>::defaults();));
+    let residuals = &emitted.outputs[(2 * n + rows) * nv..];
+    let (uses, statements) = (&emitted.uses, &emitted.statements);
+    let (q_ty, v_ty, r_ty) = (
+        vector_type(cx, cx.nq),
+        vector_type(cx, nv),
+        vector_type(cx, rows),
+    );
+    let (n, nv, r) = (
+        Literal::usize_unsuffixed(n),
+        Literal::usize_unsuffixed(nv),
+        Literal::usize_unsuffixed(rows),
+    );
+    Ok(quote! {
+        /// Part of [`constrained_forward_dynamics_derivatives`](Self::constrained_forward_dynamics_derivatives):
+        /// the residuals' derivatives `∂r/∂q`, `∂r/∂v` at `(q, v)` with the solution `(q̈, f)`
+        /// held fixed, `max |J·q̈ + γ|` over the rows and the rows `J` (a six-dimensional
+        /// constraint's in its frame).
+        #[inline(never)]
+        #[allow(clippy::type_complexity)]
+        fn constrained_forward_dynamics_derivatives_part_residuals(
+            q: &#q_ty,
+            v: &#v_ty,
+            a: &#v_ty,
+            force: &#r_ty,
+        ) -> (
+            ::articulated::nalgebra::SMatrix<f64, #n, #nv>,
+            ::articulated::nalgebra::SMatrix<f64, #n, #nv>,
+            f64,
+            ::articulated::nalgebra::SMatrix<f64, #r, #nv>,
+        ) {
+            #declare
+            #uses
+            #bind_q
+            #bind_v
+            #bind_a
+            #bind_f
+            #bind_params
+            #statements
+            let residual = [#(#residuals),*].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            (dr_dq, dr_dv, residual, rows)
+        }
+    })
+}
+
+/// A sink that stores the first values into the `matrices` (name, rows, columns), one after
+/// the other, each row-major; and the matrices' declarations (zero).
+fn sink(cx: &Context, matrices: &[(&str, usize, usize)]) -> (emit::Sink, TokenStream) {
+    let mut places = Vec::new();
+    let mut declare = TokenStream::new();
+    let zero = emit::zero(cx.options.scalar);
+    for &(name, rows, cols) in matrices {
+        let name = format_ident!("{name}");
+        places.extend((0..rows * cols).map(|i| {
+            let (r, c) = (
+                Literal::usize_unsuffixed(i / cols),
+                Literal::usize_unsuffixed(i % cols),
+            );
+            vec![quote!(#name.data.0[#c][#r])]
+        }));
+        let (r, c) = (
+            Literal::usize_unsuffixed(rows),
+            Literal::usize_unsuffixed(cols),
+        );
+        declare.extend(quote! {
+            let mut #name = ::articulated::nalgebra::SMatrix::<f64, #r, #c>::from_array_storage(
+                ::articulated::nalgebra::ArrayStorage([[#zero; #r]; #c])
+            );
+        });
+    }
+    let sink = emit::Sink {
+        places,
+        boundaries: false,
+    };
+    (sink, declare)
+}
+
+/// The rows of each column of a row-major `rows × cols` matrix of `values` that are not the
+/// constant zero.
+fn nonzero_rows(graph: &Graph, values: &[Sym], rows: usize, cols: usize) -> Vec<Vec<u16>> {
+    (0..cols)
+        .map(|c| {
+            (0..rows)
+                .filter(
+                    |&r| !matches!(graph.node(values[r * cols + c]), Node::Const(x) if x == 0.0),
+                )
+                .map(|r| u16::try_from(r).unwrap_or(u16::MAX))
+                .collect()
+        })
+        .collect()
+}
+
+/// The composed function's docs: what it returns, how, and its operations (`ops`: the traced
+/// function's and the composed one's; `parts`: the solve's, `M⁻¹`'s and the residuals').
+fn doc(
+    cx: &Context,
+    (traced, ops): (&OpCounts, &OpCounts),
+    parts: [&OpCounts; 3],
+    visited: usize,
+) -> Vec<String> {
+    let (nv, rows) = (cx.nv, cx.options.constraint_rows());
+    let [solve, minv, residuals] = parts.map(OpCounts::total);
+    let mut paragraphs = super::constraints::derivatives_doc_head();
+    paragraphs.push(format!(
+        "Composed: `q̈` and the forces by `constrained_forward_dynamics` ({solve} operations), \
+         `M⁻¹` as `mass_matrix_inverse` ({minv}), the residuals `r₁ = ID(q, v, q̈) − Jᵀ·f − τ` \
+         and `r₂ = J·q̈ + γ` differentiated at fixed `(q̈, f)` by forward mode, with the rows \
+         `J` ({residuals}), then the solve's linear map `N = [M −Jᵀ; J 0]⁻¹` (its last {rows} \
+         columns negated) from `M⁻¹` and `J` by dense products, and `(∂q̈, ∂f) = −N·∂r` for `q` \
+         and `v`, visiting the {visited} of {} entries of `∂r/∂q` and `∂r/∂v` that can be \
+         non-zero (Pinocchio's `computeConstraintDynamicsDerivatives` takes the same path); \
+         `∂(q̈, f)/∂τ` are `N`'s first {nv} columns. Traced whole, this function would be {} \
+         operations of straight-line code, more than the generator emits as one function \
+         ({COMPOSE_OPS} at most): composed, it fetches far less code per call, which is what \
+         bounds a function that large. `solution.residual` is in the rows' axes here (a \
+         six-dimensional constraint's in its frame).",
+        2 * (nv + rows) * nv,
+        traced.total(),
+    ));
+    paragraphs.push(format!(
+        "Operations, the parts and the products: {}.",
+        docs::operations(ops)
+    ));
+    paragraphs.extend(super::constraints::derivatives_doc_errors());
+    paragraphs
+}
