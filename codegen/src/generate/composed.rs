@@ -138,7 +138,10 @@ pub(super) fn item(cx: &Context, traced_ops: OpCounts) -> syn::Result<(TokenStre
 
 /// The rows of each column of `∂τ/∂q` and of `∂τ/∂v` (in `traced`, the inverse-dynamics
 /// derivatives: both row-major) that are not the constant zero.
-fn nonzero_rows(traced: &crate::trace::Traced, nv: usize) -> (Vec<Vec<u16>>, Vec<Vec<u16>>) {
+pub(super) fn nonzero_rows(
+    traced: &crate::trace::Traced,
+    nv: usize,
+) -> (Vec<Vec<u16>>, Vec<Vec<u16>>) {
     let rows = |start: usize| -> Vec<Vec<u16>> {
         (0..nv)
             .map(|c| {

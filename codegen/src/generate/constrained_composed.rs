@@ -15,17 +15,19 @@
 //! whose first `nv` columns are `∂(q̈, f)/∂τ` (`∂r₁/∂τ = −1`). The parts:
 //!
 //! ```text
-//! (q̈, f)              = constrained_forward_dynamics(q, v, τ)?
-//! M⁻¹                 = mass_matrix_inverse(q)?
-//! (∂r/∂q, ∂r/∂v, r₂, J) = residuals(q, v, q̈, f)     forward mode, one Newton–Euler pass per
-//!                                                   tangent direction
-//! N                   = from M⁻¹ and J             G = J·M⁻¹·Jᵀ factored, dense products
-//! (∂q̈, ∂f)/∂q = −N·∂r/∂q,  (∂q̈, ∂f)/∂v = −N·∂r/∂v
+//! (q̈, f)            = constrained_forward_dynamics(q, v, τ)?
+//! M⁻¹               = mass_matrix_inverse(q)?
+//! ∂ID/∂q, ∂ID/∂v    = inverse_dynamics_derivatives(q, v, q̈)
+//! ∂c/∂q, ∂c/∂v, J   = the constraints' terms c = (−Jᵀ·f, J·q̈ + γ) at (q, v, q̈, f), by
+//!                     forward mode on massless bodies (a few thousand operations)
+//! N                 = from M⁻¹ and J: G = J·M⁻¹·Jᵀ factored, dense products
+//! (∂q̈, ∂f)/∂x       = −N·((∂ID/∂x, 0) + ∂c/∂x)   for x = q, v
 //! ```
 //!
-//! the last products visiting only the entries of `∂r` the traced residuals can make non-zero
-//! (`articulated::__private::minus_product`), all in the runtime's axes (a six-dimensional
-//! constraint's rows and wrench in its frame).
+//! the last products visiting only the entries of `∂r` the traced parts can make non-zero, all
+//! in the runtime's axes (a six-dimensional constraint's rows and wrench in its frame), at run
+//! time (`articulated::constraint::derivatives::composed`). Inverse dynamics' derivatives and
+//! `M⁻¹` are the composed `forward_dynamics_derivatives`' own parts where it is composed too.
 
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
@@ -39,7 +41,10 @@ use crate::options::Output;
 use crate::sym::{Graph, Node, OpCounts, Sym};
 use crate::trace::constrained::{self, Constraint};
 
-/// Whether a traced `constrained_forward_dynamics_derivatives` of `ops` is emitted composed.
+/// Whether a traced `constrained_forward_dynamics_derivatives` of `ops` is emitted composed:
+/// past the threshold of the composed `forward_dynamics_derivatives`, for the same reason. Below
+/// it the traced function is faster: arm7 with its flange welded (14,891 operations traced)
+/// took about 0.85× the time composed (x86-64-v3, the figures in the commit that set it).
 pub(super) fn composes(ops: &OpCounts) -> bool {
     ops.total() > COMPOSE_OPS
 }
@@ -56,36 +61,37 @@ pub(super) fn item(
 ) -> syn::Result<(TokenStream, OpCounts)> {
     let (nv, rows) = (cx.nv, cx.options.constraint_rows());
     let n = nv + rows;
-    let (graph, values) =
-        constrained::trace_residual_jacobians(cx.model, &cx.frames(), constraints);
-    let residual_ops = graph.op_counts(&values);
-    let (dq_rows, dv_rows) = (
-        nonzero_rows(&graph, &values[..n * nv], n, nv),
-        nonzero_rows(&graph, &values[n * nv..2 * n * nv], n, nv),
-    );
-    let visited = dq_rows.iter().chain(&dv_rows).map(Vec::len).sum::<usize>();
-    let minv = cx.trace(Output::MassMatrixInverse);
-    let minv_ops = minv.graph.op_counts(&function::outputs(cx, &minv));
-    cx.checked(&minv, &minv_ops)?;
-    let mut privates = vec![residuals_function(cx, &graph, &values)?];
-    let minv_call = if cx.options.outputs.contains(&Output::MassMatrixInverse) {
-        let trait_ = function::trait_path(cx, Output::MassMatrixInverse);
-        quote!(<Self as #trait_>::mass_matrix_inverse_with)
-    } else if fdd_composed {
-        quote!(Self::forward_dynamics_derivatives_part_mass_matrix_inverse)
-    } else {
-        let name =
-            format_ident!("constrained_forward_dynamics_derivatives_part_mass_matrix_inverse");
-        let doc = " Part of [`constrained_forward_dynamics_derivatives`]\
-                   (Self::constrained_forward_dynamics_derivatives): `M⁻¹`, as \
-                   `mass_matrix_inverse`.";
-        privates.push(function::part(cx, &minv, &name, doc)?);
-        quote!(Self::#name)
+    let (graph, values) = constrained::trace_constraint_terms(cx.model, &cx.frames(), constraints);
+    let terms_ops = graph.op_counts(&values);
+    let mut privates = vec![terms_function(cx, &graph, &values)?];
+    let (minv_call, minv_ops) = part(cx, Output::MassMatrixInverse, fdd_composed, &mut privates)?;
+    let (idd_call, idd_ops) = part(
+        cx,
+        Output::InverseDynamicsDerivatives,
+        fdd_composed,
+        &mut privates,
+    )?;
+    // The rows of `∂r` that can be non-zero: inverse dynamics' (the first `nv`) and the
+    // constraints' terms'.
+    let (id_q, id_v) =
+        super::composed::nonzero_rows(&cx.trace(Output::InverseDynamicsDerivatives), nv);
+    let union = |id: Vec<Vec<u16>>, start: usize| -> Vec<Vec<u16>> {
+        id.into_iter()
+            .zip(nonzero_rows(&graph, &values[start..start + n * nv], n, nv))
+            .map(|(mut a, b)| {
+                a.extend(b);
+                a.sort_unstable();
+                a.dedup();
+                a
+            })
+            .collect()
     };
+    let (dq_rows, dv_rows) = (union(id_q, 0), union(id_v, n * nv));
+    let visited = dq_rows.iter().chain(&dv_rows).map(Vec::len).sum::<usize>();
     // The dense products of `N` (`J·M⁻¹`, `G`, `G⁻¹·J·M⁻¹`, `P`: about `rows·nv²` each and
     // `G`'s factorization), then the two sparse ones: a multiply and an add per visited entry
     // of `∂r` and row of `N`, and the entry's negation.
-    let mut ops = *solve_ops + minv_ops + residual_ops;
+    let mut ops = *solve_ops + minv_ops + idd_ops + terms_ops;
     let dense = 3 * rows * nv * nv + rows * rows * nv + rows * rows * rows;
     ops.muls += dense + visited * n;
     ops.adds += dense + visited * n;
@@ -111,7 +117,7 @@ pub(super) fn item(
     let paragraphs = doc(
         cx,
         (traced_ops, &ops),
-        [solve_ops, &minv_ops, &residual_ops],
+        [solve_ops, &minv_ops, &idd_ops, &terms_ops],
         visited,
     );
     let docs = docs::lines(&paragraphs)
@@ -150,8 +156,9 @@ pub(super) fn item(
             let (qdd, forces) = Self::constrained_forward_dynamics(q, v, tau)?;
             let minv = #minv_call(q, #params)
                 .map_err(|e| #error::MassMatrix { velocity: e.velocity })?;
-            let (dr_dq, dr_dv, residual, rows) =
-                Self::constrained_forward_dynamics_derivatives_part_residuals(q, v, &qdd, &forces);
+            let (dtau_dq, dtau_dv) = #idd_call(q, v, &qdd, #params);
+            let (dc_dq, dc_dv, residual, rows) =
+                Self::constrained_forward_dynamics_derivatives_part_constraints(q, v, &qdd, &forces);
             let solution = ::articulated::constraint::Solution {
                 acceleration: qdd,
                 forces,
@@ -162,7 +169,8 @@ pub(super) fn item(
             let derivatives = #private::constrained_derivatives::<#nv, #r, #n>(
                 solution,
                 &minv,
-                (&dr_dq, &dr_dv),
+                (&dtau_dq, &dtau_dv),
+                (&dc_dq, &dc_dv),
                 (&DQ, &DV),
                 &rows,
                 ::articulated::constraint::PIVOT_TOLERANCE,
@@ -180,14 +188,52 @@ pub(super) fn item(
     Ok((tokens, ops))
 }
 
-/// The residuals part: `∂r/∂q`, `∂r/∂v` and the rows `J` (stored entry by entry where they
-/// are computed) and `max |r₂|`, from `(q, v)` and the solution `(q̈, f)`.
-fn residuals_function(cx: &Context, graph: &Graph, values: &[Sym]) -> syn::Result<TokenStream> {
+/// How the composed function calls `output` (`mass_matrix_inverse` or
+/// `inverse_dynamics_derivatives`, each `(…, p)`): through its trait where the description
+/// asks for it, as the composed `forward_dynamics_derivatives`' part where that is there
+/// (`fdd_composed`), else as a private part of its own pushed on `privates`; and its operations.
+fn part(
+    cx: &Context,
+    output: Output,
+    fdd_composed: bool,
+    privates: &mut Vec<TokenStream>,
+) -> syn::Result<(TokenStream, OpCounts)> {
+    let traced = cx.trace(output);
+    let ops = traced.graph.op_counts(&function::outputs(cx, &traced));
+    cx.checked(&traced, &ops)?;
+    let call = if cx.options.outputs.contains(&output) {
+        let trait_ = function::trait_path(cx, output);
+        let with = output.spec().with_name();
+        quote!(<Self as #trait_>::#with)
+    } else {
+        let owner = if fdd_composed {
+            "forward_dynamics_derivatives"
+        } else {
+            "constrained_forward_dynamics_derivatives"
+        };
+        let name = format_ident!("{owner}_part_{}", output.name());
+        if !fdd_composed {
+            let doc = format!(
+                " Part of [`constrained_forward_dynamics_derivatives`]\
+                 (Self::constrained_forward_dynamics_derivatives): as `{}`.",
+                output.name()
+            );
+            privates.push(function::part(cx, &traced, &name, &doc)?);
+        }
+        quote!(Self::#name)
+    };
+    Ok((call, ops))
+}
+
+/// The constraints' part: `∂c/∂q`, `∂c/∂v` and the rows `J` (stored entry by entry where they
+/// are computed) and `max |r₂|`, from `(q, v)` and the solution `(q̈, f)`
+/// ([`constrained::trace_constraint_terms`]).
+fn terms_function(cx: &Context, graph: &Graph, values: &[Sym]) -> syn::Result<TokenStream> {
     let (nv, rows) = (cx.nv, cx.options.constraint_rows());
     let n = nv + rows;
     let (sink, declare) = sink(
         cx,
-        &[("dr_dq", n, nv), ("dr_dv", n, nv), ("rows", rows, nv)],
+        &[("dc_dq", n, nv), ("dc_dv", n, nv), ("rows", rows, nv)],
     );
     let emitted = emit::straight_line_into(
         graph,
@@ -224,12 +270,12 @@ fn residuals_function(cx: &Context, graph: &Graph, values: &[Sym]) -> syn::Resul
     );
     Ok(quote! {
         /// Part of [`constrained_forward_dynamics_derivatives`](Self::constrained_forward_dynamics_derivatives):
-        /// the residuals' derivatives `∂r/∂q`, `∂r/∂v` at `(q, v)` with the solution `(q̈, f)`
-        /// held fixed, `max |J·q̈ + γ|` over the rows and the rows `J` (a six-dimensional
-        /// constraint's in its frame).
+        /// the constraints' share `c = (−Jᵀ·f, J·q̈ + γ)` of the residuals' derivatives,
+        /// `∂c/∂q` and `∂c/∂v` at `(q, v)` with the solution `(q̈, f)` held fixed, `max |J·q̈ +
+        /// γ|` over the rows and the rows `J` (a six-dimensional constraint's in its frame).
         #[inline(never)]
         #[allow(clippy::type_complexity)]
-        fn constrained_forward_dynamics_derivatives_part_residuals(
+        fn constrained_forward_dynamics_derivatives_part_constraints(
             q: &#q_ty,
             v: &#v_ty,
             a: &#v_ty,
@@ -249,7 +295,7 @@ fn residuals_function(cx: &Context, graph: &Graph, values: &[Sym]) -> syn::Resul
             #bind_params
             #statements
             let residual = [#(#residuals),*].iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            (dr_dq, dr_dv, residual, rows)
+            (dc_dq, dc_dv, residual, rows)
         }
     })
 }
@@ -302,28 +348,30 @@ fn nonzero_rows(graph: &Graph, values: &[Sym], rows: usize, cols: usize) -> Vec<
 }
 
 /// The composed function's docs: what it returns, how, and its operations (`ops`: the traced
-/// function's and the composed one's; `parts`: the solve's, `M⁻¹`'s and the residuals').
+/// function's and the composed one's; `parts`: the solve's, `M⁻¹`'s, inverse dynamics'
+/// derivatives' and the constraints' terms').
 fn doc(
     cx: &Context,
     (traced, ops): (&OpCounts, &OpCounts),
-    parts: [&OpCounts; 3],
+    parts: [&OpCounts; 4],
     visited: usize,
 ) -> Vec<String> {
     let (nv, rows) = (cx.nv, cx.options.constraint_rows());
-    let [solve, minv, residuals] = parts.map(OpCounts::total);
+    let [solve, minv, idd, terms] = parts.map(OpCounts::total);
     let mut paragraphs = super::constraints::derivatives_doc_head();
     paragraphs.push(format!(
         "Composed: `q̈` and the forces by `constrained_forward_dynamics` ({solve} operations), \
-         `M⁻¹` as `mass_matrix_inverse` ({minv}), the residuals `r₁ = ID(q, v, q̈) − Jᵀ·f − τ` \
-         and `r₂ = J·q̈ + γ` differentiated at fixed `(q̈, f)` by forward mode, with the rows \
-         `J` ({residuals}), then the solve's linear map `N = [M −Jᵀ; J 0]⁻¹` (its last {rows} \
-         columns negated) from `M⁻¹` and `J` by dense products, and `(∂q̈, ∂f) = −N·∂r` for `q` \
-         and `v`, visiting the {visited} of {} entries of `∂r/∂q` and `∂r/∂v` that can be \
-         non-zero (Pinocchio's `computeConstraintDynamicsDerivatives` takes the same path); \
-         `∂(q̈, f)/∂τ` are `N`'s first {nv} columns. Traced whole, this function would be {} \
-         operations of straight-line code, more than the generator emits as one function \
-         ({COMPOSE_OPS} at most): composed, it fetches far less code per call, which is what \
-         bounds a function that large. `solution.residual` is in the rows' axes here (a \
+         `M⁻¹` as `mass_matrix_inverse` ({minv}), the derivatives of the residuals `r₁ = ID(q, \
+         v, q̈) − Jᵀ·f − τ` and `r₂ = J·q̈ + γ` at fixed `(q̈, f)`: inverse dynamics' as \
+         `inverse_dynamics_derivatives` at `(q, v, q̈)` ({idd}), the constraints' by forward \
+         mode with the rows `J` ({terms}); then the solve's linear map `N = [M −Jᵀ; J 0]⁻¹` \
+         (its last {rows} columns negated) from `M⁻¹` and `J` by dense products, and `(∂q̈, ∂f) \
+         = −N·∂r` for `q` and `v`, visiting the {visited} of {} entries of `∂r/∂q` and `∂r/∂v` \
+         that can be non-zero (Pinocchio's `computeConstraintDynamicsDerivatives` takes the \
+         same path); `∂(q̈, f)/∂τ` are `N`'s first {nv} columns. Traced whole, this function \
+         would be {} operations of straight-line code, more than the generator emits as one \
+         function ({COMPOSE_OPS} at most): composed, it fetches far less code per call, which \
+         is what bounds a function that large. `solution.residual` is in the rows' axes here (a \
          six-dimensional constraint's in its frame).",
         2 * (nv + rows) * nv,
         traced.total(),

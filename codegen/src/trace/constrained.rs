@@ -57,7 +57,7 @@
 use articulated_dynamics::model::{Coupling, Model};
 use articulated_dynamics::reference::derivatives::{configuration_tangent, map_tree, Dual, Wrt};
 use articulated_dynamics::reference::{project, transmit, Ltdl, Tree};
-use articulated_dynamics::spatial::{Force, Mat3, Motion, Vec3};
+use articulated_dynamics::spatial::{Force, Inertia, Mat3, Motion, Vec3};
 use articulated_dynamics::Scalar;
 
 use super::frames::{Frame, FrameAt, In, Kinematics};
@@ -579,78 +579,78 @@ fn derivative_values(
     values
 }
 
-/// The residuals' derivatives for the composed `constrained_forward_dynamics_derivatives`: a
-/// graph of `q`, `v`, `q̈` (inputs `A`) and the forces (inputs `Force`) whose values are
-/// `∂r/∂q`, `∂r/∂v` (`(nv + rows) × nv` each, row-major), the rows `J` (`rows × nv`,
-/// row-major) and `r₂ = J·q̈ + γ`, `r = (r₁, r₂)` ([`residuals`]), all in the runtime's axes (a
-/// six-dimensional constraint's rows and wrench in its frame, as `constrained_forward_dynamics`
-/// returns the wrench); traced on the tree with its inertias regrouped and not, the fewer
-/// operations kept.
-pub fn trace_residual_jacobians(
+/// The constraints' part of the residuals' derivatives, for the composed
+/// `constrained_forward_dynamics_derivatives`: a graph of `q`, `v`, `q̈` (inputs `A`) and the
+/// forces (inputs `Force`) whose values are `∂c/∂q`, `∂c/∂v` (`(nv + rows) × nv` each,
+/// row-major) with `c = r − (ID(q, v, q̈), 0) = (−Jᵀ·f, J·q̈ + γ)`, `r = (r₁, r₂)`
+/// ([`residuals`]); then the rows `J` (`rows × nv`, row-major) and `r₂` itself; all in the
+/// runtime's axes (a six-dimensional constraint's rows and wrench in its frame, as
+/// `constrained_forward_dynamics` returns the wrench). Inverse dynamics' share, the larger,
+/// is `inverse_dynamics_derivatives` at `(q, v, q̈)`: here the bodies are massless, and the
+/// forces alone load the backward pass.
+pub fn trace_constraint_terms(
     model: &Model,
     frames: &[FrameAt],
     constraints: &[Constraint],
 ) -> (Graph, Vec<Sym>) {
     let rows: usize = constraints.iter().map(|c| c.rows()).sum();
-    let traced = [false, true].map(|regrouped| {
-        let variant = Variant {
-            regrouped,
-            formulation: Formulation::Specialized,
-            method: None,
-            analytic: false,
-            coriolis: false,
-            quasi_static: false,
+    let nv = model.nv();
+    let variant = Variant {
+        regrouped: false,
+        formulation: Formulation::Specialized,
+        method: None,
+        analytic: false,
+        coriolis: false,
+        quasi_static: false,
+    };
+    let (graph, values) = sym::trace(|| {
+        let (mut tree, turns) = symbolic_tree(model, false);
+        for node in &mut tree.nodes {
+            node.inertia = Inertia::zero();
+        }
+        let c = model.coupling();
+        let (q, v, qdd) = model_inputs(model, &c, &turns, variant, Var::A);
+        let forces = inputs(rows, Var::Force);
+        let params = inputs(model.params.len(), Var::Param);
+        let k = Kinematics::new(&tree, &q, &v);
+        let placed: Vec<_> = frames.iter().map(|f| k.frame(f, &params)).collect();
+        let at = Point {
+            tree: &tree,
+            coupling: &c,
+            frames,
+            constraints,
+            params: &params,
+            q: &q,
+            v: &v,
         };
-        let (graph, values) = sym::trace(|| {
-            let (tree, turns) = symbolic_tree(model, regrouped);
-            let c = model.coupling();
-            let (q, v, qdd) = model_inputs(model, &c, &turns, variant, Var::A);
-            let forces = inputs(rows, Var::Force);
-            let params = inputs(model.params.len(), Var::Param);
-            let k = Kinematics::new(&tree, &q, &v);
-            let placed: Vec<_> = frames.iter().map(|f| k.frame(f, &params)).collect();
-            let at = Point {
-                tree: &tree,
-                coupling: &c,
-                frames,
-                constraints,
-                params: &params,
-                q: &q,
-                v: &v,
-            };
-            let (by_q, by_v, r2) = residual_jacobians(&at, &placed, &qdd, &forces, false);
-            let zero = vec![Sym::zero(); tree.nv];
-            let (world_rows, _) = rows_and_drift(&k, &c, &placed, constraints, &zero, model.nv());
-            // Each column's six-dimensional rows turned into their frames (`Wᵀ`).
-            let mut rows_j = vec![Sym::zero(); rows * model.nv()];
-            for col in 0..model.nv() {
-                let mut x: Vec<Sym> = world_rows.iter().map(|r| r[col]).collect();
-                turn(&placed, constraints, &mut x, |w, x| w.tr_mul_vec(x));
-                for (r, x) in x.into_iter().enumerate() {
-                    rows_j[r * model.nv() + col] = x;
-                }
+        let (by_q, by_v, r2) = residual_jacobians(&at, &placed, &qdd, &forces, false);
+        let zero = vec![Sym::zero(); tree.nv];
+        let (world_rows, _) = rows_and_drift(&k, &c, &placed, constraints, &zero, nv);
+        // Each column's six-dimensional rows turned into their frames (`Wᵀ`).
+        let mut rows_j = vec![Sym::zero(); rows * nv];
+        for col in 0..nv {
+            let mut x: Vec<Sym> = world_rows.iter().map(|r| r[col]).collect();
+            turn(&placed, constraints, &mut x, |w, x| w.tr_mul_vec(x));
+            for (r, x) in x.into_iter().enumerate() {
+                rows_j[r * nv + col] = x;
             }
-            let label = |stem: &'static str, x: Vec<Sym>| {
-                let nv = model.nv();
-                x.into_iter()
-                    .enumerate()
-                    .map(move |(i, x)| x.label(format_args!("{stem}_{}_{}", i / nv, i % nv)))
-            };
-            let mut values: Vec<Sym> = label("dr_dq", by_q).chain(label("dr_dv", by_v)).collect();
-            values.extend(label("j", rows_j));
-            values.extend(
-                r2.into_iter()
-                    .enumerate()
-                    .map(|(i, x)| x.label(format_args!("residual_{i}"))),
-            );
-            values
-        });
-        let (graph, values) = reciprocals(&graph, &values);
-        reassociate(&graph, &values)
+        }
+        let label = |stem: &'static str, x: Vec<Sym>| {
+            x.into_iter()
+                .enumerate()
+                .map(move |(i, x)| x.label(format_args!("{stem}_{}_{}", i / nv, i % nv)))
+        };
+        let mut values: Vec<Sym> = label("dc_dq", by_q).chain(label("dc_dv", by_v)).collect();
+        values.extend(label("j", rows_j));
+        values.extend(
+            r2.into_iter()
+                .enumerate()
+                .map(|(i, x)| x.label(format_args!("residual_{i}"))),
+        );
+        values
     });
-    fewest(traced.into_iter().collect(), |(g, values)| {
-        g.op_counts(values).total()
-    })
+    let (graph, values) = reciprocals(&graph, &values);
+    reassociate(&graph, &values)
 }
 
 /// The constraints' rows (`nv` columns each) and drifts, stacked in order (module docs), from
