@@ -98,22 +98,7 @@ pub(super) fn item(
     ops.divs += rows * rows;
     ops.negs += visited;
 
-    let [dq_const, dv_const] = [("DQ", &dq_rows), ("DV", &dv_rows)].map(|(name, rows)| {
-        let name = Ident::new(name, Span::call_site());
-        let columns = rows.iter().map(|r| {
-            let r = r.iter().map(|&k| Literal::u16_unsuffixed(k));
-            quote!(&[#(#r),*])
-        });
-        let nv = Literal::usize_unsuffixed(nv);
-        quote!(const #name: [&[u16]; #nv] = [#(#columns),*];)
-    });
-    // Each row of `G`: its constraint and its row there, for `ConstraintError::Redundant`.
-    let owners = constraints.iter().enumerate().flat_map(|(c, constraint)| {
-        (0..constraint.rows()).map(move |row| {
-            let (c, row) = (Literal::usize_unsuffixed(c), Literal::usize_unsuffixed(row));
-            quote!((#c, #row))
-        })
-    });
+    let consts = consts(nv, (&dq_rows, &dv_rows), constraints);
     let paragraphs = doc(
         cx,
         (traced_ops, &ops),
@@ -148,11 +133,7 @@ pub(super) fn item(
             ::articulated::constraint::derivatives::Derivatives<#nv, #r>,
             #error,
         > {
-            // The rows of each column of `∂r/∂q` and `∂r/∂v` that can be non-zero.
-            #dq_const
-            #dv_const
-            // The constraint and its row of each row of `G`.
-            const OWNERS: [(usize, usize); #r] = [#(#owners),*];
+            #consts
             let (qdd, forces) = Self::constrained_forward_dynamics(q, v, tau)?;
             let minv = #minv_call(q, #params)
                 .map_err(|e| #error::MassMatrix { velocity: e.velocity })?;
@@ -186,6 +167,37 @@ pub(super) fn item(
         }
     };
     Ok((tokens, ops))
+}
+
+/// The composed function's constants: the rows of each column of `∂r/∂q` (`DQ`) and `∂r/∂v`
+/// (`DV`) that can be non-zero, and for each row of `G` its constraint and its row there
+/// (`OWNERS`, for `ConstraintError::Redundant`).
+fn consts(
+    nv: usize,
+    (dq_rows, dv_rows): (&[Vec<u16>], &[Vec<u16>]),
+    constraints: &[Constraint],
+) -> TokenStream {
+    let [dq, dv] = [("DQ", dq_rows), ("DV", dv_rows)].map(|(name, rows)| {
+        let name = Ident::new(name, Span::call_site());
+        let columns = rows.iter().map(|r| {
+            let r = r.iter().map(|&k| Literal::u16_unsuffixed(k));
+            quote!(&[#(#r),*])
+        });
+        let nv = Literal::usize_unsuffixed(nv);
+        quote!(const #name: [&[u16]; #nv] = [#(#columns),*];)
+    });
+    let owners = constraints.iter().enumerate().flat_map(|(c, constraint)| {
+        (0..constraint.rows()).map(move |row| {
+            let (c, row) = (Literal::usize_unsuffixed(c), Literal::usize_unsuffixed(row));
+            quote!((#c, #row))
+        })
+    });
+    let rows = Literal::usize_unsuffixed(constraints.iter().map(|c| c.rows()).sum());
+    quote! {
+        #dq
+        #dv
+        const OWNERS: [(usize, usize); #rows] = [#(#owners),*];
+    }
 }
 
 /// How the composed function calls `output` (`mass_matrix_inverse` or
