@@ -91,15 +91,6 @@ pub(super) fn item(cx: &Context, traced_ops: OpCounts) -> syn::Result<(TokenStre
         ScalarKind::F32 => quote!(::articulated::math::mul_addf),
         ScalarKind::Generic => quote!(|a: T, b: T, c: T| a * b + c),
     };
-    let nv = Literal::usize_unsuffixed(cx.nv);
-    let rows_const = |name: &str, rows: &[Vec<u16>]| {
-        let name = Ident::new(name, Span::call_site());
-        let columns = rows.iter().map(|r| {
-            let r = r.iter().map(|&k| Literal::u16_unsuffixed(k));
-            quote!(&[#(#r),*])
-        });
-        quote!(const #name: [&[u16]; #nv] = [#(#columns),*];)
-    };
     let (dq_const, dv_const) = (rows_const("DQ", &dq_rows), rows_const("DV", &dv_rows));
     let docs = doc(cx, &traced_ops, &ops, &dq_rows, &dv_rows)
         .into_iter()
@@ -134,6 +125,19 @@ pub(super) fn item(cx: &Context, traced_ops: OpCounts) -> syn::Result<(TokenStre
         }
     };
     Ok((tokens, ops))
+}
+
+/// `const NAME: [&[u16]; C] = […];`: the rows of each of the `C` columns that can be non-zero,
+/// which `articulated::__private::minus_product` (and the composed constrained derivatives)
+/// visit.
+pub(super) fn rows_const(name: &str, rows: &[Vec<u16>]) -> TokenStream {
+    let name = Ident::new(name, Span::call_site());
+    let c = Literal::usize_unsuffixed(rows.len());
+    let columns = rows.iter().map(|r| {
+        let r = r.iter().map(|&k| Literal::u16_unsuffixed(k));
+        quote!(&[#(#r),*])
+    });
+    quote!(const #name: [&[u16]; #c] = [#(#columns),*];)
 }
 
 /// The rows of each column of `∂τ/∂q` and of `∂τ/∂v` (in `traced`, the inverse-dynamics

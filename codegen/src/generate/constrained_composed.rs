@@ -1,5 +1,5 @@
-//! `constrained_forward_dynamics_derivatives` of a large chain, composed of two smaller
-//! generated functions and a product rather than traced whole (as
+//! `constrained_forward_dynamics_derivatives` of a large chain, composed of smaller generated
+//! functions and products at run time rather than traced whole (as
 //! [`composed`](super::composed) does for `forward_dynamics_derivatives`, for the same reason:
 //! traced whole, the humanoid's on two feet is a few hundred thousand operations of
 //! straight-line code, bound by fetching it).
@@ -29,10 +29,10 @@
 //! time (`articulated::constraint::derivatives::composed`). Inverse dynamics' derivatives and
 //! `M⁻¹` are the composed `forward_dynamics_derivatives`' own parts where it is composed too.
 
-use proc_macro2::{Ident, Literal, Span, TokenStream};
+use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 
-use super::composed::COMPOSE_OPS;
+use super::composed::{rows_const, COMPOSE_OPS};
 use super::constraints::vector_type;
 use super::function::{self, Used};
 use super::{docs, Context};
@@ -64,8 +64,9 @@ pub(super) fn item(
     let (graph, values) = constrained::trace_constraint_terms(cx.model, &cx.frames(), constraints);
     let terms_ops = graph.op_counts(&values);
     let mut privates = vec![terms_function(cx, &graph, &values)?];
-    let (minv_call, minv_ops) = part(cx, Output::MassMatrixInverse, fdd_composed, &mut privates)?;
-    let (idd_call, idd_ops) = part(
+    let (minv_call, _, minv_ops) =
+        part(cx, Output::MassMatrixInverse, fdd_composed, &mut privates)?;
+    let (idd_call, idd, idd_ops) = part(
         cx,
         Output::InverseDynamicsDerivatives,
         fdd_composed,
@@ -73,8 +74,7 @@ pub(super) fn item(
     )?;
     // The rows of `∂r` that can be non-zero: inverse dynamics' (the first `nv`) and the
     // constraints' terms'.
-    let (id_q, id_v) =
-        super::composed::nonzero_rows(&cx.trace(Output::InverseDynamicsDerivatives), nv);
+    let (id_q, id_v) = super::composed::nonzero_rows(&idd, nv);
     let union = |id: Vec<Vec<u16>>, start: usize| -> Vec<Vec<u16>> {
         id.into_iter()
             .zip(nonzero_rows(&graph, &values[start..start + n * nv], n, nv))
@@ -98,7 +98,7 @@ pub(super) fn item(
     ops.divs += rows * rows;
     ops.negs += visited;
 
-    let consts = consts(nv, (&dq_rows, &dv_rows), constraints);
+    let consts = consts((&dq_rows, &dv_rows), constraints);
     let paragraphs = doc(
         cx,
         (traced_ops, &ops),
@@ -173,19 +173,10 @@ pub(super) fn item(
 /// (`DV`) that can be non-zero, and for each row of `G` its constraint and its row there
 /// (`OWNERS`, for `ConstraintError::Redundant`).
 fn consts(
-    nv: usize,
     (dq_rows, dv_rows): (&[Vec<u16>], &[Vec<u16>]),
     constraints: &[Constraint],
 ) -> TokenStream {
-    let [dq, dv] = [("DQ", dq_rows), ("DV", dv_rows)].map(|(name, rows)| {
-        let name = Ident::new(name, Span::call_site());
-        let columns = rows.iter().map(|r| {
-            let r = r.iter().map(|&k| Literal::u16_unsuffixed(k));
-            quote!(&[#(#r),*])
-        });
-        let nv = Literal::usize_unsuffixed(nv);
-        quote!(const #name: [&[u16]; #nv] = [#(#columns),*];)
-    });
+    let (dq, dv) = (rows_const("DQ", dq_rows), rows_const("DV", dv_rows));
     let owners = constraints.iter().enumerate().flat_map(|(c, constraint)| {
         (0..constraint.rows()).map(move |row| {
             let (c, row) = (Literal::usize_unsuffixed(c), Literal::usize_unsuffixed(row));
@@ -203,13 +194,14 @@ fn consts(
 /// How the composed function calls `output` (`mass_matrix_inverse` or
 /// `inverse_dynamics_derivatives`, each `(…, p)`): through its trait where the description
 /// asks for it, as the composed `forward_dynamics_derivatives`' part where that is there
-/// (`fdd_composed`), else as a private part of its own pushed on `privates`; and its operations.
+/// (`fdd_composed`), else as a private part of its own pushed on `privates`; with its trace and
+/// its operations.
 fn part(
     cx: &Context,
     output: Output,
     fdd_composed: bool,
     privates: &mut Vec<TokenStream>,
-) -> syn::Result<(TokenStream, OpCounts)> {
+) -> syn::Result<(TokenStream, crate::trace::Traced, OpCounts)> {
     let traced = cx.trace(output);
     let ops = traced.graph.op_counts(&function::outputs(cx, &traced));
     cx.checked(&traced, &ops)?;
@@ -234,7 +226,7 @@ fn part(
         }
         quote!(Self::#name)
     };
-    Ok((call, ops))
+    Ok((call, traced, ops))
 }
 
 /// The constraints' part: `∂c/∂q`, `∂c/∂v` and the rows `J` (stored entry by entry where they

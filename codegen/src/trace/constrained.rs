@@ -151,7 +151,7 @@ impl ConstrainedTraced {
 /// way `M` and `h` can be formed (specialized recursions, `M`'s off-diagonal entries in the root
 /// frame or not, regrouped inertias or not), and keeps the fewest operations.
 pub fn trace(model: &Model, frames: &[FrameAt], constraints: &[Constraint]) -> ConstrainedTraced {
-    trace_with(model, frames, constraints, Mode::Solve)
+    trace_with(model, frames, constraints, false)
 }
 
 /// [`trace`] with the residuals `J·q̈ + γ` (one per row, world axes) and the derivatives after
@@ -162,24 +162,15 @@ pub fn trace_derivatives(
     frames: &[FrameAt],
     constraints: &[Constraint],
 ) -> ConstrainedTraced {
-    trace_with(model, frames, constraints, Mode::Derivatives)
+    trace_with(model, frames, constraints, true)
 }
 
-/// What [`trace_with`] traces after `q̈` and the forces.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Mode {
-    /// Nothing.
-    Solve,
-    /// The residuals and the derivatives ([`trace_derivatives`]).
-    Derivatives,
-}
-
-/// [`trace`] with what `mode` adds.
+/// [`trace`] with the derivatives ([`trace_derivatives`]'s values) or without.
 fn trace_with(
     model: &Model,
     frames: &[FrameAt],
     constraints: &[Constraint],
-    mode: Mode,
+    derivatives: bool,
 ) -> ConstrainedTraced {
     let variants = [false, true].into_iter().flat_map(|regrouped| {
         [Formulation::Specialized, Formulation::SpecializedRootFrame].map(|formulation| Variant {
@@ -192,7 +183,7 @@ fn trace_with(
         })
     });
     let traced: Vec<ConstrainedTraced> = variants
-        .map(|v| trace_variant(model, frames, constraints, v, mode).rebuilt(reciprocals))
+        .map(|v| trace_variant(model, frames, constraints, v, derivatives).rebuilt(reciprocals))
         .collect();
     let candidates = traced.iter().map(|t| (t.variant, t.ops())).collect();
     let mut best = fewest(traced, |t| t.ops().total());
@@ -205,7 +196,7 @@ fn trace_variant(
     frames: &[FrameAt],
     constraints: &[Constraint],
     variant: Variant,
-    mode: Mode,
+    derivatives: bool,
 ) -> ConstrainedTraced {
     let (graph, (values, mass, delassus)) = sym::trace(|| {
         let (tree, turns) = symbolic_tree(model, variant.regrouped);
@@ -247,7 +238,7 @@ fn trace_variant(
             .collect();
         let mut values = qdd.clone();
         values.extend(&forces);
-        if mode == Mode::Derivatives {
+        if derivatives {
             // `max |J·q̈ + γ|` for the solution's report, then the derivatives.
             values.extend(rows.iter().zip(&drift).enumerate().map(|(r, (row, &d))| {
                 let x = row.iter().zip(&qdd).fold(d, |s, (&j, &a)| s + j * a);
