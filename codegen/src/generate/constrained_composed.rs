@@ -43,8 +43,8 @@ use crate::trace::constrained::{self, Constraint};
 
 /// Whether a traced `constrained_forward_dynamics_derivatives` of `ops` is emitted composed:
 /// past the threshold of the composed `forward_dynamics_derivatives`, for the same reason. Below
-/// it the traced function is faster: arm7 with its flange welded (14,891 operations traced)
-/// took about 0.85× the time composed (x86-64-v3, the figures in the commit that set it).
+/// it the traced function is faster (arm7 with its flange welded, measured side by side: the
+/// figures are in the commit that set it).
 pub(super) fn composes(ops: &OpCounts) -> bool {
     ops.total() > COMPOSE_OPS
 }
