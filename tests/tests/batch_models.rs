@@ -47,8 +47,25 @@ struct FourBar;
 /// 11 states: two whole groups of four and a partial one.
 const N: usize = 11;
 
+/// Runs `test` on a thread of 8 MiB, what a program's main thread has on Linux. The integration
+/// tests build at opt-level 0 (the workspace's Cargo.toml), where every temporary of the
+/// humanoid's functions in lanes keeps a stack slot of its own: more than the 2 MiB of a test's
+/// thread.
+fn on_a_large_stack(test: fn()) {
+    std::thread::Builder::new()
+        .stack_size(8 << 20)
+        .spawn(test)
+        .expect("a thread for the test")
+        .join()
+        .unwrap_or_else(|failure| std::panic::resume_unwind(failure));
+}
+
 #[test]
 fn frames_and_a_floating_base_in_lanes_are_the_scalar_functions() {
+    on_a_large_stack(frames_and_a_floating_base);
+}
+
+fn frames_and_a_floating_base() {
     let (q, v, a) = (
         states::<{ TwoLinkFoot::NQ }>(N, 14),
         states::<{ TwoLinkFoot::NV }>(N, 15),
@@ -113,6 +130,10 @@ fn humanoid_states(n: usize, seed: u64) -> Vec<SVector<f64, { Humanoid::NQ }>> {
 
 #[test]
 fn an_ensemble_steps_each_copy_as_rk4_steps_it_alone() {
+    on_a_large_stack(ensemble_against_rk4);
+}
+
+fn ensemble_against_rk4() {
     use articulated::integrate::{ControlledChain, Ensemble, Integrator, Rk4, State};
     // The humanoid: a quaternion base, so the Munthe-Kaas stages on its manifold; 11 copies,
     // three groups of four lanes per stage; the seventh with a NaN force.
