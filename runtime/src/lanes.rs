@@ -30,6 +30,18 @@
 //! state (the traits' provided methods); with it, the generator overrides them with the lane
 //! code, at the price of compiling each output twice.
 //!
+//! # What lanes speed up, and what they cannot
+//!
+//! The lanes carry every operation of the scalar code for `N` states at once, with one exception
+//! that bounds what they gain: the sines and cosines. The scalar functions already compute
+//! theirs four angles per instruction where the target has AVX2 ([`crate::math::sincos_array`]),
+//! so in lanes a state's sines cost what they cost it alone, less only the padding of the scalar
+//! code's last group of four (a chain of 6 angles: 8 computed alone, 6 in lanes; the humanoid's
+//! 31: 32 and 31). The outputs whose work is mostly sines and cosines, such as a short chain's
+//! mass matrix, gain least. Gathering the states into lanes and scattering the results, entry by
+//! entry of the inputs and outputs, take their share too. `BENCHMARKS.md` ("Many states per
+//! call") has the ratios.
+//!
 //! # Why wrappers of `wide`'s vectors
 //!
 //! The generated code is written in `+ − · /` and a few calls: it needs a type whose operators
