@@ -931,10 +931,10 @@ pub fn inverse_dynamics<const NV: usize, const R: usize>(
     unactuated: usize,
 ) -> Result<ContactWrenches<NV, R>, ConstraintError> {
     let u = unactuated;
-    if u > 6 || u > NV || !finite(m.iter().chain(nle.iter()).chain(qdd.iter())) {
+    if u > 6 || u > NV || !finite(&[m.as_slice(), nle.as_slice(), qdd.as_slice()]) {
         return Err(ConstraintError::NonFinite);
     }
-    if !finite(system.jacobian.iter()) {
+    if !finite(&[system.jacobian.as_slice()]) {
         return Err(ConstraintError::NonFinite);
     }
     let h = m * qdd + nle;
@@ -965,7 +965,7 @@ pub fn inverse_dynamics<const NV: usize, const R: usize>(
     }
     let tau = h - j.tr_mul(&forces);
     let residual = tau.iter().take(u).fold(0.0f64, |m, x| m.max(x.abs()));
-    if !finite(tau.iter().chain(forces.iter())) {
+    if !finite(&[tau.as_slice(), forces.as_slice()]) {
         return Err(ConstraintError::NonFinite);
     }
     Ok(ContactWrenches {
@@ -1272,7 +1272,7 @@ where
         + Allocator<R>,
 {
     let gains_finite = baumgarte.is_none_or(|g| g.kp.is_finite() && g.kd.is_finite());
-    if !gains_finite || !finite(v.iter().chain(nle.iter()).chain(tau.iter())) {
+    if !gains_finite || !finite(&[v.as_slice(), nle.as_slice(), tau.as_slice()]) {
         return Err(ConstraintError::NonFinite);
     }
     let jv = rows.jacobian * v;
@@ -1300,7 +1300,7 @@ where
         + Allocator<N>
         + Allocator<R>,
 {
-    let valid = restitution.is_finite() && restitution >= 0.0 && finite(v_minus.iter());
+    let valid = restitution.is_finite() && restitution >= 0.0 && finite(&[v_minus.as_slice()]);
     if !valid {
         return Err(ConstraintError::NonFinite);
     }
@@ -1309,8 +1309,10 @@ where
     solve(&l, v_minus.clone(), rows, b, settings)
 }
 
-fn finite<'a>(mut x: impl Iterator<Item = &'a f64>) -> bool {
-    x.all(|x| x.is_finite())
+/// Every value of every part finite. Part by part: a chain of iterators over them all is a loop
+/// the compiler does not vectorize.
+fn finite(parts: &[&[f64]]) -> bool {
+    parts.iter().all(|p| p.iter().all(|x| x.is_finite()))
 }
 
 /// `L` with `M = L·Lᵀ` (lower triangle), refusing a pivot below `pivot_tolerance` times its
@@ -1322,7 +1324,7 @@ pub(crate) fn factor<N: Dim>(
 where
     DefaultAllocator: Allocator<N, N>,
 {
-    if !finite(m.iter()) {
+    if !finite(&[m.as_slice()]) {
         return Err(ConstraintError::NonFinite);
     }
     cholesky(m, m.nrows(), settings.pivot_tolerance)
@@ -1428,13 +1430,13 @@ where
     for r in k..b.nrows() {
         b[r] = 0.0;
     }
-    if !finite(
-        j.iter()
-            .chain(rows.drift.iter())
-            .chain(rows.error.iter())
-            .chain(b.iter())
-            .chain(x0.iter()),
-    ) {
+    if !finite(&[
+        j.as_slice(),
+        rows.drift.as_slice(),
+        rows.error.as_slice(),
+        b.as_slice(),
+        x0.as_slice(),
+    ]) {
         return Err(ConstraintError::NonFinite);
     }
     // W = L⁻¹·Jᵀ, column by column; G = Wᵀ·W.
@@ -1500,7 +1502,7 @@ where
     };
     let x = &x0 + solve_back(l, &w, &forces);
     let residual = residual(j, &x, &b, k);
-    if !finite(x.iter().chain(forces.iter())) {
+    if !finite(&[x.as_slice(), forces.as_slice()]) {
         return Err(ConstraintError::NonFinite);
     }
     Ok((x, forces, residual, iterations))

@@ -815,7 +815,7 @@ where
 {
     let Dynamics { m, nle, tau, v } = *dynamics;
     let h = problem.h;
-    if !(h.is_finite() && h > 0.0 && finite(v.iter().chain(nle.iter()).chain(tau.iter()))) {
+    if !(h.is_finite() && h > 0.0 && finite(v.iter()) && finite(nle.iter()) && finite(tau.iter())) {
         return Err(ContactError::NonFinite);
     }
     let mut m = m.clone();

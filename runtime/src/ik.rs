@@ -611,7 +611,7 @@ where
         if predicted > 0.0 && rho > 0.0 && then.residual.cost.is_finite() {
             (q, placed, now) = (next, there, then);
             (h, g) = now.normal_equations(tasks, &placed, &jacobians(&q));
-            if !h.iter().chain(g.iter()).all(|x| x.is_finite()) {
+            if !(h.iter().all(|x| x.is_finite()) && g.iter().all(|x| x.is_finite())) {
                 return Err(stop(Stop::NonFinite, q, now.residual, iterations));
             }
             let r = 2.0 * rho - 1.0;

@@ -272,7 +272,10 @@ fn body(
     let (uses, statements) = (&emitted.uses, &emitted.statements);
     let body = quote! {
         #declare_tolerance
-        if !q.iter().chain(v.iter()).chain(tau.iter()).all(|x| x.is_finite()) {
+        if ![q.as_slice(), v.as_slice(), tau.as_slice()]
+            .iter()
+            .all(|s| s.iter().all(|x| x.is_finite()))
+        {
             return Err(::articulated::constraint::ConstraintError::NonFinite);
         }
         #uses
@@ -317,7 +320,10 @@ fn function(
             #body
             let qdd = #qdd;
             let forces = #forces;
-            if !qdd.iter().chain(forces.iter()).all(|x| x.is_finite()) {
+            if ![qdd.as_slice(), forces.as_slice()]
+                .iter()
+                .all(|s| s.iter().all(|x| x.is_finite()))
+            {
                 return Err(::articulated::constraint::ConstraintError::NonFinite);
             }
             Ok((qdd, forces))

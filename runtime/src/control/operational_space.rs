@@ -115,7 +115,8 @@ impl<const R: usize, const NV: usize> OperationalSpace<R, NV> {
         j: &SMatrix<f64, R, NV>,
         tolerance: f64,
     ) -> Result<Self, OperationalSpaceError> {
-        finite(m.iter().chain(j.iter()))?;
+        finite(m.iter())?;
+        finite(j.iter())?;
         let cholesky = m.cholesky().ok_or(OperationalSpaceError::MassMatrix)?;
         Self::from_m_inv_jt(cholesky.solve(&j.transpose()), j, tolerance)
     }
@@ -131,7 +132,8 @@ impl<const R: usize, const NV: usize> OperationalSpace<R, NV> {
         j: &SMatrix<f64, R, NV>,
         tolerance: f64,
     ) -> Result<Self, OperationalSpaceError> {
-        finite(m_inv.iter().chain(j.iter()))?;
+        finite(m_inv.iter())?;
+        finite(j.iter())?;
         Self::from_m_inv_jt(m_inv * j.transpose(), j, tolerance)
     }
 
