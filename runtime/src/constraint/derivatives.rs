@@ -94,11 +94,8 @@ pub struct Derivatives<const NV: usize, const R: usize> {
 impl<const NV: usize, const R: usize> Derivatives<NV, R> {
     /// Whether every value is finite: `q̈`, the forces and the six derivatives.
     pub fn all_finite(&self) -> bool {
-        // One slice at a time: a chain of iterators over every value is a loop the compiler
-        // does not vectorize, and on a large chain it showed in the composed derivatives' time.
         let s = &self.solution;
-        let finite = |x: &[f64]| x.iter().all(|x| x.is_finite());
-        [
+        super::finite(&[
             s.acceleration.as_slice(),
             s.forces.as_slice(),
             self.dqdd_dq.as_slice(),
@@ -107,9 +104,7 @@ impl<const NV: usize, const R: usize> Derivatives<NV, R> {
             self.dforces_dq.as_slice(),
             self.dforces_dv.as_slice(),
             self.dforces_dtau.as_slice(),
-        ]
-        .into_iter()
-        .all(finite)
+        ])
     }
 }
 
