@@ -1309,10 +1309,13 @@ where
     solve(&l, v_minus.clone(), rows, b, settings)
 }
 
-/// Every value of every part finite. Part by part: a chain of iterators over them all is a loop
-/// the compiler does not vectorize.
+/// Every value of every part finite. Part by part, and within a part without stopping at the
+/// first that is not: a chain of iterators over them all, or a loop that can stop early, is a
+/// loop the compiler does not vectorize.
 fn finite(parts: &[&[f64]]) -> bool {
-    parts.iter().all(|p| p.iter().all(|x| x.is_finite()))
+    parts
+        .iter()
+        .all(|p| p.iter().fold(true, |ok, x| ok & x.is_finite()))
 }
 
 /// `L` with `M = L·Lᵀ` (lower triangle), refusing a pivot below `pivot_tolerance` times its

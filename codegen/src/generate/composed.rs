@@ -114,13 +114,16 @@ pub(super) fn item(cx: &Context, traced_ops: OpCounts) -> syn::Result<(TokenStre
                 #dq_const
                 #dv_const
                 let qdd = #fd(q, v, tau, p)?;
-                let (dtau_dq, dtau_dv) = #idd(q, v, &qdd, p);
-                let minv = #minv(q, p)?;
-                Ok((
-                    #private::minus_product(&minv, &dtau_dq, &DQ, #fma),
-                    #private::minus_product(&minv, &dtau_dv, &DV, #fma),
-                    minv,
-                ))
+                // The parts borrowed where they lie: moving these matrices is copying them.
+                let dtau = #idd(q, v, &qdd, p);
+                match #minv(q, p) {
+                    Ok(minv) => Ok((
+                        #private::minus_product(&minv, &dtau.0, &DQ, #fma),
+                        #private::minus_product(&minv, &dtau.1, &DV, #fma),
+                        minv,
+                    )),
+                    Err(e) => Err(e),
+                }
             }
         }
     };

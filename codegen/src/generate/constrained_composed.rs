@@ -135,35 +135,32 @@ pub(super) fn item(
         > {
             #consts
             let (qdd, forces) = Self::constrained_forward_dynamics(q, v, tau)?;
-            let minv = #minv_call(q, #params)
-                .map_err(|e| #error::MassMatrix { velocity: e.velocity })?;
-            let (dtau_dq, dtau_dv) = #idd_call(q, v, &qdd, #params);
-            let (dc_dq, dc_dv, residual, rows) =
+            // Each part borrowed where it lies, not moved: moving these matrices is copying them.
+            let minv = #minv_call(q, #params);
+            let minv = match &minv {
+                Ok(minv) => minv,
+                Err(e) => return Err(#error::MassMatrix { velocity: e.velocity }),
+            };
+            let dtau = #idd_call(q, v, &qdd, #params);
+            let terms =
                 Self::constrained_forward_dynamics_derivatives_part_constraints(q, v, &qdd, &forces);
             let solution = ::articulated::constraint::Solution {
                 acceleration: qdd,
                 forces,
                 rows: #r,
-                residual,
+                residual: terms.2,
                 iterations: 1,
             };
-            let derivatives = #private::constrained_derivatives::<#nv, #r, #n>(
+            #private::constrained_derivatives::<#nv, #r, #n>(
                 solution,
-                &minv,
-                (&dtau_dq, &dtau_dv),
-                (&dc_dq, &dc_dv),
+                minv,
+                (&dtau.0, &dtau.1),
+                (&terms.0, &terms.1),
                 (&DQ, &DV),
-                &rows,
+                &terms.3,
                 ::articulated::constraint::PIVOT_TOLERANCE,
+                &OWNERS,
             )
-            .map_err(|k| {
-                let (contact, row) = OWNERS[k];
-                #error::Redundant { contact, row }
-            })?;
-            if !derivatives.all_finite() {
-                return Err(#error::NonFinite);
-            }
-            Ok(derivatives)
         }
     };
     Ok((tokens, ops))

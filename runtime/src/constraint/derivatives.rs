@@ -512,23 +512,61 @@ fn to_local(w: &nalgebra::Matrix3<f64>, c: &SVector<f64, 6>) -> SVector<f64, 6> 
 /// (`R × NV`), all in the rows' axes:
 ///
 /// - `G = J·M⁻¹·Jᵀ = L·Lᵀ`, each pivot held above `tolerance` of its unreduced value (the
-///   check of the generated solve; `Err(row)` at the first that is not), and `G⁻¹`;
+///   check of the generated solve; at the first that is not, [`ConstraintError::Redundant`]
+///   with the constraint and its row that `owners` lists for that row of `G`), and `G⁻¹`;
 /// - the solve's linear map `N = [P Yᵀ; −Y G⁻¹]` (`[M −Jᵀ; J 0]⁻¹` with its last `R`
 ///   columns negated), `Y = G⁻¹·J·M⁻¹`, `P = M⁻¹ − M⁻¹·Jᵀ·Y`: `∂q̈/∂τ = P`, `∂f/∂τ = −Y`;
-/// - `(∂q̈, ∂f) = −N·∂r` for `q` and `v`.
+/// - `(∂q̈, ∂f) = −N·∂r` for `q` and `v`;
+/// - [`ConstraintError::NonFinite`] where a value is not finite.
 ///
 /// Every product column by column into a local array (vector registers), as
-/// `articulated::__private::minus_product`; `M⁻¹` is symmetric, so `M⁻¹·Jᵀ` accumulates `M⁻¹`'s columns.
+/// `articulated::__private::minus_product`; `M⁻¹` is symmetric, so `M⁻¹·Jᵀ` accumulates `M⁻¹`'s
+/// columns. The result is the caller's to return as it is: a `Derivatives` of the humanoid is
+/// 43 KB, and each move of it through a `?` or a `map_err` was a copy.
 #[doc(hidden)]
+#[allow(clippy::too_many_arguments)]
 pub fn composed<const NV: usize, const R: usize, const N: usize>(
     solution: Solution<NV, R>,
+    minv: &SMatrix<f64, NV, NV>,
+    id: (&SMatrix<f64, NV, NV>, &SMatrix<f64, NV, NV>),
+    dc: (&SMatrix<f64, N, NV>, &SMatrix<f64, N, NV>),
+    rows: (&[&[u16]; NV], &[&[u16]; NV]),
+    j: &SMatrix<f64, R, NV>,
+    tolerance: f64,
+    owners: &[(usize, usize); R],
+) -> Result<Derivatives<NV, R>, ConstraintError> {
+    // One `Result`, filled where it lies and returned on every path: the compiler then builds
+    // it in the caller's place (a second local returned on another path, or an `Ok(out)` of a
+    // local, was a copy of all of it).
+    let mut result = Ok(Derivatives {
+        solution,
+        dqdd_dq: SMatrix::zeros(),
+        dqdd_dv: SMatrix::zeros(),
+        dqdd_dtau: SMatrix::zeros(),
+        dforces_dq: SMatrix::zeros(),
+        dforces_dv: SMatrix::zeros(),
+        dforces_dtau: SMatrix::zeros(),
+    });
+    if let Ok(out) = &mut result {
+        if let Err(e) = fill(out, minv, id, dc, rows, j, tolerance, owners) {
+            result = Err(e);
+        }
+    }
+    result
+}
+
+/// [`composed`]'s products, into `out` (its solution set).
+#[allow(clippy::too_many_arguments)]
+fn fill<const NV: usize, const R: usize, const N: usize>(
+    out: &mut Derivatives<NV, R>,
     minv: &SMatrix<f64, NV, NV>,
     id: (&SMatrix<f64, NV, NV>, &SMatrix<f64, NV, NV>),
     (dc_dq, dc_dv): (&SMatrix<f64, N, NV>, &SMatrix<f64, N, NV>),
     (dq, dv): (&[&[u16]; NV], &[&[u16]; NV]),
     j: &SMatrix<f64, R, NV>,
     tolerance: f64,
-) -> Result<Derivatives<NV, R>, usize> {
+    owners: &[(usize, usize); R],
+) -> Result<(), ConstraintError> {
     const { assert!(N == NV + R, "N is NV + R") };
     let fma = crate::math::mul_add;
     let minv_columns = &minv.data.0;
@@ -557,7 +595,10 @@ pub fn composed<const NV: usize, const R: usize, const N: usize>(
         }
         *column = acc;
     }
-    let l = super::cholesky(&g, R, tolerance)?;
+    let l = super::cholesky(&g, R, tolerance).map_err(|k| {
+        let (contact, row) = owners.get(k).copied().unwrap_or((k, 0));
+        ConstraintError::Redundant { contact, row }
+    })?;
     let mut ginv = SMatrix::<f64, R, R>::identity();
     for mut column in ginv.column_iter_mut() {
         let mut x: SVector<f64, R> = column.clone_owned();
@@ -595,15 +636,6 @@ pub fn composed<const NV: usize, const R: usize, const N: usize>(
     for (column, (y, gc)) in map.iter_mut().skip(NV).zip(yt.iter().zip(&ginv.data.0)) {
         stack(column, y, gc);
     }
-    let mut out = Derivatives {
-        solution,
-        dqdd_dq: SMatrix::zeros(),
-        dqdd_dv: SMatrix::zeros(),
-        dqdd_dtau: SMatrix::zeros(),
-        dforces_dq: SMatrix::zeros(),
-        dforces_dv: SMatrix::zeros(),
-        dforces_dtau: SMatrix::zeros(),
-    };
     for (c, column) in map.iter().take(NV).enumerate() {
         split(column, &mut out.dqdd_dtau, &mut out.dforces_dtau, c);
     }
@@ -628,7 +660,10 @@ pub fn composed<const NV: usize, const R: usize, const N: usize>(
             split(&acc, top, bottom, c);
         }
     }
-    Ok(out)
+    if !out.all_finite() {
+        return Err(ConstraintError::NonFinite);
+    }
+    Ok(())
 }
 
 /// Column `c` of `top` (the first `NV` values of `column`) and of `bottom` (the rest).
@@ -661,5 +696,67 @@ fn stack<const NV: usize, const R: usize, const N: usize>(
     }
     for (out, &x) in column.iter_mut().skip(NV).zip(bottom) {
         *out = x;
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::indexing_slicing)]
+mod tests {
+    use super::*;
+
+    /// Two unit masses, one row holding the first (`J = [1 0]`, `M = 1`): `∂q̈/∂τ` is the
+    /// projection on the free coordinate, `diag(0, 1)`, and `∂f/∂τ = −G⁻¹·J·M⁻¹ = [−1 0]`;
+    /// with `∂r = 0` the other derivatives vanish.
+    fn parts(j: [f64; 2], id_entry: f64) -> Result<Derivatives<2, 1>, ConstraintError> {
+        let solution = Solution {
+            acceleration: SVector::<f64, 2>::zeros(),
+            forces: SVector::<f64, 1>::zeros(),
+            rows: 1,
+            residual: 0.0,
+            iterations: 1,
+        };
+        let minv = SMatrix::<f64, 2, 2>::identity();
+        let mut id = SMatrix::<f64, 2, 2>::zeros();
+        id[(1, 1)] = id_entry;
+        let dc = SMatrix::<f64, 3, 2>::zeros();
+        let all: &[u16] = &[0, 1, 2];
+        let rows = [all, all];
+        let j = SMatrix::<f64, 1, 2>::new(j[0], j[1]);
+        composed::<2, 1, 3>(
+            solution,
+            &minv,
+            (&id, &id),
+            (&dc, &dc),
+            (&rows, &rows),
+            &j,
+            1e-10,
+            &[(4, 2)],
+        )
+    }
+
+    #[test]
+    fn composed_projects_on_the_free_coordinate() {
+        let d = parts([1.0, 0.0], 0.0).unwrap();
+        assert_eq!(d.dqdd_dtau, SMatrix::<f64, 2, 2>::new(0.0, 0.0, 0.0, 1.0));
+        assert_eq!(d.dforces_dtau, SMatrix::<f64, 1, 2>::new(-1.0, 0.0));
+        assert_eq!(d.dqdd_dq, SMatrix::<f64, 2, 2>::zeros());
+    }
+
+    /// A row of zeros is redundant: the error names the constraint and row that `owners` gives.
+    #[test]
+    fn composed_names_a_redundant_row_by_its_owner() {
+        assert_eq!(
+            parts([0.0, 0.0], 0.0).unwrap_err(),
+            ConstraintError::Redundant { contact: 4, row: 2 }
+        );
+    }
+
+    /// A derivative that is not finite is an error, not a value.
+    #[test]
+    fn composed_refuses_a_derivative_that_is_not_finite() {
+        assert_eq!(
+            parts([1.0, 0.0], f64::NAN).unwrap_err(),
+            ConstraintError::NonFinite
+        );
     }
 }
