@@ -143,48 +143,14 @@ pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
         fields.push(("frames", value));
     }
     if let Some(list) = &args.contacts {
-        let contacts = contacts::parse(list)?;
-        let names: Vec<String> = contacts.iter().map(|c| c.0.clone()).collect();
-        // A frame may carry two constraints (redundant ones are the solver's to name).
-        let mut distinct = names.clone();
-        distinct.sort();
-        distinct.dedup();
-        check_frames(model, &distinct).map_err(|e| e.replace("--frames", "--contacts"))?;
-        let gains = args
-            .baumgarte
-            .as_deref()
-            .map(contacts::parse_gains)
-            .transpose()?;
-        let restitution = args
-            .restitution
-            .as_deref()
-            .map(contacts::parse_restitution)
-            .transpose()?;
-        let kinematics = match args.engine {
-            Engine::Reference => contact_kinematics_by_reference(&reference, &names, &state),
-            Engine::Symbolic => contact_kinematics_by_graph(model, &names, &state),
-        };
-        let (mut constrained, mut impulse) = match kinematics {
-            Ok(k) => contacts::solve(&k, &contacts, &state.v, &state.tau, gains, restitution),
-            Err(e) => (Err(e.clone()), restitution.map(|_| Err(e))),
-        };
-        if let Some(p) = &pinocchio {
-            let sources = p.v_sources()?;
-            for (value, key) in [(constrained.as_mut().ok(), "qdd")]
-                .into_iter()
-                .chain([(impulse.as_mut().and_then(|i| i.as_mut().ok()), "v_plus")])
-            {
-                if let Some(Value::Object(object)) = value {
-                    if let Some(x) = object.get_mut(key) {
-                        *x = in_order(x, &sources);
-                    }
-                }
-            }
-        }
-        fields.push(("constrained", constrained));
-        if let Some(impulse) = impulse {
-            fields.push(("impulse", impulse));
-        }
+        fields.extend(constrained(
+            args,
+            list,
+            model,
+            &reference,
+            &state,
+            pinocchio.as_ref(),
+        )?);
     }
     let mut errors = Vec::new();
     let values: Vec<(&str, Value)> = fields
@@ -200,6 +166,59 @@ pub fn run(args: &EvalArgs) -> Result<(String, Vec<String>), String> {
         })
         .collect();
     Ok((to_json(&values), errors))
+}
+
+/// `--contacts LIST` (with `--baumgarte`, `--restitution`): the constrained accelerations and
+/// forces, and the impulse dynamics where a restitution is given, as `eval` prints them.
+fn constrained(
+    args: &EvalArgs,
+    list: &str,
+    model: &Model,
+    reference: &Reference,
+    state: &State,
+    pinocchio: Option<&Pinocchio>,
+) -> Result<Fields, String> {
+    let contacts = contacts::parse(list)?;
+    let names: Vec<String> = contacts.iter().map(|c| c.0.clone()).collect();
+    // A frame may carry two constraints (redundant ones are the solver's to name).
+    let mut distinct = names.clone();
+    distinct.sort();
+    distinct.dedup();
+    check_frames(model, &distinct).map_err(|e| e.replace("--frames", "--contacts"))?;
+    let gains = args
+        .baumgarte
+        .as_deref()
+        .map(contacts::parse_gains)
+        .transpose()?;
+    let restitution = args
+        .restitution
+        .as_deref()
+        .map(contacts::parse_restitution)
+        .transpose()?;
+    let kinematics = match args.engine {
+        Engine::Reference => contact_kinematics_by_reference(reference, &names, state),
+        Engine::Symbolic => contact_kinematics_by_graph(model, &names, state),
+    };
+    let (mut constrained, mut impulse) = match kinematics {
+        Ok(k) => contacts::solve(&k, &contacts, &state.v, &state.tau, gains, restitution),
+        Err(e) => (Err(e.clone()), restitution.map(|_| Err(e))),
+    };
+    if let Some(p) = pinocchio {
+        let sources = p.v_sources()?;
+        for (value, key) in [(constrained.as_mut().ok(), "qdd")]
+            .into_iter()
+            .chain([(impulse.as_mut().and_then(|i| i.as_mut().ok()), "v_plus")])
+        {
+            if let Some(Value::Object(object)) = value {
+                if let Some(x) = object.get_mut(key) {
+                    *x = in_order(x, &sources);
+                }
+            }
+        }
+    }
+    let mut fields: Fields = vec![("constrained", constrained)];
+    fields.extend(impulse.map(|i| ("impulse", i)));
+    Ok(fields)
 }
 
 /// The outputs indexed by velocity (vectors of `nv`, matrices `nv × nv`), which

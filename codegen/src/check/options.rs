@@ -130,121 +130,145 @@ fn constraints(model: &Model, options: &Options) -> Vec<Problem> {
     if !options.constrained() {
         return problems;
     }
-    for (k, c) in options.contacts.iter().enumerate() {
-        let about = About::Contact(k);
-        if options.contacts[..k].iter().any(|d| d.frame == c.frame) {
-            problems.push(Problem::new(
-                about,
-                format!(
-                    "contact `{}` is declared twice in `contacts`: a frame holds one contact (a \
-                     `six_d` contact holds its origin too)",
-                    c.frame
-                ),
-            ));
-        } else if let Some(message) = unknown_frame(model, &c.frame) {
-            problems.push(Problem::new(about, message));
-        } else if rigid_body(model, &c.frame) == Some(None) {
-            problems.push(Problem::new(
-                about,
-                format!(
-                    "contact `{}` holds a frame that cannot move (every joint between it and the \
-                     world is fixed or locked): its rows are zero, and `constrained_forward_dynamics` \
-                     would refuse them at every state; constrain a frame that moves",
-                    c.frame
-                ),
-            ));
-        }
+    for k in 0..options.contacts.len() {
+        contact(model, options, k, &mut problems);
     }
-    for (k, l) in options.loops.iter().enumerate() {
-        if options.loops[..k].iter().any(|m| m.name == l.name) {
-            problems.push(Problem::new(
-                About::Loop(k),
-                format!("loop `{}` is declared twice in `loops`", l.name),
-            ));
-        }
-        let unknown: Vec<Problem> = [&l.a, &l.b]
-            .iter()
-            .enumerate()
-            .filter_map(|(side, f)| {
-                unknown_frame(model, f).map(|m| Problem::new(About::LoopFrame(k, side), m))
-            })
-            .collect();
-        if !unknown.is_empty() {
-            problems.extend(unknown);
-        } else if l.a == l.b {
-            problems.push(Problem::new(
-                About::LoopFrame(k, 1),
-                format!(
-                    "loop `{}` holds frame `{}` on itself: expected two different frames, \
-                     `{}(a, b)` holding `a`{} on `b`{}",
-                    l.name,
-                    l.a,
-                    l.kind.name(),
-                    if l.kind == ContactKind::Point {
-                        "'s origin"
-                    } else {
-                        ""
-                    },
-                    if l.kind == ContactKind::Point {
-                        "'s"
-                    } else {
-                        ""
-                    },
-                ),
-            ));
-        } else if let (Some(a), Some(b)) = (rigid_body(model, &l.a), rigid_body(model, &l.b)) {
-            if a == b {
-                let fixed_to = match a.and_then(|b| model.bodies.get(b)) {
-                    Some(body) => format!("fixed to the same body `{}`", body.name),
-                    None => "both fixed to the world".to_string(),
-                };
-                problems.push(Problem::new(
-                    About::Loop(k),
-                    format!(
-                        "loop `{}` holds frames `{}` and `{}`, {fixed_to}: the distance between \
-                         them never changes, so the loop holds nothing and its rows depend on \
-                         each other at every state; close it between frames on bodies that \
-                         move apart",
-                        l.name, l.a, l.b
-                    ),
-                ));
-            }
-        }
+    for k in 0..options.loops.len() {
+        closed_loop(model, options, k, &mut problems);
     }
-    let rows = options.constraint_rows();
-    let nv = model.nv();
     // Counted once each constraint is sound (the count may change as they are fixed).
-    if rows > nv && problems.is_empty() {
-        // At the constraint whose rows pass the velocities.
-        let sizes = options
-            .contacts
-            .iter()
-            .map(|c| c.kind.rows())
-            .chain(options.loops.iter().map(crate::options::Loop::rows));
-        let mut total = 0;
-        let past = sizes
-            .enumerate()
-            .find(|&(_, r)| {
-                total += r;
-                total > nv
-            })
-            .map_or(0, |(k, _)| k);
-        let about = match past.checked_sub(options.contacts.len()) {
-            Some(l) => About::Loop(l),
-            None => About::Contact(past),
-        };
+    if problems.is_empty() {
+        problems.extend(too_many_rows(model, options));
+    }
+    problems
+}
+
+/// Contact `k`: declared once, on a frame of the model that moves.
+fn contact(model: &Model, options: &Options, k: usize, problems: &mut Vec<Problem>) {
+    let Some(c) = options.contacts.get(k) else {
+        return;
+    };
+    let about = About::Contact(k);
+    if options.contacts[..k].iter().any(|d| d.frame == c.frame) {
         problems.push(Problem::new(
             about,
             format!(
-                "the constraints have {rows} rows and `{}` has {nv} velocity coordinates: more \
-                 rows than velocities depend on each other at every state, which the exact \
-                 solve of `constrained_forward_dynamics` refuses; declare fewer constraints, or \
-                 `point` contacts (3 rows) for `six_d` ones (6)",
-                model.name
+                "contact `{}` is declared twice in `contacts`: a frame holds one contact (a \
+                 `six_d` contact holds its origin too)",
+                c.frame
+            ),
+        ));
+    } else if let Some(message) = unknown_frame(model, &c.frame) {
+        problems.push(Problem::new(about, message));
+    } else if rigid_body(model, &c.frame) == Some(None) {
+        problems.push(Problem::new(
+            about,
+            format!(
+                "contact `{}` holds a frame that cannot move (every joint between it and the \
+                 world is fixed or locked): its rows are zero, and `constrained_forward_dynamics` \
+                 would refuse them at every state; constrain a frame that moves",
+                c.frame
             ),
         ));
     }
-    problems
+}
+
+/// Loop `k`: named once, between two frames of the model, different, that move apart.
+fn closed_loop(model: &Model, options: &Options, k: usize, problems: &mut Vec<Problem>) {
+    let Some(l) = options.loops.get(k) else {
+        return;
+    };
+    if options.loops[..k].iter().any(|m| m.name == l.name) {
+        problems.push(Problem::new(
+            About::Loop(k),
+            format!("loop `{}` is declared twice in `loops`", l.name),
+        ));
+    }
+    let unknown: Vec<Problem> = [&l.a, &l.b]
+        .iter()
+        .enumerate()
+        .filter_map(|(side, f)| {
+            unknown_frame(model, f).map(|m| Problem::new(About::LoopFrame(k, side), m))
+        })
+        .collect();
+    if !unknown.is_empty() {
+        problems.extend(unknown);
+    } else if l.a == l.b {
+        problems.push(Problem::new(
+            About::LoopFrame(k, 1),
+            format!(
+                "loop `{}` holds frame `{}` on itself: expected two different frames, \
+                 `{}(a, b)` holding `a`{} on `b`{}",
+                l.name,
+                l.a,
+                l.kind.name(),
+                if l.kind == ContactKind::Point {
+                    "'s origin"
+                } else {
+                    ""
+                },
+                if l.kind == ContactKind::Point {
+                    "'s"
+                } else {
+                    ""
+                },
+            ),
+        ));
+    } else if let (Some(a), Some(b)) = (rigid_body(model, &l.a), rigid_body(model, &l.b)) {
+        if a == b {
+            let fixed_to = match a.and_then(|b| model.bodies.get(b)) {
+                Some(body) => format!("fixed to the same body `{}`", body.name),
+                None => "both fixed to the world".to_string(),
+            };
+            problems.push(Problem::new(
+                About::Loop(k),
+                format!(
+                    "loop `{}` holds frames `{}` and `{}`, {fixed_to}: the distance between \
+                     them never changes, so the loop holds nothing and its rows depend on \
+                     each other at every state; close it between frames on bodies that \
+                     move apart",
+                    l.name, l.a, l.b
+                ),
+            ));
+        }
+    }
+}
+
+/// More rows than velocities, at the constraint whose rows pass them.
+fn too_many_rows(model: &Model, options: &Options) -> Option<Problem> {
+    let rows = options.constraint_rows();
+    let nv = model.nv();
+    if rows <= nv {
+        return None;
+    }
+    // At the constraint whose rows pass the velocities.
+    let sizes = options
+        .contacts
+        .iter()
+        .map(|c| c.kind.rows())
+        .chain(options.loops.iter().map(crate::options::Loop::rows));
+    let mut total = 0;
+    let past = sizes
+        .enumerate()
+        .find(|&(_, r)| {
+            total += r;
+            total > nv
+        })
+        .map_or(0, |(k, _)| k);
+    let about = match past.checked_sub(options.contacts.len()) {
+        Some(l) => About::Loop(l),
+        None => About::Contact(past),
+    };
+    Some(Problem::new(
+        about,
+        format!(
+            "the constraints have {rows} rows and `{}` has {nv} velocity coordinates: more \
+             rows than velocities depend on each other at every state, which the exact \
+             solve of `constrained_forward_dynamics` refuses; declare fewer constraints, or \
+             `point` contacts (3 rows) for `six_d` ones (6)",
+            model.name
+        ),
+    ))
 }
 
 /// The frames of `frames: [...]`: each a frame of the model the scene leaves (a body, a

@@ -106,46 +106,13 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
                 Some("file") => file = Some(meta.value()?.parse()?),
                 Some("urdf") => urdf = Some(meta.value()?.parse()?),
                 Some("mjcf") => mjcf = Some(meta.value()?.parse()?),
-                Some("floating") => {
-                    let key = meta.path.get_ident().cloned();
-                    // `floating` alone is the Euler base; `floating = euler | quaternion`.
-                    let base = if meta.input.peek(Token![=]) {
-                        let name: Ident = meta.value()?.parse()?;
-                        match FloatingBase::from_name(&name.to_string()) {
-                            Some(b) if b.is_floating() => b,
-                            _ => {
-                                return Err(syn::Error::new(
-                                    name.span(),
-                                    format!(
-                                        "unknown floating base `{name}`: expected `euler` or \
-                                         `quaternion`"
-                                    ),
-                                ))
-                            }
-                        }
-                    } else {
-                        FloatingBase::Euler
-                    };
-                    floating = key.map(|k| (k, base));
-                }
+                Some("floating") => floating = parse_floating(&meta)?,
                 Some("scalar") => scalar = Some(parse_scalar(&meta)?),
                 Some("outputs") => outputs = Some(parse_outputs(&meta)?),
                 Some("accuracy") => accuracy = Some(parse_accuracy(&meta)?),
                 Some("lock") => locks.extend(parse_locks(&meta)?),
-                Some("keep") => {
-                    let value = meta.value()?;
-                    let content;
-                    syn::bracketed!(content in value);
-                    let names = Punctuated::<Ident, Token![,]>::parse_terminated(&content)?;
-                    keep = Some(names.into_iter().collect());
-                }
-                Some("frames") => {
-                    let value = meta.value()?;
-                    let content;
-                    syn::bracketed!(content in value);
-                    let names = Punctuated::<Ident, Token![,]>::parse_terminated(&content)?;
-                    frames = Some(names.into_iter().collect());
-                }
+                Some("keep") => keep = Some(parse_names(&meta)?),
+                Some("frames") => frames = Some(parse_names(&meta)?),
                 Some("contacts") => {
                     let (list, errors) = contacts_of(&meta.value()?.parse::<Expr>()?);
                     contacts = Some(list);
@@ -156,18 +123,7 @@ pub(crate) fn parse_attr(input: &DeriveInput) -> syn::Result<Attr> {
                     loops = Some(list);
                     combined(errors)?;
                 }
-                Some("lanes") => {
-                    let n: syn::LitInt = meta.value()?.parse()?;
-                    match n.base10_parse::<usize>() {
-                        Ok(k) if crate::options::LANES.contains(&k) => lanes = Some((k, n.span())),
-                        _ => {
-                            return Err(syn::Error::new(
-                                n.span(),
-                                crate::options::unknown_lanes(&n.to_string()),
-                            ))
-                        }
-                    }
-                }
+                Some("lanes") => lanes = Some(parse_lanes(&meta)?),
                 Some("quasi_static") => quasi_static = true,
                 Some("strict") => strict = true,
                 Some("balance_inertia") => balance_inertia = true,
@@ -342,6 +298,47 @@ fn parse_accuracy(meta: &ParseNestedMeta) -> syn::Result<(Accuracy, Ident)> {
     Accuracy::from_name(&name.to_string())
         .map(|a| (a, name.clone()))
         .ok_or_else(|| syn::Error::new(name.span(), unknown_accuracy(&name.to_string())))
+}
+
+/// `floating` alone (the Euler base) or `floating = euler | quaternion`, with the key's token.
+fn parse_floating(meta: &ParseNestedMeta) -> syn::Result<Option<(Ident, FloatingBase)>> {
+    let key = meta.path.get_ident().cloned();
+    let base = if meta.input.peek(Token![=]) {
+        let name: Ident = meta.value()?.parse()?;
+        match FloatingBase::from_name(&name.to_string()) {
+            Some(b) if b.is_floating() => b,
+            _ => {
+                return Err(syn::Error::new(
+                    name.span(),
+                    format!("unknown floating base `{name}`: expected `euler` or `quaternion`"),
+                ))
+            }
+        }
+    } else {
+        FloatingBase::Euler
+    };
+    Ok(key.map(|k| (k, base)))
+}
+
+/// `[name, …]` (`keep`, `frames`).
+fn parse_names(meta: &ParseNestedMeta) -> syn::Result<Vec<Ident>> {
+    let value = meta.value()?;
+    let content;
+    syn::bracketed!(content in value);
+    let names = Punctuated::<Ident, Token![,]>::parse_terminated(&content)?;
+    Ok(names.into_iter().collect())
+}
+
+/// `lanes = N`, one of the lane counts, with its token's span.
+fn parse_lanes(meta: &ParseNestedMeta) -> syn::Result<(usize, Span)> {
+    let n: syn::LitInt = meta.value()?.parse()?;
+    match n.base10_parse::<usize>() {
+        Ok(k) if crate::options::LANES.contains(&k) => Ok((k, n.span())),
+        _ => Err(syn::Error::new(
+            n.span(),
+            crate::options::unknown_lanes(&n.to_string()),
+        )),
+    }
 }
 
 /// `scalar = f64 | f32 | generic`.

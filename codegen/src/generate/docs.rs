@@ -43,30 +43,45 @@ pub(super) fn type_doc(cx: &Context) -> Vec<String> {
         outputs.join(", ")
     );
     lines.extend(wrap(&summary));
-    let (q_names, v_names) = cx.model.coordinate_names();
-    if !q_names.is_empty() {
-        let list = |names: &[String]| -> String {
-            names
-                .iter()
-                .map(|n| format!("`{n}`"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
+    for paragraph in [coordinates(cx), mimics(cx), scene(cx), constraints(cx)]
+        .into_iter()
+        .flatten()
+    {
         lines.push(String::new());
-        let text = if q_names == v_names {
-            format!(
-                "Coordinates (`q` and `v` alike, `Chain::Q_NAMES`): {}.",
-                list(&q_names)
-            )
-        } else {
-            format!(
-                "Positions `q` (`Chain::Q_NAMES`): {}. Velocities `v` (`Chain::V_NAMES`): {}.",
-                list(&q_names),
-                list(&v_names)
-            )
-        };
-        lines.extend(wrap(&text));
+        lines.extend(wrap(&paragraph));
     }
+    lines
+}
+
+/// The type's coordinates by name (none for a chain without them).
+fn coordinates(cx: &Context) -> Option<String> {
+    let (q_names, v_names) = cx.model.coordinate_names();
+    if q_names.is_empty() {
+        return None;
+    }
+    let list = |names: &[String]| -> String {
+        names
+            .iter()
+            .map(|n| format!("`{n}`"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    Some(if q_names == v_names {
+        format!(
+            "Coordinates (`q` and `v` alike, `Chain::Q_NAMES`): {}.",
+            list(&q_names)
+        )
+    } else {
+        format!(
+            "Positions `q` (`Chain::Q_NAMES`): {}. Velocities `v` (`Chain::V_NAMES`): {}.",
+            list(&q_names),
+            list(&v_names)
+        )
+    })
+}
+
+/// The mimic joints and what each follows.
+fn mimics(cx: &Context) -> Option<String> {
     let mimics: Vec<String> = cx
         .model
         .joints
@@ -87,14 +102,17 @@ pub(super) fn type_doc(cx: &Context) -> Vec<String> {
             Some(format!("`{}` = {factor}`{followed}`{offset}", j.name))
         })
         .collect();
-    if !mimics.is_empty() {
-        lines.push(String::new());
-        lines.extend(wrap(&format!(
+    (!mimics.is_empty()).then(|| {
+        format!(
             "Mimic joints, without coordinates of their own (`M = Gᵀ·M_tree·G`, \
              `τ = Gᵀ·τ_tree`): {}.",
             mimics.join(", ")
-        )));
-    }
+        )
+    })
+}
+
+/// The scene the type was generated for: locked joints, the bodies kept, quasi-static motion.
+fn scene(cx: &Context) -> Option<String> {
     let mut scene = Vec::new();
     for (joint, q) in &cx.options.locks {
         let values: Vec<String> = q.iter().map(|x| format!("{x:?}")).collect();
@@ -117,34 +135,31 @@ pub(super) fn type_doc(cx: &Context) -> Vec<String> {
                 .to_string(),
         );
     }
-    if !scene.is_empty() {
-        lines.push(String::new());
-        lines.extend(wrap(&format!(
-            "Generated for its scene only: {}.",
-            scene.join("; ")
-        )));
+    (!scene.is_empty()).then(|| format!("Generated for its scene only: {}.", scene.join("; ")))
+}
+
+/// The declared contacts and loops.
+fn constraints(cx: &Context) -> Option<String> {
+    if !cx.options.constrained() {
+        return None;
     }
-    if cx.options.constrained() {
-        let mut held: Vec<String> = cx
-            .options
-            .contacts
+    let mut held: Vec<String> = cx
+        .options
+        .contacts
+        .iter()
+        .map(|c| format!("contact `{}` (`{}`)", c.frame, c.kind.name()))
+        .collect();
+    held.extend(
+        cx.options
+            .loops
             .iter()
-            .map(|c| format!("contact `{}` (`{}`)", c.frame, c.kind.name()))
-            .collect();
-        held.extend(
-            cx.options
-                .loops
-                .iter()
-                .map(|l| format!("loop `{}` (`{}` on `{}`)", l.name, l.a, l.b)),
-        );
-        lines.push(String::new());
-        lines.extend(wrap(&format!(
-            "Constraints, in `constrained_forward_dynamics` ({} rows): {}.",
-            cx.options.constraint_rows(),
-            held.join(", ")
-        )));
-    }
-    lines
+            .map(|l| format!("loop `{}` (`{}` on `{}`)", l.name, l.a, l.b)),
+    );
+    Some(format!(
+        "Constraints, in `constrained_forward_dynamics` ({} rows): {}.",
+        cx.options.constraint_rows(),
+        held.join(", ")
+    ))
 }
 
 /// A generated function's docs.

@@ -115,6 +115,71 @@ pub fn contact_forces<const NV: usize, const R: usize>(
     unactuated: usize,
     force_weight: f64,
 ) -> Result<ContactWrenches<NV, R>, OptimalError> {
+    check(
+        m,
+        nle,
+        qdd,
+        system,
+        contacts,
+        limits,
+        unactuated,
+        force_weight,
+    )?;
+    let k = system.rows;
+    let h = m * qdd + nle;
+    let j = &system.jacobian;
+    let (p, q) = objective(j, &h, k, unactuated, force_weight);
+    let (a, b, cones) = cone_rows(j, &h, k, unactuated, contacts, limits);
+    let settings = DefaultSettingsBuilder::default()
+        .verbose(false)
+        .build()
+        .map_err(|e| OptimalError::Solver(e.to_string()))?;
+    let p = csc(&p, k);
+    let a = csc(&a, k);
+    let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, settings)
+        .map_err(|e| OptimalError::Solver(format!("{e:?}")))?;
+    solver.solve();
+    match solver.solution.status {
+        SolverStatus::Solved | SolverStatus::AlmostSolved => {}
+        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
+            return Err(OptimalError::Infeasible {
+                contacts: contacts.len(),
+            });
+        }
+        other => return Err(OptimalError::Solver(format!("{other:?}"))),
+    }
+    let mut forces = SVector::<f64, R>::zeros();
+    for (r, x) in solver.solution.x.iter().enumerate().take(k) {
+        forces[r] = *x;
+    }
+    let tau = h - j.tr_mul(&forces);
+    let residual = tau
+        .iter()
+        .take(unactuated)
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    Ok(ContactWrenches {
+        tau,
+        forces,
+        rows: k,
+        residual,
+    })
+}
+
+/// [`contact_forces`]' arguments: every value finite, the weight not negative, at most `NV`
+/// unactuated velocities, one limit per contact covering the system's rows, each friction
+/// coefficient finite and not negative and each sole (of a six-dimensional contact only) a
+/// rectangle.
+#[allow(clippy::too_many_arguments)]
+fn check<const NV: usize, const R: usize>(
+    m: &SMatrix<f64, NV, NV>,
+    nle: &SVector<f64, NV>,
+    qdd: &SVector<f64, NV>,
+    system: &System<NV, R>,
+    contacts: &[Contact],
+    limits: &[Limits],
+    unactuated: usize,
+    force_weight: f64,
+) -> Result<(), OptimalError> {
     let finite = |x: &[f64]| x.iter().all(|x| x.is_finite());
     let valid = finite(m.as_slice())
         && finite(nle.as_slice())
@@ -131,8 +196,7 @@ pub fn contact_forces<const NV: usize, const R: usize>(
             contact: limits.len(),
         });
     }
-    let k = system.rows;
-    if contacts.iter().map(|c| c.kind.rows()).sum::<usize>() != k {
+    if contacts.iter().map(|c| c.kind.rows()).sum::<usize>() != system.rows {
         return Err(OptimalError::Limits {
             contact: contacts.len(),
         });
@@ -149,12 +213,19 @@ pub fn contact_forces<const NV: usize, const R: usize>(
             return Err(OptimalError::Limits { contact: i });
         }
     }
+    Ok(())
+}
 
-    let h = m * qdd + nle;
-    let j = &system.jacobian;
-    let u = unactuated;
-    // The objective: ½·fᵀ·P·f + qᵀ·f with P = 2·(B·Bᵀ + w·I), q = −2·B·h_a, where the actuated
-    // joint forces are τ_a = h_a − Bᵀ·f (B: the actuated columns of J, k × (NV − u)).
+/// The objective `½·fᵀ·P·f + qᵀ·f` (upper triangle of `P`, by rows) with `P = 2·(B·Bᵀ + w·I)`,
+/// `q = −2·B·h_a`, where the actuated joint forces are `τ_a = h_a − Bᵀ·f` (`B`: the actuated
+/// columns of `J`, `k × (NV − u)`).
+fn objective<const NV: usize, const R: usize>(
+    j: &SMatrix<f64, R, NV>,
+    h: &SVector<f64, NV>,
+    k: usize,
+    u: usize,
+    force_weight: f64,
+) -> (Vec<Vec<f64>>, Vec<f64>) {
     let mut p = vec![vec![0.0; k]; k];
     let mut q = vec![0.0; k];
     for r in 0..k {
@@ -164,9 +235,20 @@ pub fn contact_forces<const NV: usize, const R: usize>(
         }
         q[r] = -2.0 * (u..NV).map(|a| j[(r, a)] * h[a]).sum::<f64>();
     }
-    // The constraints `A·f + s = b`, s in the cones, in their order: the unactuated rows
-    // (zero cone), then each contact's friction cone (second-order: s = (μ·f_n, f_t1, f_t2)),
-    // then the soles' four inequalities each (non-negative: s = −(row·f) ≥ 0).
+    (p, q)
+}
+
+/// The constraints `A·f + s = b`, `s` in the cones, in their order: the unactuated rows (zero
+/// cone), then each contact's friction cone (second-order: `s = (μ·f_n, f_t1, f_t2)`), then the
+/// soles' four inequalities each (non-negative: `s = −(row·f) ≥ 0`).
+fn cone_rows<const NV: usize, const R: usize>(
+    j: &SMatrix<f64, R, NV>,
+    h: &SVector<f64, NV>,
+    k: usize,
+    u: usize,
+    contacts: &[Contact],
+    limits: &[Limits],
+) -> (Vec<Vec<f64>>, Vec<f64>, Vec<SupportedConeT<f64>>) {
     let mut a: Vec<Vec<f64>> = Vec::new();
     let mut b = Vec::new();
     let mut cones = Vec::new();
@@ -224,37 +306,7 @@ pub fn contact_forces<const NV: usize, const R: usize>(
     if soles > 0 {
         cones.push(SupportedConeT::NonnegativeConeT(soles));
     }
-
-    let settings = DefaultSettingsBuilder::default()
-        .verbose(false)
-        .build()
-        .map_err(|e| OptimalError::Solver(e.to_string()))?;
-    let p = csc(&p, k);
-    let a = csc(&a, k);
-    let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, settings)
-        .map_err(|e| OptimalError::Solver(format!("{e:?}")))?;
-    solver.solve();
-    match solver.solution.status {
-        SolverStatus::Solved | SolverStatus::AlmostSolved => {}
-        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
-            return Err(OptimalError::Infeasible {
-                contacts: contacts.len(),
-            });
-        }
-        other => return Err(OptimalError::Solver(format!("{other:?}"))),
-    }
-    let mut forces = SVector::<f64, R>::zeros();
-    for (r, x) in solver.solution.x.iter().enumerate().take(k) {
-        forces[r] = *x;
-    }
-    let tau = h - j.tr_mul(&forces);
-    let residual = tau.iter().take(u).fold(0.0f64, |m, x| m.max(x.abs()));
-    Ok(ContactWrenches {
-        tau,
-        forces,
-        rows: k,
-        residual,
-    })
+    (a, b, cones)
 }
 
 /// A dense matrix of `cols` columns (by rows) in compressed sparse columns, zeros left out.
