@@ -272,10 +272,9 @@ fn body(
     let (uses, statements) = (&emitted.uses, &emitted.statements);
     let body = quote! {
         #declare_tolerance
-        // Without stopping at the first that is not: a loop the compiler vectorizes.
         if ![q.as_slice(), v.as_slice(), tau.as_slice()]
             .iter()
-            .all(|s| s.iter().fold(true, |ok, x| ok & x.is_finite()))
+            .all(|s| s.iter().all(|x| x.is_finite()))
         {
             return Err(::articulated::constraint::ConstraintError::NonFinite);
         }
@@ -323,7 +322,7 @@ fn function(
             let forces = #forces;
             if ![qdd.as_slice(), forces.as_slice()]
                 .iter()
-                .all(|s| s.iter().fold(true, |ok, x| ok & x.is_finite()))
+                .all(|s| s.iter().all(|x| x.is_finite()))
             {
                 return Err(::articulated::constraint::ConstraintError::NonFinite);
             }
