@@ -115,16 +115,20 @@ pub fn contact_forces<const NV: usize, const R: usize>(
     unactuated: usize,
     force_weight: f64,
 ) -> Result<ContactWrenches<NV, R>, OptimalError> {
-    check(
-        m,
-        nle,
-        qdd,
-        system,
-        contacts,
-        limits,
-        unactuated,
-        force_weight,
-    )?;
+    let values = [
+        m.as_slice(),
+        nle.as_slice(),
+        qdd.as_slice(),
+        system.jacobian.as_slice(),
+    ];
+    if !(values.iter().all(|x| x.iter().all(|x| x.is_finite()))
+        && force_weight.is_finite()
+        && force_weight >= 0.0
+        && unactuated <= NV)
+    {
+        return Err(OptimalError::NonFinite);
+    }
+    check_limits(system.rows, contacts, limits)?;
     let k = system.rows;
     let h = m * qdd + nle;
     let j = &system.jacobian;
@@ -165,38 +169,16 @@ pub fn contact_forces<const NV: usize, const R: usize>(
     })
 }
 
-/// [`contact_forces`]' arguments: every value finite, the weight not negative, at most `NV`
-/// unactuated velocities, one limit per contact covering the system's rows, each friction
-/// coefficient finite and not negative and each sole (of a six-dimensional contact only) a
-/// rectangle.
-#[allow(clippy::too_many_arguments)]
-fn check<const NV: usize, const R: usize>(
-    m: &SMatrix<f64, NV, NV>,
-    nle: &SVector<f64, NV>,
-    qdd: &SVector<f64, NV>,
-    system: &System<NV, R>,
-    contacts: &[Contact],
-    limits: &[Limits],
-    unactuated: usize,
-    force_weight: f64,
-) -> Result<(), OptimalError> {
+/// One limit per contact, the contacts covering the system's `rows`, each friction coefficient
+/// finite and not negative and each sole (of a six-dimensional contact only) a rectangle.
+fn check_limits(rows: usize, contacts: &[Contact], limits: &[Limits]) -> Result<(), OptimalError> {
     let finite = |x: &[f64]| x.iter().all(|x| x.is_finite());
-    let valid = finite(m.as_slice())
-        && finite(nle.as_slice())
-        && finite(qdd.as_slice())
-        && finite(system.jacobian.as_slice())
-        && force_weight.is_finite()
-        && force_weight >= 0.0
-        && unactuated <= NV;
-    if !valid {
-        return Err(OptimalError::NonFinite);
-    }
     if limits.len() != contacts.len() {
         return Err(OptimalError::Limits {
             contact: limits.len(),
         });
     }
-    if contacts.iter().map(|c| c.kind.rows()).sum::<usize>() != system.rows {
+    if contacts.iter().map(|c| c.kind.rows()).sum::<usize>() != rows {
         return Err(OptimalError::Limits {
             contact: contacts.len(),
         });
