@@ -89,6 +89,10 @@ struct Figure {
     states_per_second: f64,
 }
 
+/// The bytes of inputs and results of one thread's share of a batch on many threads: a core's
+/// L2 on this machine (Zen 5: 1 MiB).
+const SHARE_BYTES: usize = 1 << 20;
+
 /// The best states per second of `rounds` timings of `batches` calls of `f` over `n` states.
 fn rate(args: &Args, n: usize, mut f: impl FnMut()) -> f64 {
     f();
@@ -214,8 +218,13 @@ macro_rules! time_output {
         $figures.push(Figure { model: $model, output, scalar: $prec, mode: "scalar", threads: 1, states_per_second: scalar });
         $figures.push(Figure { model: $model, output, scalar: $prec, mode: "lanes", threads: 1, states_per_second: lanes });
         for (threads, pool) in &$pools {
-            // Enough states that every thread has work: 4096 per thread.
-            let per = n.max(threads * 4096);
+            // Each thread's share of the batch: enough states to outweigh the fork and join
+            // (up to 4096), as long as their inputs and results fit a core's L2, and never fewer
+            // than the one-thread batch. Without the bound the humanoid's mass matrices (11 KB a
+            // state) made 45 MB a thread, and the figure timed the memory's bandwidth, not the
+            // code: fewer states per second on two threads than on one.
+            let bytes = $(std::mem::size_of_val(&$arg[0]) +)+ std::mem::size_of_val(&out[0]);
+            let per = threads * (SHARE_BYTES / bytes).min(4096).max(n);
             let reps = per.div_ceil(n);
             $(let $arg: Vec<_> = $arg.iter().cycle().take(reps * n).copied().collect();)+
             let mut out = vec![$init; reps * n];
