@@ -446,6 +446,13 @@ pub mod __private {
         &mut kept.matrix
     }
 
+    /// The rows of a result column [`minus_product`] accumulates at once: as many as the vector
+    /// registers hold with room for the operands (sixteen registers of four `f64` with AVX, of
+    /// two without). With AVX a column of the humanoid's 37 is one pass; without, a column of
+    /// 37 in one pass kept half its sums on the stack, reloaded and stored again for every
+    /// entry of `D`.
+    const BLOCK: usize = if cfg!(target_feature = "avx") { 40 } else { 20 };
+
     /// `−A·D` for `N × N` matrices, visiting only the entries of `D` that `rows` lists
     /// (`rows[c]`: the rows of column `c` that can be non-zero; the others are taken as zero),
     /// with `fma(a, b, c) = a·b + c`. What a composed `forward_dynamics_derivatives` returns,
@@ -453,11 +460,10 @@ pub mod __private {
     /// derivatives of inverse dynamics sparse (a joint's torque does not depend on the
     /// coordinates below it, nor on a base's position).
     ///
-    /// Column by column: each result column accumulates `A`'s columns in a local array, which
-    /// the compiler keeps in vector registers for the chains this is used on (a column of 37 is
-    /// ten AVX registers), and is stored once. Written out here rather than left to nalgebra's
-    /// product, which is dense and, for sizes it does not specialize, goes through its generic
-    /// kernel, slower on the humanoid's.
+    /// Column by column, `BLOCK` rows at a time: each block's sums stay in vector registers
+    /// while `A`'s columns stream past, and are stored once. Written out here rather than left
+    /// to nalgebra's product, which is dense and, for sizes it does not specialize, goes through
+    /// its generic kernel, slower on the humanoid's.
     #[inline]
     pub fn minus_product<T: nalgebra::RealField + Copy, const N: usize>(
         a: &nalgebra::SMatrix<T, N, N>,
@@ -467,18 +473,23 @@ pub mod __private {
     ) -> nalgebra::SMatrix<T, N, N> {
         let mut out = nalgebra::SMatrix::<T, N, N>::zeros();
         for ((out, rows), d) in out.data.0.iter_mut().zip(rows).zip(&d.data.0) {
-            let mut acc = [T::zero(); N];
-            for &k in *rows {
-                let k = usize::from(k);
-                // The generator lists rows below `N` only.
-                let (Some(&x), Some(column)) = (d.get(k), a.data.0.get(k)) else {
-                    continue;
-                };
-                for (acc, &a) in acc.iter_mut().zip(column) {
-                    *acc = fma(-x, a, *acc);
+            for start in (0..N).step_by(BLOCK) {
+                let len = BLOCK.min(N - start);
+                let mut acc = [T::zero(); BLOCK];
+                for &k in *rows {
+                    let k = usize::from(k);
+                    // The generator lists rows below `N` only.
+                    let (Some(&x), Some(column)) = (d.get(k), a.data.0.get(k)) else {
+                        continue;
+                    };
+                    for (acc, &a) in acc.iter_mut().zip(&column[start..]).take(len) {
+                        *acc = fma(-x, a, *acc);
+                    }
+                }
+                for (out, acc) in out[start..].iter_mut().zip(acc).take(len) {
+                    *out = acc;
                 }
             }
-            *out = acc;
         }
         out
     }
