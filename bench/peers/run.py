@@ -1063,7 +1063,9 @@ def throughput_report(w, thr):
         w("### By target, one thread")
         w("")
         w("The same binary built for the default target (`x86-64`: SSE2, each lane type in two-lane")
-        w("halves), for x86-64-v3 (AVX2 and FMA, the tables above) and for this machine's CPU")
+        w("halves, but the outputs of a thousand operations or more in the two lanes of one register,")
+        w("`articulated::lanes::fit`),")
+        w("for x86-64-v3 (AVX2 and FMA, the tables above) and for this machine's CPU")
         w("(`-C target-cpu=native`): states per second (millions) of the scalar loop and of lanes.")
         w("")
         cols = [t for t in ("default", "v3", "native") if t == "v3" or t in targets]

@@ -1,4 +1,4 @@
-//! Many states per call: the scalar [`Lanes`], which carries `N` states' values of one quantity,
+//! Many states per call: the scalars of [`Simd`], which carry `N` states' values of one quantity,
 //! and what the generated batch functions (`C::inverse_dynamics_batch`, …) are made of.
 //!
 //! # How a batch is computed
@@ -24,7 +24,8 @@
 //! The lane types: [`F64x2`], [`F64x4`], [`F64x8`] (`lanes: 2 | 4 | 8` in `f64`) and [`F32x4`],
 //! [`F32x8`], [`F32x16`] (`lanes: 4 | 8 | 16` in `f32`), each one vector of the `wide` crate,
 //! which picks the target's instructions at compile time (SSE2, AVX, AVX-512, NEON, or plain
-//! arrays).
+//! arrays). The large outputs (a thousand operations or more) take instead the lane type of
+//! [`fit`]: at most the lanes asked for, as many as one of the target's registers holds.
 //!
 //! Every chain has the batch functions: without `lanes`, they call the scalar function state by
 //! state (the traits' provided methods); with it, the generator overrides them with the lane
@@ -563,6 +564,38 @@ lane_type!(
     }
 );
 
+/// The lane types of the large batch functions (a thousand operations or more: forward
+/// dynamics, the derivatives, the humanoid's every output), under the names of the lane types
+/// asked for: each is the widest lane type no wider than the one it is named after that fits
+/// one of the target's vector registers. `fit::F64x4` is [`F64x4`] with AVX, [`F64x2`] without.
+///
+/// Why: a lane type wider than the registers is carried in halves (`F64x4` in two 128-bit
+/// registers on the default target), so the statements need twice the registers, and a large
+/// function's statements then spill. arm7's forward dynamics on the default target ran no faster
+/// in four lanes than state by state, and 1.6 times as fast in two; its mass matrix, a few
+/// hundred independent products, gained from the halves' extra instruction-level parallelism,
+/// and the small functions keep the lanes asked for (the commit that set this has the figures).
+pub mod fit {
+    #[cfg(target_feature = "avx512f")]
+    pub use super::{F32x16, F64x8};
+    pub use super::{F32x4, F64x2};
+    #[cfg(target_feature = "avx")]
+    pub use super::{F32x8, F64x4};
+
+    /// [`super::F64x4`] where the target has 256-bit registers (AVX), else [`super::F64x2`].
+    #[cfg(not(target_feature = "avx"))]
+    pub type F64x4 = super::F64x2;
+    /// [`super::F32x8`] where the target has 256-bit registers (AVX), else [`super::F32x4`].
+    #[cfg(not(target_feature = "avx"))]
+    pub type F32x8 = super::F32x4;
+    /// [`super::F64x8`] where the target has 512-bit registers (AVX-512), else [`F64x4`].
+    #[cfg(not(target_feature = "avx512f"))]
+    pub type F64x8 = F64x4;
+    /// [`super::F32x16`] where the target has 512-bit registers (AVX-512), else [`F32x8`].
+    #[cfg(not(target_feature = "avx512f"))]
+    pub type F32x16 = F32x8;
+}
+
 /// A value the lane code reads: lanes, or a constant of their element, the same in every lane.
 pub trait Operand<L: Simd>: Copy {
     /// As lanes.
@@ -922,7 +955,7 @@ pub fn gather_params<L: Simd, P, const K: usize>(
 }
 
 /// The fewest states one thread takes at a time in the `_par_batch` functions
-/// ([`par_chunk`]): a multiple of every lane count.
+/// (`par_chunk`, with the `rayon` feature): a multiple of every lane count.
 pub const PAR_CHUNK: usize = 64;
 
 /// The states one thread takes at a time in a `_par_batch` function over `n` states: about four

@@ -48,6 +48,30 @@ struct TwoLinkGeneric;
 #[chain(file = "../models/payload.chain", lanes = 4)]
 struct Payload;
 
+articulated::chain! {
+    /// A five-link arm whose tool's mass is a runtime parameter. Its derivatives, over a
+    /// thousand operations each, take the lanes that fit one of the target's registers
+    /// (`articulated::lanes::fit`: two on the default target, four with AVX), with each lane's
+    /// parameters gathered by that count; its forward dynamics keeps the four asked for.
+    chain ToolArm {
+        lanes: 4;
+        outputs: [forward_dynamics, inverse_dynamics_derivatives, forward_dynamics_derivatives];
+        param tool = 1.5;
+
+        body l1 { mass: 2.0, com: [0.0, 0.0, 0.15], inertia: diag(0.03, 0.03, 0.01) }
+        body l2 { mass: 1.8, com: [0.1, 0.0, 0.0], inertia: diag(0.01, 0.02, 0.02) }
+        body l3 { mass: 1.5, com: [0.0, 0.02, 0.12], inertia: diag(0.02, 0.02, 0.005) }
+        body l4 { mass: 1.0, com: [0.08, 0.0, 0.0], inertia: diag(0.004, 0.01, 0.01) }
+        body l5 { mass: tool, com: [0.0, 0.0, 0.05], inertia: diag(0.002, 0.002, 0.001) }
+
+        joint j1: revolute(z) { parent: world, child: l1 }
+        joint j2: revolute(y) { parent: l1, child: l2, xyz: [0.0, 0.0, 0.3] }
+        joint j3: revolute(x) { parent: l2, child: l3, xyz: [0.2, 0.0, 0.0], rpy: [0.0, 0.3, 0.0] }
+        joint j4: revolute(y) { parent: l3, child: l4, xyz: [0.0, 0.0, 0.25] }
+        joint j5: revolute(z) { parent: l4, child: l5, xyz: [0.15, 0.0, 0.0] }
+    }
+}
+
 /// 11 states: two whole groups of four and a partial one (three of eight, of sixteen).
 const N: usize = 11;
 
@@ -485,4 +509,50 @@ fn an_ensemble_sweeps_a_payload_as_each_copy_alone() {
     }
     // The payloads spread the copies apart.
     assert!((q[0] - q[N - 1]).norm() > 1e-4);
+}
+
+#[test]
+fn large_outputs_in_fitting_lanes_give_each_state_its_own_parameters() {
+    // The derivatives (in the lanes of `articulated::lanes::fit`) with a tool mass per state:
+    // a lane that read another state's mass, or a group that took its masses at a stride other
+    // than its lanes', would differ from the scalar function at its own. The forward dynamics,
+    // in the four lanes asked for, beside them.
+    let (q, v, a) = (states::<5>(N, 50), states::<5>(N, 51), states::<5>(N, 52));
+    let ps: Vec<ToolArmParams> = (0..N)
+        .map(|i| ToolArmParams {
+            tool: 0.5 + 0.4 * i as f64,
+        })
+        .collect();
+    let mut did = vec![ToolArm::inverse_dynamics_derivatives(&q[0], &v[0], &a[0]); N];
+    ToolArm::inverse_dynamics_derivatives_batch_with_each(&q, &v, &a, &ps, &mut did).unwrap();
+    let mut dfd = vec![ToolArm::forward_dynamics_derivatives(&q[0], &v[0], &a[0]); N];
+    ToolArm::forward_dynamics_derivatives_batch_with_each(&q, &v, &a, &ps, &mut dfd).unwrap();
+    let mut fd = vec![ToolArm::forward_dynamics(&q[0], &v[0], &a[0]); N];
+    ToolArm::forward_dynamics_batch_with_each(&q, &v, &a, &ps, &mut fd).unwrap();
+    for i in 0..N {
+        let p = &ps[i];
+        assert_eq!(
+            did[i],
+            ToolArm::inverse_dynamics_derivatives_with(&q[i], &v[i], &a[i], p),
+            "{i}"
+        );
+        assert_eq!(
+            dfd[i],
+            ToolArm::forward_dynamics_derivatives_with(&q[i], &v[i], &a[i], p),
+            "{i}"
+        );
+        assert_eq!(
+            fd[i],
+            ToolArm::forward_dynamics_with(&q[i], &v[i], &a[i], p),
+            "{i}"
+        );
+        // And the masses differ: a neighbour's gives other derivatives.
+        if i > 0 {
+            assert_ne!(
+                did[i],
+                ToolArm::inverse_dynamics_derivatives_with(&q[i], &v[i], &a[i], &ps[i - 1]),
+                "{i}"
+            );
+        }
+    }
 }

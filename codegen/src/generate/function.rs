@@ -2,7 +2,7 @@
 //! are bound), its straight-line body and its result.
 
 use proc_macro2::{Literal, TokenStream};
-use quote::{format_ident, quote};
+use quote::{format_ident, quote, ToTokens};
 
 use super::{docs, Context};
 use crate::emit::{self, Emitted};
@@ -149,19 +149,39 @@ fn function(
     ))
 }
 
+/// The fewest operations of an output whose batch twin takes the lanes that fit one of the
+/// target's registers (`articulated::lanes::fit`) rather than the lanes asked for. Carried in
+/// two halves (four `f64` lanes without AVX, eight with AVX and no AVX-512), the statements need
+/// twice the registers: a large function then spills, while a small one gains from the halves'
+/// extra instruction-level parallelism. Measured on the default target, four lanes against
+/// two: arm7's mass matrix (356 operations) faster in four, its nonlinear effects and inverse
+/// dynamics (543, 564) the same either way, its forward dynamics (1,132), its inverse dynamics'
+/// derivatives and the humanoid's mass matrix (about 4,000 each) faster in two (the figures
+/// are in the commit that set this).
+const FIT_OPS: usize = 1000;
+
 /// The batch twin of an output (`inverse_dynamics_batch_with_each`) over lanes of `n` states:
 /// the output's statements in `F64x4` (`articulated::lanes`) as an inner function, run on each
 /// group of `n` states gathered from the slices, with their runtime parameters in lanes, its
 /// results scattered into `out`.
 fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
-    let lanes = cx.with_lanes(n);
-    let (args, p_arg, body) = function(&lanes, traced)?;
     let spec = traced.output.spec();
+    let fit = traced.ops().total() >= FIT_OPS;
+    let lanes = cx.with_lanes(n, fit);
+    let (args, p_arg, body) = function(&lanes, traced)?;
     let t = cx.types();
     let each = spec.batch_each_name();
     let out_ty = spec.batch_out_type(&t);
     let lane_value = spec.value_type(&lanes.types());
-    let n_lit = Literal::usize_unsuffixed(n);
+    let lane = &lanes.scalar;
+    // The lanes a group holds: the count asked for, or the fitting lane type's (`LANES`, a
+    // constant of the batch function).
+    let lanes_of = quote!(<#lane as ::articulated::lanes::Simd>::LANES);
+    let (n_lit, lanes_const) = if fit {
+        (quote!(LANES), quote!(const LANES: usize = #lanes_of;))
+    } else {
+        (Literal::usize_unsuffixed(n).into_token_stream(), quote!())
+    };
     let staged = staged(&lanes, traced);
     let ret = if spec.fallible {
         quote!(-> (#lane_value, [::core::option::Option<::articulated::SingularMassMatrix>; #n_lit]))
@@ -187,7 +207,6 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
         ),
         |(z, p), a| (quote!(#z.zip(#a.chunks(#n_lit))), quote!((#p, #a))),
     );
-    let lane = &lanes.scalar;
     let (stage, stage_param, stage_arg) = stage_tokens(staged.as_ref(), lane);
     let call = quote!(lanes(#(&::articulated::lanes::gather(#names),)* &lanes_p, #stage_arg));
     let (call, scatter) = if spec.fallible {
@@ -225,10 +244,18 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
         }
         _ => TokenStream::new(),
     };
-    let doc = format!(
-        " `{}` on {n} states at once: the same statements in lanes (`articulated::lanes`).",
-        spec.name
-    );
+    let name = spec.name;
+    let doc = if fit {
+        format!(
+            " `{name}` on {n} states at once where one of the target's vector registers holds \
+             {n} (`articulated::lanes::fit`), else on as many as it holds: the same statements \
+             in lanes."
+        )
+    } else {
+        format!(
+            " `{name}` on {n} states at once: the same statements in lanes (`articulated::lanes`)."
+        )
+    };
     // Not inlined into the caller: one call runs a whole batch, and inlined into a large caller
     // the lane statements were left partly unvectorized (arm7's inverse dynamics in four lanes
     // ran no faster than the scalar loop).
@@ -240,6 +267,7 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
             p: &[#params_ty],
             out: &mut [#out_ty],
         ) -> ::core::result::Result<(), ::articulated::lanes::BatchLengths> {
+            #lanes_const
             #[doc = #doc]
             #allow
             #[allow(clippy::type_complexity)]
@@ -289,7 +317,7 @@ fn stage_tokens(
 /// prepares once, and what each group `k` binds as `lanes_p`. Each group's own where `p` holds
 /// one set per state, the same set in every lane (gathered once) where it holds one for all;
 /// an empty array where the chain has none.
-fn lane_params(cx: &Context, lane: &TokenStream, n: &Literal) -> (TokenStream, TokenStream) {
+fn lane_params(cx: &Context, lane: &TokenStream, n: &TokenStream) -> (TokenStream, TokenStream) {
     let np = cx.param_idents.len();
     if np == 0 {
         return (quote!(let lanes_p: [#lane; 0] = [];), quote!());
@@ -513,10 +541,10 @@ fn result(
         let finite = finite_checks(cx, finite);
         match cx.lanes {
             // Every check of every lane, the first failure per lane kept (`lanes::refuse`).
-            Some(n) => {
-                let n = Literal::usize_unsuffixed(n);
+            Some(_) => {
+                let lane = &cx.scalar;
                 quote! {
-                    let mut status = [None; #n];
+                    let mut status = [None; <#lane as ::articulated::lanes::Simd>::LANES];
                     #(#checks)* #(#finite)*
                     (#built, status)
                 }

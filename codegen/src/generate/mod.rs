@@ -182,11 +182,17 @@ impl<'a> Context<'a> {
     }
 
     /// The same chain with its values in lanes of `n` states (`articulated::lanes::F64x4` for
-    /// four in `f64`): what a batch twin's inner function is written in.
-    fn with_lanes(&self, n: usize) -> Self {
+    /// four in `f64`): what a batch twin's inner function is written in. With `fit`, the lane
+    /// type of that name that fits the target's registers (`articulated::lanes::fit::F64x4`:
+    /// two lanes without AVX), which the statements then count their lanes by.
+    fn with_lanes(&self, n: usize, fit: bool) -> Self {
         let ty = format_ident!("{}x{}", self.element.to_string().to_uppercase(), n);
         Context {
-            scalar: quote!(::articulated::lanes::#ty),
+            scalar: if fit {
+                quote!(::articulated::lanes::fit::#ty)
+            } else {
+                quote!(::articulated::lanes::#ty)
+            },
             lanes: Some(n),
             ..self.clone()
         }
