@@ -244,18 +244,7 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
         }
         _ => TokenStream::new(),
     };
-    let name = spec.name;
-    let doc = if fit {
-        format!(
-            " `{name}` on {n} states at once where one of the target's vector registers holds \
-             {n} (`articulated::lanes::fit`), else on as many as it holds: the same statements \
-             in lanes."
-        )
-    } else {
-        format!(
-            " `{name}` on {n} states at once: the same statements in lanes (`articulated::lanes`)."
-        )
-    };
+    let doc = lanes_doc(spec.name, n, fit);
     // Not inlined into the caller: one call runs a whole batch, and inlined into a large caller
     // the lane statements were left partly unvectorized (arm7's inverse dynamics in four lanes
     // ran no faster than the scalar loop).
@@ -287,6 +276,22 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
             Ok(())
         }
     })
+}
+
+/// The documentation of a batch twin's inner function: `name` on `n` states at once, or on as
+/// many as a register holds where the lanes `fit`.
+fn lanes_doc(name: &str, n: usize, fit: bool) -> String {
+    if fit {
+        format!(
+            " `{name}` on {n} states at once where one of the target's vector registers holds \
+             {n} (`articulated::lanes::fit`), else on as many as it holds: the same statements \
+             in lanes."
+        )
+    } else {
+        format!(
+            " `{name}` on {n} states at once: the same statements in lanes (`articulated::lanes`)."
+        )
+    }
 }
 
 /// The staged matrix of a batch (see [`staged`]): its declaration, once per call and zero where
