@@ -564,17 +564,18 @@ lane_type!(
     }
 );
 
-/// The lane types of the large batch functions (a thousand operations or more: forward
+/// The lane types of the large batch functions (a thousand operations or more: arm7's forward
 /// dynamics, the derivatives, the humanoid's every output), under the names of the lane types
 /// asked for: each is the widest lane type no wider than the one it is named after that fits
 /// one of the target's vector registers. `fit::F64x4` is [`F64x4`] with AVX, [`F64x2`] without.
 ///
 /// Why: a lane type wider than the registers is carried in halves (`F64x4` in two 128-bit
 /// registers on the default target), so the statements need twice the registers, and a large
-/// function's statements then spill. arm7's forward dynamics on the default target ran no faster
-/// in four lanes than state by state, and 1.6 times as fast in two; its mass matrix, a few
-/// hundred independent products, gained from the halves' extra instruction-level parallelism,
-/// and the small functions keep the lanes asked for (the commit that set this has the figures).
+/// function's statements then spill: arm7's forward dynamics on the default target ran no faster
+/// in four lanes than state by state (its two lanes against the scalar loop: `BENCHMARKS.md`,
+/// "Many states per call", "By target"). Its mass matrix, a few hundred independent products,
+/// gained from the halves' extra instruction-level parallelism: the small functions keep the
+/// lanes asked for (the commit that set this has the figures).
 pub mod fit {
     #[cfg(target_feature = "avx512f")]
     pub use super::{F32x16, F64x8};

@@ -176,9 +176,11 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
     let lane = &lanes.scalar;
     // The lanes a group holds: the count asked for, or the fitting lane type's (`LANES`, a
     // constant of the batch function).
-    let lanes_of = quote!(<#lane as ::articulated::lanes::Simd>::LANES);
     let (n_lit, lanes_const) = if fit {
-        (quote!(LANES), quote!(const LANES: usize = #lanes_of;))
+        (
+            quote!(LANES),
+            quote!(const LANES: usize = <#lane as ::articulated::lanes::Simd>::LANES;),
+        )
     } else {
         (Literal::usize_unsuffixed(n).into_token_stream(), quote!())
     };
