@@ -9,10 +9,9 @@
 //! in one vector instruction (`x86-64-v3`: four `f64` in a 256-bit register; the default
 //! target: two 128-bit instructions). The statements are the
 //! scalar function's, operand for operand, with the same fused multiply–adds, divisions and
-//! sines (the lanes' sines and cosines are [`crate::math::sincos_array`]'s polynomial in `f64`,
-//! `libm::sincosf`'s algorithm in `f32`), so a state's result in a batch is the scalar
-//! function's, bit for bit, whichever lane it sits in (in `f32`, but for the rare argument where
-//! the two sines differ in their last bit).
+//! sines (the lanes' sines and cosines are [`crate::math::sincos_array`]'s in `f64`,
+//! [`crate::math::sincosf_array`]'s in `f32`), so a state's result in a batch is the scalar
+//! function's, bit for bit, whichever lane it sits in.
 //!
 //! The batch function ([`crate::InverseDynamics::inverse_dynamics_batch`] and its kind) takes
 //! the slices a user holds (`&[SVector<f64, NQ>]`), gathers `N` states at a time into lanes
@@ -35,7 +34,8 @@
 //!
 //! The lanes carry every operation of the scalar code for `N` states at once, with one exception
 //! that bounds what they gain: the sines and cosines. The scalar functions already compute
-//! theirs four angles per instruction where the target has AVX2 ([`crate::math::sincos_array`]),
+//! theirs four angles per instruction where the target has AVX2 ([`crate::math::sincos_array`],
+//! [`crate::math::sincosf_array`]),
 //! so in lanes a state's sines cost what they cost it alone, less only the padding of the scalar
 //! code's last group of four (a chain of 6 angles: 8 computed alone, 6 in lanes; the humanoid's
 //! 31: 32 and 31). The outputs whose work is mostly sines and cosines, such as a short chain's
@@ -369,107 +369,182 @@ fn sincos_f64<W: crate::math::Angles + Copy, const N: usize>(
     (from_array(s), from_array(c))
 }
 
-/// The sines and cosines of `f32` lanes: [`libm::sincosf`]'s algorithm, four lanes at a time
-/// in `f64` (its reduction by a 33 + 53-bit π/2, then its degree-9 and degree-8 kernels, the
-/// quadrant applied by masks), so the scalar code's values for nearly every argument and
-/// within an ulp of them for every one (see [`sincosf_x4`]). Where a lane is at or beyond the
-/// reduction's range (`|x| ≥ 2^28·π/2`), infinite or NaN, every lane takes `libm::sincosf`.
+/// The sines and cosines of `N` `f32` values (lanes, or a scalar function's angles):
+/// [`libm::sincosf`]'s algorithm, `W` at a time in `f64` (4 or 2: [`sincosf_kernel`]), so
+/// `libm`'s values for nearly every argument and within an ulp of them for every one. A value
+/// at or beyond the reduction's range (`|x| ≥ 2^28·π/2`), infinite or NaN, takes
+/// `libm::sincosf`, and only that one: each value's sine depends on it alone, so the scalar
+/// code ([`crate::math::sincosf_array`]) and the lanes give the same, bit for bit.
 ///
 /// The lanes' sines were first `f64`'s ([`crate::math::sincos_array`]) rounded: its kernels
 /// carry twice the coefficients `f32` needs, so a lane of `f32` paid what a lane of `f64` does.
 #[inline(always)]
-fn sincos_f32<const N: usize>(x: [f32; N]) -> ([f32; N], [f32; N]) {
-    // libm's `rem_pio2f`: below these bits (`|x| < 2^28·π/2`) its one-step reduction.
-    const MEDIUM: u32 = 0x4dc9_0fdb;
-    if !x.iter().all(|x| x.to_bits() & 0x7fff_ffff < MEDIUM) {
-        return sincos_f32_libm(x);
+pub(crate) fn sincos_f32<const N: usize, const W: usize>(x: [f32; N]) -> ([f32; N], [f32; N]) {
+    if !x.iter().all(|&x| in_f32_range(x)) {
+        return sincos_f32_libm::<N, W>(x);
     }
     let (mut sin, mut cos) = ([0.0; N], [0.0; N]);
     for ((x, s), c) in x
-        .chunks_exact(4)
-        .zip(sin.chunks_exact_mut(4))
-        .zip(cos.chunks_exact_mut(4))
+        .chunks_exact(W)
+        .zip(sin.chunks_exact_mut(W))
+        .zip(cos.chunks_exact_mut(W))
     {
-        let (vs, vc) = sincosf_x4(wide::f64x4::new(core::array::from_fn(|l| {
-            x.get(l).map_or(0.0, |&x| f64::from(x))
-        })));
-        for ((s, c), (vs, vc)) in s
-            .iter_mut()
-            .zip(c)
-            .zip(vs.to_array().into_iter().zip(vc.to_array()))
-        {
+        sincosf_group::<W>(x, s, c);
+    }
+    if !N.is_multiple_of(W) {
+        let whole = N / W * W;
+        sincosf_group::<W>(&x[whole..], &mut sin[whole..], &mut cos[whole..]);
+    }
+    (sin, cos)
+}
+
+/// [`sincosf_x4`] (`W = 4`) or [`sincosf_x2`] (`W = 2`) of up to `W` values into `sin` and
+/// `cos` (as long as `x`), the missing lanes zero.
+#[inline(always)]
+fn sincosf_group<const W: usize>(x: &[f32], sin: &mut [f32], cos: &mut [f32]) {
+    let lane = |l: usize| x.get(l).map_or(0.0, |&x| f64::from(x));
+    let mut put = |vs: &[f64], vc: &[f64]| {
+        for ((s, c), (&vs, &vc)) in sin.iter_mut().zip(&mut *cos).zip(vs.iter().zip(vc)) {
             (*s, *c) = (vs as f32, vc as f32);
+        }
+    };
+    if W == 4 {
+        let (vs, vc) = sincosf_x4(wide::f64x4::new(core::array::from_fn(lane)));
+        put(vs.as_array(), vc.as_array());
+    } else {
+        let (vs, vc) = sincosf_x2(wide::f64x2::new(core::array::from_fn(lane)));
+        put(vs.as_array(), vc.as_array());
+    }
+}
+
+/// Below libm's `rem_pio2f` medium bound (`|x| < 2^28·π/2`, its one-step reduction, what
+/// [`sincosf_kernel`] computes): false for infinities and NaN.
+#[inline(always)]
+fn in_f32_range(x: f32) -> bool {
+    x.to_bits() & 0x7fff_ffff < 0x4dc9_0fdb
+}
+
+/// [`sincos_f32`] where a value is out of range: those by [`libm::sincosf`], the others as in
+/// range (in groups with the out-of-range values as zero: a group's lanes do not mix). Out of
+/// line, so that the usual path stays as short as without it.
+#[cold]
+#[inline(never)]
+fn sincos_f32_libm<const N: usize, const W: usize>(x: [f32; N]) -> ([f32; N], [f32; N]) {
+    let (mut sin, mut cos) = sincos_f32::<N, W>(x.map(|x| if in_f32_range(x) { x } else { 0.0 }));
+    for ((&x, s), c) in x.iter().zip(&mut sin).zip(&mut cos) {
+        if !in_f32_range(x) {
+            (*s, *c) = libm::sincosf(x);
         }
     }
     (sin, cos)
 }
 
-/// [`sincos_f32`] lane by lane through [`libm::sincosf`]: arguments beyond the reduction's
-/// range, infinities and NaN.
-#[cold]
-fn sincos_f32_libm<const N: usize>(x: [f32; N]) -> ([f32; N], [f32; N]) {
-    let (mut sin, mut cos) = ([0.0; N], [0.0; N]);
-    for ((x, s), c) in x.iter().zip(&mut sin).zip(&mut cos) {
-        (*s, *c) = libm::sincosf(*x);
+/// What [`crate::math::sincosf_array`] computes a scalar function's angles with: groups of four
+/// where the target has AVX (one register), pairs where it has 128-bit `f64` vectors (SSE2,
+/// NEON: a group of four would be two registers, and the last group's padding whole
+/// instructions); elsewhere (no `f64` vectors: the `f64` of a Cortex-M is soft float)
+/// [`libm::sincosf`] angle by angle, shared code rather than a kernel inlined in every function.
+#[inline(always)]
+pub(crate) fn sincos_f32_scalar<const N: usize>(x: [f32; N]) -> ([f32; N], [f32; N]) {
+    #[cfg(target_feature = "avx")]
+    {
+        sincos_f32::<N, 4>(x)
     }
-    (sin, cos)
+    #[cfg(all(
+        not(target_feature = "avx"),
+        any(
+            target_feature = "sse2",
+            all(target_arch = "aarch64", target_feature = "neon")
+        )
+    ))]
+    {
+        sincos_f32::<N, 2>(x)
+    }
+    #[cfg(not(any(
+        target_feature = "avx",
+        target_feature = "sse2",
+        all(target_arch = "aarch64", target_feature = "neon")
+    )))]
+    {
+        let (mut sin, mut cos) = ([0.0; N], [0.0; N]);
+        for ((x, s), c) in x.iter().zip(&mut sin).zip(&mut cos) {
+            (*s, *c) = libm::sincosf(*x);
+        }
+        (sin, cos)
+    }
 }
 
-/// [`libm::sincosf`] of four `f32` arguments held exactly in `f64`, `|x| < 2^28·π/2`, before
-/// the final rounding to `f32`: `n = rint(x·2/π)`, `y = x − n·p1 − n·p1t` (`rem_pio2f`), then
-/// `k_sinf`/`k_cosf` on `y` and the quadrant `n mod 4`: libm's operations, fused in pairs where
-/// the target has FMA (half the instructions; libm rounds each product).
+/// [`libm::sincosf`] of `f32` arguments held exactly in `f64`, `|x| < 2^28·π/2`, a vector of
+/// them at once, before the final rounding to `f32`: `n = rint(x·2/π)`, `y = x − n·p1 − n·p1t`
+/// (`rem_pio2f`), then `k_sinf`/`k_cosf` on `y` and the quadrant `n mod 4`: libm's operations,
+/// fused in pairs where the target has FMA (half the instructions; libm rounds each product),
+/// the same in every lane whatever the vector's width.
 ///
 /// libm itself skips the reduction below `π/4` (the same `y`) and, up to `9π/4`, subtracts a
 /// multiple of π/2 rounded to one `f64` where this subtracts it in two parts; with the fused
 /// operations, the `f64` result is within a few `f64` ulps of libm's, so the `f32` results
 /// differ from libm's only where the exact value lies within about `2^-26` `f32`-ulp of a
-/// rounding boundary (`runtime/tests/math.rs` counts them: none in its 1.4 million arguments).
-#[inline(always)]
-fn sincosf_x4(x: wide::f64x4) -> (wide::f64x4, wide::f64x4) {
-    use wide::{f64x4, u64x4};
-    // libm's `rem_pio2f` constants (2/π; π/2 as 33 bits and the rest) and `k_sinf`'s and
-    // `k_cosf`'s coefficients, by their bits (their comments give them so).
-    const TOINT: f64 = 1.5 / f64::EPSILON;
-    const INV_PIO2: f64 = core::f64::consts::FRAC_2_PI;
-    const PIO2_1: f64 = f64::from_bits(0x3ff9_21fb_5000_0000);
-    const PIO2_1T: f64 = f64::from_bits(0x3e51_10b4_611a_6263);
-    const S: [f64; 4] = [
-        f64::from_bits(0xbfc5_5555_54cb_ac77),
-        f64::from_bits(0x3f81_1110_896e_fbb2),
-        f64::from_bits(0xbf2a_00f9_e2ca_e774),
-        f64::from_bits(0x3ec6_cd87_8c3b_46a7),
-    ];
-    const C: [f64; 4] = [
-        f64::from_bits(0xbfdf_ffff_fd0c_5e81),
-        f64::from_bits(0x3fa5_5553_e105_3a42),
-        f64::from_bits(0xbf56_c087_e80f_1e27),
-        f64::from_bits(0x3ef9_9342_e0ee_5069),
-    ];
-    let splat = f64x4::splat;
-    let t = x.mul_add(splat(INV_PIO2), splat(TOINT));
-    let n = t - splat(TOINT);
-    let y = n.mul_neg_add(splat(PIO2_1T), n.mul_neg_add(splat(PIO2_1), x));
-    let z = y * y;
-    let w = z * z;
-    // k_sinf: (y + s·(S1 + z·S2)) + s·w·(S3 + z·S4), s = z·y.
-    let sy = z * y;
-    let sin_head = sy.mul_add(z.mul_add(splat(S[1]), splat(S[0])), y);
-    let sin = (sy * w).mul_add(z.mul_add(splat(S[3]), splat(S[2])), sin_head);
-    // k_cosf: ((1 + z·C0) + w·C1) + (w·z)·(C2 + z·C3).
-    let cos_head = w.mul_add(splat(C[1]), z.mul_add(splat(C[0]), splat(1.0)));
-    let cos = (w * z).mul_add(z.mul_add(splat(C[3]), splat(C[2])), cos_head);
-    // The quadrant, from the low bits of `t` (`n` in its last place): odd swaps sine and cosine;
-    // the sine is negated in quadrants 2 and 3, the cosine in 1 and 2.
-    let bits: u64x4 = wide::bytemuck::cast(t);
-    let odd: f64x4 = wide::bytemuck::cast(u64x4::splat(0) - (bits & u64x4::splat(1)));
-    let (s, c) = (odd.bitselect(cos, sin), odd.bitselect(sin, cos));
-    let sign_s: f64x4 = wide::bytemuck::cast((bits & u64x4::splat(2)) << 62);
-    let sign_c: f64x4 = wide::bytemuck::cast(((bits + u64x4::splat(1)) & u64x4::splat(2)) << 62);
-    // `sin(±0) = ±0`, as libm returns its tiny arguments (the kernel would give `+0` for `−0`).
-    let zero = x.simd_eq(splat(0.0));
-    (zero.bitselect(x, s ^ sign_s), c ^ sign_c)
+/// rounding boundary (`runtime/tests/math.rs` counts them).
+macro_rules! sincosf_kernel {
+    ($(#[$doc:meta])* $name:ident($f64s:ident, $u64s:ident)) => {
+        $(#[$doc])*
+        #[inline(always)]
+        fn $name(x: wide::$f64s) -> (wide::$f64s, wide::$f64s) {
+            use wide::{$f64s, $u64s};
+            // libm's `rem_pio2f` constants (2/π; π/2 as 33 bits and the rest) and `k_sinf`'s and
+            // `k_cosf`'s coefficients, by their bits (their comments give them so).
+            const TOINT: f64 = 1.5 / f64::EPSILON;
+            const INV_PIO2: f64 = core::f64::consts::FRAC_2_PI;
+            const PIO2_1: f64 = f64::from_bits(0x3ff9_21fb_5000_0000);
+            const PIO2_1T: f64 = f64::from_bits(0x3e51_10b4_611a_6263);
+            const S: [f64; 4] = [
+                f64::from_bits(0xbfc5_5555_54cb_ac77),
+                f64::from_bits(0x3f81_1110_896e_fbb2),
+                f64::from_bits(0xbf2a_00f9_e2ca_e774),
+                f64::from_bits(0x3ec6_cd87_8c3b_46a7),
+            ];
+            const C: [f64; 4] = [
+                f64::from_bits(0xbfdf_ffff_fd0c_5e81),
+                f64::from_bits(0x3fa5_5553_e105_3a42),
+                f64::from_bits(0xbf56_c087_e80f_1e27),
+                f64::from_bits(0x3ef9_9342_e0ee_5069),
+            ];
+            let splat = $f64s::splat;
+            let t = x.mul_add(splat(INV_PIO2), splat(TOINT));
+            let n = t - splat(TOINT);
+            let y = n.mul_neg_add(splat(PIO2_1T), n.mul_neg_add(splat(PIO2_1), x));
+            let z = y * y;
+            let w = z * z;
+            // k_sinf: (y + s·(S1 + z·S2)) + s·w·(S3 + z·S4), s = z·y.
+            let sy = z * y;
+            let sin_head = sy.mul_add(z.mul_add(splat(S[1]), splat(S[0])), y);
+            let sin = (sy * w).mul_add(z.mul_add(splat(S[3]), splat(S[2])), sin_head);
+            // k_cosf: ((1 + z·C0) + w·C1) + (w·z)·(C2 + z·C3).
+            let cos_head = w.mul_add(splat(C[1]), z.mul_add(splat(C[0]), splat(1.0)));
+            let cos = (w * z).mul_add(z.mul_add(splat(C[3]), splat(C[2])), cos_head);
+            // The quadrant, from the low bits of `t` (`n` in its last place): odd swaps sine and cosine;
+            // the sine is negated in quadrants 2 and 3, the cosine in 1 and 2.
+            let bits: $u64s = wide::bytemuck::cast(t);
+            let odd: $f64s = wide::bytemuck::cast($u64s::splat(0) - (bits & $u64s::splat(1)));
+            let (s, c) = (odd.bitselect(cos, sin), odd.bitselect(sin, cos));
+            let sign_s: $f64s = wide::bytemuck::cast((bits & $u64s::splat(2)) << 62);
+            let sign_c: $f64s = wide::bytemuck::cast(((bits + $u64s::splat(1)) & $u64s::splat(2)) << 62);
+            // `sin(±0) = ±0`, as libm returns its tiny arguments (the kernel would give `+0` for `−0`).
+            let zero = x.simd_eq(splat(0.0));
+            (zero.bitselect(x, s ^ sign_s), c ^ sign_c)
+        }
+    };
 }
+sincosf_kernel!(
+    /// [`sincosf_kernel`] on four arguments: the `f32` lanes' four at a time, and the scalar
+    /// code's angles where the target has AVX.
+    sincosf_x4(f64x4, u64x4)
+);
+sincosf_kernel!(
+    /// [`sincosf_kernel`] on two arguments: the scalar code's angles two at a time where the
+    /// target has no AVX (one SSE2 register).
+    sincosf_x2(f64x2, u64x2)
+);
 
 /// Four vectors of four `f64` transposed: `out[j].lane(i) == rows[i].lane(j)`.
 ///
@@ -538,7 +613,7 @@ lane_type!(
     transpose: cfg!(target_feature = "sse"),
     by wide::f32x4::transpose,
     |x| {
-        let (s, c) = sincos_f32(x.to_array());
+        let (s, c) = sincos_f32::<_, 4>(x.to_array());
         (wide::f32x4::new(s), wide::f32x4::new(c))
     }
 );
@@ -548,7 +623,7 @@ lane_type!(
     transpose: cfg!(target_feature = "avx"),
     by wide::f32x8::transpose,
     |x| {
-        let (s, c) = sincos_f32(x.to_array());
+        let (s, c) = sincos_f32::<_, 4>(x.to_array());
         (wide::f32x8::new(s), wide::f32x8::new(c))
     }
 );
@@ -559,7 +634,7 @@ lane_type!(
     transpose: false,
     by wide::f32x16::transpose,
     |x| {
-        let (s, c) = sincos_f32(x.to_array());
+        let (s, c) = sincos_f32::<_, 4>(x.to_array());
         (wide::f32x16::new(s), wide::f32x16::new(c))
     }
 );

@@ -307,6 +307,24 @@ pub fn sincosf(x: f32) -> (f32, f32) {
     (s as f32, c as f32)
 }
 
+/// `(sin x[i], cos x[i])` in `f32` for every `i`, as `([sin x[0], …], [cos x[0], …])`: what
+/// generated `f32` code computes its angles' sines with. On x86-64 and AArch64, four at a time
+/// with AVX, two without, by [`libm::sincosf`]'s algorithm in `f64` vectors, the one of the `f32`
+/// batch functions ([`crate::lanes`]), so that a state's values in a batch are the scalar
+/// function's, bit for bit; equal to [`libm::sincosf`] but where the exact value lies within
+/// about `2^-26` ulp of a rounding boundary, within an ulp of it there (`runtime/tests/math.rs`
+/// counts them); angles at or beyond `2^28·π/2`, infinities and NaN are [`libm::sincosf`]'s.
+/// Elsewhere (no `f64` vectors, as on a Cortex-M) it is [`libm::sincosf`] angle by angle.
+///
+/// Why not [`libm::sincosf`] angle by angle everywhere: the generated functions measured run
+/// fewer instructions with the angles in vectors (all but one, by a few per cent), and the
+/// humanoid's `f32` inverse dynamics on the default target ran three times as fast without its
+/// 31 calls (the commit that made this the generated code's has the figures).
+#[inline(always)]
+pub fn sincosf_array<const N: usize>(x: [f32; N]) -> ([f32; N], [f32; N]) {
+    crate::lanes::sincos_f32_scalar(x)
+}
+
 /// `|x| <` [`SINCOS_FAST_LIMIT`]: false for infinities and NaN.
 #[inline(always)]
 pub(crate) fn in_fast_range(x: f64) -> bool {

@@ -1,4 +1,4 @@
-//! `articulated::math::sincos` and `sincosf`, and the `f32` lanes' sines, against `libm`, against std's `sin_cos` (glibc)
+//! `articulated::math::sincos`, `sincosf` and `sincosf_array`, and the `f32` lanes' sines, against `libm`, against std's `sin_cos` (glibc)
 //! and against an independent reference: exact reduction by a 256-bit π/2 in integer
 //! arithmetic, then Taylor series in double-double.
 //!
@@ -8,7 +8,7 @@
 use std::f64::consts::FRAC_PI_2;
 
 use articulated::lanes::{F32x8, Simd};
-use articulated::math::{sincos, sincos_array, sincosf, SINCOS_FAST_LIMIT};
+use articulated::math::{sincos, sincos_array, sincosf, sincosf_array, SINCOS_FAST_LIMIT};
 use articulated_dynamics::random::Rng;
 
 /// Distance in ulps between two `f64`: the difference of their bit patterns mapped to a
@@ -477,6 +477,43 @@ fn f32_lanes_agree_with_libm() {
         (r[0].0.to_bits(), r[2].0.to_bits()),
         ((-0.0f32).to_bits(), (-0.0f32).to_bits())
     );
+}
+
+/// [`sincosf_array`], the scalar `f32` code's sines, gives each angle what the `f32` lanes give
+/// it, bit for bit, whatever its neighbours (so that a state's values in an `f32` batch are the
+/// scalar function's), and within an ulp of libm: groups of six (a partial last group of four,
+/// or three pairs), with an angle beyond the reduction (which `libm` takes) beside ordinary
+/// ones, infinities, NaN and both zeros, then random angles of every range of
+/// [`sincosf_agrees_with_libm`]. [`sincosf`] in its place (`f64`'s sines rounded) fails it.
+#[test]
+fn f32_scalar_sines_are_the_lanes_bit_for_bit() {
+    let lanes = |x: f32| {
+        let (s, c) = F32x8::splat(x).sincos();
+        (s.lane(0), c.lane(0))
+    };
+    let mut stats = Stats32::new("sincosf_array");
+    let mut check = |x: [f32; 6]| {
+        let (s, c) = sincosf_array(x);
+        for (i, &x) in x.iter().enumerate() {
+            let (ls, lc) = lanes(x);
+            assert!(
+                ulps32(s[i], ls) == 0 && ulps32(c[i], lc) == 0,
+                "angle {i}, {x:e}: ({:e}, {:e}), the lanes ({ls:e}, {lc:e})",
+                s[i],
+                c[i]
+            );
+            stats.check_result(x, (s[i], c[i]));
+        }
+    };
+    check([0.5, 1e9, -0.0, f32::NAN, 0.0, f32::INFINITY]);
+    check([1.0, 2.0, 3.0, 4.0, 5.0, -1e30]);
+    let mut rng = Rng::new(0x5EED_0007);
+    for r in [1.0, 10.0, 1e4, 4e8] {
+        for _ in 0..RANDOM_POINTS / 6 {
+            check(std::array::from_fn(|_| rng.symmetric(r) as f32));
+        }
+    }
+    stats.report();
 }
 
 // --- the double-double reference -----------------------------------------------------------

@@ -995,8 +995,9 @@ impl Report {
              computes them with `articulated::math::sincos_array`, which is inlined: its \
              polynomials are in the function's bytes (about 500 bytes on x86-64, 2 KiB in \
              soft-float `f64` on ARM; the floor of the small models' sizes). With one angle, and \
-             in `f32`, the function calls `libm`'s `sincos`/`sincosf`, shared code that is not in \
-             its bytes: so the `f32` column is smaller than the `f64` one by more than the width \
+             in `f32` on ARM (`articulated::math::sincosf_array` is `libm`'s `sincosf` angle by \
+             angle where the target has no `f64` vectors), the function calls `libm`'s \
+             `sincos`/`sincosf`, shared code that is not in its bytes: so the `f32` column is smaller than the `f64` one by more than the width \
              of the numbers.\n"
         );
         if let Some(why) = &self.arm_missing {

@@ -156,6 +156,12 @@ pub fn straight_line_into(
         let (g, outs) = crate::optimize::round_constants_to_f32(graph, outputs);
         let mut w = Writer::new(&g, &outs, scalar, input, sink);
         w.lanes = lanes.cloned();
+        if w.lanes.is_some() {
+            // In `f32` lanes each angle's sines by a call of its own: the lanes are already
+            // eight states wide, and one `sincos_array` of all the angles measured slower there
+            // (arm7's batch functions, x86-64-v3: the figures are in the commit that set this).
+            w.batched.clear();
+        }
         return w.emit(&outs, sink);
     }
     let mut w = Writer::new(graph, outputs, scalar, input, sink);
@@ -260,8 +266,10 @@ impl<'g> Writer<'g> {
             _ => fusion::fused_products(graph, &live, outputs),
         };
         let batched = match scalar {
-            ScalarKind::F64 => Some(trig.batched_angles(graph, &live)).filter(|a| a.len() >= 2),
-            _ => None,
+            ScalarKind::F64 | ScalarKind::F32 => {
+                Some(trig.batched_angles(graph, &live)).filter(|a| a.len() >= 2)
+            }
+            ScalarKind::Generic => None,
         }
         .unwrap_or_default();
         let mut w = Writer {
@@ -578,10 +586,12 @@ impl<'g> Writer<'g> {
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Some(Statement {
             pattern: quote!((#sines, #cosines)),
-            value: if self.lanes.is_some() {
-                quote!(::articulated::lanes::sincos_array([#(#args),*]))
-            } else {
-                quote!(::articulated::math::sincos_array([#(#args),*]))
+            value: match (self.lanes.is_some(), self.scalar) {
+                (true, _) => quote!(::articulated::lanes::sincos_array([#(#args),*])),
+                (false, ScalarKind::F32) => {
+                    quote!(::articulated::math::sincosf_array([#(#args),*]))
+                }
+                (false, _) => quote!(::articulated::math::sincos_array([#(#args),*])),
             },
             binds: self.batch_nodes(),
             reads: self.batched.clone(),

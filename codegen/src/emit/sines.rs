@@ -4,7 +4,9 @@
 //! - `f64`: one `::articulated::math::sincos_array([…])` for the sines and cosines of the inputs
 //!   (two angles per SSE2 instruction, four under AVX2, no branches, within 1 ulp of `libm`),
 //!   `::articulated::libm::{sin, cos, sincos, sqrt}` otherwise;
-//! - `f32`: `sinf`, `cosf`, `sincosf`, `sqrtf`;
+//! - `f32`: one `::articulated::math::sincosf_array([…])` for the inputs' (four angles at a time,
+//!   `libm::sincosf`'s algorithm in `f64` lanes, the `f32` batch functions' own),
+//!   `::articulated::libm::{sinf, cosf, sincosf, sqrtf}` otherwise;
 //! - generic: the methods `x.sin()`, `x.cos()`, `x.sin_cos()`, `x.sqrt()` of
 //!   `nalgebra::ComplexField` (callable through the `RealField` bound).
 
