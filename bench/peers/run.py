@@ -1011,7 +1011,11 @@ def throughput_report(w, thr):
     w("256 states per call on one thread; on T threads, T shares of 256 to 4096 states, as many as")
     w("fit 1 MiB of inputs and results (a core's L2: the humanoid's mass matrices, 11 KB a state,")
     w("256 a thread); best of 7 rounds. Ratios: lanes over the scalar loop on one thread;")
-    w("ours over Pinocchio at the same thread count, per state.")
+    w("ours over Pinocchio at the same thread count, per state. Read the humanoid's figures as")
+    w("within tens of per cent: its functions are tens of kilobytes of straight-line code, whose")
+    w("speed on this machine moves from run to run and build to build (the scalar `mass_matrix`")
+    w("loop ran at 0.91 M states/s in two runs of one binary and at 1.47 in a third minutes")
+    w("later), so a ratio moves where neither function changed.")
     if thr.get("commit"):
         w(f"Measured {thr['date']} at commit {thr['commit']} (`bash bench/peers/run.sh --throughput-only`")
         w("rewrites this section alone).")
