@@ -402,6 +402,7 @@ pub(crate) fn sincos_f32<const N: usize, const W: usize>(x: [f32; N]) -> ([f32; 
 /// `cos` (as long as `x`), the missing lanes zero.
 #[inline(always)]
 fn sincosf_group<const W: usize>(x: &[f32], sin: &mut [f32], cos: &mut [f32]) {
+    const { assert!(W == 2 || W == 4, "the kernels are four or two lanes wide") };
     let lane = |l: usize| x.get(l).map_or(0.0, |&x| f64::from(x));
     let mut put = |vs: &[f64], vc: &[f64]| {
         for ((s, c), (&vs, &vc)) in sin.iter_mut().zip(&mut *cos).zip(vs.iter().zip(vc)) {

@@ -317,9 +317,9 @@ pub fn sincosf(x: f32) -> (f32, f32) {
 /// Elsewhere (no `f64` vectors, as on a Cortex-M) it is [`libm::sincosf`] angle by angle.
 ///
 /// Why not [`libm::sincosf`] angle by angle everywhere: the generated functions measured run
-/// fewer instructions with the angles in vectors (all but one, by a few per cent), and the
-/// humanoid's `f32` inverse dynamics on the default target ran three times as fast without its
-/// 31 calls (the commit that made this the generated code's has the figures).
+/// fewer instructions with the angles in vectors (all but one), and the humanoid's `f32` inverse
+/// dynamics on the default target ran much faster without its 31 calls (the commit that made
+/// this the generated code's has the figures).
 #[inline(always)]
 pub fn sincosf_array<const N: usize>(x: [f32; N]) -> ([f32; N], [f32; N]) {
     crate::lanes::sincos_f32_scalar(x)
