@@ -143,4 +143,28 @@ fn large_forward_dynamics_derivatives_are_composed() {
         Some(&[Output::ForwardDynamicsDerivatives]),
     );
     assert!(!arm.contains("minus_product"));
+    // With lanes, the batch twin composes the parts in lanes (not the provided state-by-state
+    // loop): each part a lane function, the products lane by lane.
+    let path = format!("{}/../tests/data/legs.chain", env!("CARGO_MANIFEST_DIR"));
+    let mut chain = load(Path::new(&path), false).unwrap_or_else(|e| panic!("{e}"));
+    chain
+        .options
+        .set_outputs([Output::ForwardDynamicsDerivatives]);
+    chain.options.lanes = Some(4);
+    let lanes = generate_file(&chain.model, &chain.options, "tests/data/legs.chain")
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(lanes.contains("fn forward_dynamics_derivatives_batch_with_each("));
+    for part in [
+        "fn forward_dynamics_lanes(",
+        "fn inverse_dynamics_derivatives_lanes(",
+        "fn mass_matrix_inverse_lanes(",
+    ] {
+        assert!(lanes.contains(part), "{part}");
+    }
+    assert_eq!(
+        lanes
+            .matches("::articulated::__private::lanes_minus_product(")
+            .count(),
+        2
+    );
 }

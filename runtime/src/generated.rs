@@ -471,11 +471,29 @@ pub mod __private {
         rows: &[&[u16]; N],
         fma: impl Fn(T, T, T) -> T,
     ) -> nalgebra::SMatrix<T, N, N> {
-        let mut out = nalgebra::SMatrix::<T, N, N>::zeros();
+        in_blocks::<T, N, BLOCK>(a, d, rows, T::zero(), fma)
+    }
+
+    /// `−A·D` as [`minus_product`] computes it, `B` rows of a result column at a time, for
+    /// the scalars and for the lanes alike.
+    #[inline(always)]
+    fn in_blocks<T, const N: usize, const B: usize>(
+        a: &nalgebra::SMatrix<T, N, N>,
+        d: &nalgebra::SMatrix<T, N, N>,
+        rows: &[&[u16]; N],
+        zero: T,
+        fma: impl Fn(T, T, T) -> T,
+    ) -> nalgebra::SMatrix<T, N, N>
+    where
+        T: nalgebra::Scalar + Copy + core::ops::Neg<Output = T>,
+    {
+        let mut out = nalgebra::SMatrix::<T, N, N>::from_array_storage(nalgebra::ArrayStorage(
+            [[zero; N]; N],
+        ));
         for ((out, rows), d) in out.data.0.iter_mut().zip(rows).zip(&d.data.0) {
-            for start in (0..N).step_by(BLOCK) {
-                let len = BLOCK.min(N - start);
-                let mut acc = [T::zero(); BLOCK];
+            for start in (0..N).step_by(B) {
+                let len = B.min(N - start);
+                let mut acc = [zero; B];
                 for &k in *rows {
                     let k = usize::from(k);
                     // The generator lists rows below `N` only.
@@ -492,6 +510,23 @@ pub mod __private {
             }
         }
         out
+    }
+
+    /// The rows of a result column [`lanes_minus_product`] accumulates at once: each row a
+    /// whole vector register of lanes, so eight, with room left for the operands among sixteen
+    /// registers.
+    const LANE_BLOCK: usize = 8;
+
+    /// [`minus_product`] in lanes, for a composed `forward_dynamics_derivatives`' batch twin:
+    /// `−A·D` lane by lane, each entry's sum over the same rows in the same order, with the
+    /// lanes' own `mul_add`, so that each lane is the scalar product of its state bit for bit.
+    #[inline]
+    pub fn lanes_minus_product<L: crate::lanes::Simd, const N: usize>(
+        a: &nalgebra::SMatrix<L, N, N>,
+        d: &nalgebra::SMatrix<L, N, N>,
+        rows: &[&[u16]; N],
+    ) -> nalgebra::SMatrix<L, N, N> {
+        in_blocks::<L, N, LANE_BLOCK>(a, d, rows, L::ZERO, L::mul_add)
     }
 
     /// The parts of a composed `constrained_forward_dynamics_derivatives` put together.

@@ -23,6 +23,17 @@ struct TwoLinkFoot;
 )]
 struct Humanoid;
 
+// The humanoid's legs on its free base (`tests/data/legs.chain`): large enough that its
+// `forward_dynamics_derivatives` is composed (`codegen/src/generate/composed.rs`), and its batch
+// twin then composes the parts in lanes.
+#[derive(articulated::Chain)]
+#[chain(
+    file = "data/legs.chain",
+    outputs = [forward_dynamics_derivatives],
+    lanes = 4
+)]
+struct Legs;
+
 // The other shipped models, their dynamics in four lanes.
 #[derive(articulated::Chain)]
 #[chain(file = "../models/inverted_pendulum.chain", outputs = [dynamics], lanes = 4)]
@@ -186,6 +197,38 @@ fn ensemble_against_rk4() {
     assert!(ensemble
         .rk4::<Humanoid>(&mut q, &mut v, &tau, &[()], h, &mut short)
         .is_err());
+}
+
+#[test]
+fn composed_derivatives_in_lanes_are_the_scalar_function() {
+    on_a_large_stack(composed_derivatives_in_lanes);
+}
+
+fn composed_derivatives_in_lanes() {
+    // Bit for bit the scalar (composed) function, state by state: the parts in lanes and the
+    // products lane by lane sum in the scalar order. State 6's torque is NaN (its forward
+    // dynamics fails, in the second group of four): its error, its neighbours their values.
+    let mut q = states::<{ Legs::NQ }>(N, 60);
+    for q in &mut q {
+        let r = q.fixed_rows::<4>(3).normalize();
+        q.fixed_rows_mut::<4>(3).copy_from(&r);
+    }
+    let (v, mut tau) = (states::<{ Legs::NV }>(N, 61), states::<{ Legs::NV }>(N, 62));
+    tau[6][9] = f64::NAN;
+    let (label, worst) = same!(
+        Legs,
+        forward_dynamics_derivatives,
+        forward_dynamics_derivatives_batch,
+        q,
+        v,
+        tau
+    );
+    assert_within("legs (f64, 4 lanes)", &[(label, worst)], 0.0);
+    let mut out = vec![Legs::forward_dynamics_derivatives(&q[0], &v[0], &tau[0]); N];
+    Legs::forward_dynamics_derivatives_batch(&q, &v, &tau, &mut out).unwrap();
+    for (i, o) in out.iter().enumerate() {
+        assert_eq!(o.is_err(), i == 6, "state {i}");
+    }
 }
 
 #[test]

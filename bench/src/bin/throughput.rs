@@ -1,6 +1,7 @@
 //! States per second: each output's scalar function called state by state, its batch function
 //! in lanes (`lanes: 4` in `f64`, `lanes: 8` in `f32`; `articulated::lanes`), and the batch
-//! function on every thread (`_par_batch`, rayon), for the 7-DOF arm and the 37-DOF humanoid.
+//! function on every thread (`_par_batch`, rayon), for the 7-DOF arm and the 37-DOF humanoid
+//! (its derivatives with the feature `humanoid-derivatives`, as `bench/peers/run.sh` builds it).
 //!
 //! ```text
 //! cargo run --release -p articulated-bench --bin throughput -- [--threads 1,2] [--json FILE]
@@ -56,6 +57,17 @@ struct Humanoid;
     lanes = 8
 )]
 struct HumanoidF32;
+
+/// The humanoid's derivatives (in lanes the largest functions this binary builds): behind the
+/// feature `humanoid-derivatives`, which `bench/peers/run.sh` turns on, as `peers` has them.
+#[cfg(feature = "humanoid-derivatives")]
+#[derive(articulated::Chain)]
+#[chain(
+    file = "../models/humanoid.chain",
+    outputs = [inverse_dynamics_derivatives, forward_dynamics_derivatives],
+    lanes = 4
+)]
+struct HumanoidDerivatives;
 
 #[derive(Parser)]
 #[command(about = "States per second: scalar loop, lanes, lanes on every thread")]
@@ -412,6 +424,40 @@ fn run() -> Result<(), String> {
         states(n, 6, None),
     );
     dynamics!("humanoid", "f64", Humanoid, f64, 37, q, v, a);
+    #[cfg(feature = "humanoid-derivatives")]
+    {
+        let m37 = SMatrix::<f64, 37, 37>::zeros();
+        time_output!(
+            figures,
+            args,
+            pools,
+            "humanoid",
+            "f64",
+            HumanoidDerivatives,
+            inverse_dynamics_derivatives,
+            inverse_dynamics_derivatives_batch,
+            inverse_dynamics_derivatives_par_batch,
+            (m37, m37),
+            q,
+            v,
+            a
+        );
+        time_output!(
+            figures,
+            args,
+            pools,
+            "humanoid",
+            "f64",
+            HumanoidDerivatives,
+            forward_dynamics_derivatives,
+            forward_dynamics_derivatives_batch,
+            forward_dynamics_derivatives_par_batch,
+            Ok((m37, m37, m37)),
+            q,
+            v,
+            a
+        );
+    }
     let (q, v, a) = (
         states::<f32, 38>(n, 4, Some(3)),
         states(n, 5, None),

@@ -54,6 +54,7 @@ pub(super) fn item(cx: &Context, traced_ops: OpCounts) -> syn::Result<(TokenStre
     let mut calls = Vec::new();
     let mut ops = OpCounts::default();
     let mut rows = None;
+    let mut traces = Vec::new();
     for (output, what) in PARTS {
         let traced = cx.trace(output);
         let part_ops = traced.graph.op_counts(&function::outputs(cx, &traced));
@@ -75,6 +76,7 @@ pub(super) fn item(cx: &Context, traced_ops: OpCounts) -> syn::Result<(TokenStre
             privates.push(function::part(cx, &traced, &name, &doc)?);
             calls.push(quote!(Self::#name));
         }
+        traces.push(traced);
     }
     let (dq_rows, dv_rows) = rows.unwrap_or_default();
     // Each product: a multiply and an add per visited entry of `∂τ` and row of `M⁻¹`, and the
@@ -105,6 +107,10 @@ pub(super) fn item(cx: &Context, traced_ops: OpCounts) -> syn::Result<(TokenStre
     let [q_ty, v_ty, tau_ty] =
         [Arg::Q, Arg::V, Arg::Tau].map(|arg| output.spec().arg_type(arg, &types));
     let private = quote!(::articulated::__private);
+    let batch = match (cx.options.lanes, cx.options.scalar) {
+        (Some(n), ScalarKind::F64 | ScalarKind::F32) => batch(cx, n, &traces)?,
+        _ => TokenStream::new(),
+    };
     let tokens = quote! {
         #privates
         impl #generics #trait_ for #name {
@@ -125,9 +131,62 @@ pub(super) fn item(cx: &Context, traced_ops: OpCounts) -> syn::Result<(TokenStre
                     Err(e) => Err(e),
                 }
             }
+            #batch
         }
     };
     Ok((tokens, ops))
+}
+
+/// The composed function's batch twin in lanes: each group of states through the three parts
+/// in lanes (`articulated::lanes::fit`: each part has thousands of operations, past
+/// `function::FIT_OPS`) and the two products in lanes
+/// (`articulated::__private::lanes_minus_product`), so that each state's result is the scalar
+/// function's bit for bit; a lane whose forward dynamics or `M⁻¹` fails has that error, its
+/// neighbours their values. `parts`: the traces of [`PARTS`], in order.
+fn batch(cx: &Context, n: usize, parts: &[crate::trace::Traced]) -> syn::Result<TokenStream> {
+    let lanes = cx.with_lanes(n, true);
+    let n_lit = function::group_size(n, true);
+    let names = [
+        format_ident!("forward_dynamics_lanes"),
+        format_ident!("inverse_dynamics_derivatives_lanes"),
+        format_ident!("mass_matrix_inverse_lanes"),
+    ];
+    let inner = parts
+        .iter()
+        .zip(&names)
+        .map(|(traced, name)| function::lane_part(&lanes, traced, name, &n_lit))
+        .collect::<syn::Result<Vec<_>>>()?;
+    let [fd, idd, minv] = &names;
+    let (dq_rows, dv_rows) = parts
+        .iter()
+        .find(|t| t.output == Output::InverseDynamicsDerivatives)
+        .map(|t| nonzero_rows(t, cx.nv))
+        .unwrap_or_default();
+    let (dq_const, dv_const) = (rows_const("DQ", &dq_rows), rows_const("DV", &dv_rows));
+    let gather = quote!(::articulated::lanes::gather);
+    let private = quote!(::articulated::__private);
+    let group = quote! {
+        let (q, v, tau) = (#gather(q), #gather(v), #gather(tau));
+        let (qdd, fd_status) = #fd(&q, &v, &tau, &lanes_p);
+        let dtau = #idd(&q, &v, &qdd, &lanes_p);
+        let (minv, minv_status) = #minv(&q, &lanes_p);
+        // The scalar function's error: forward dynamics' first, then `M⁻¹`'s.
+        let status: [_; #n_lit] = ::core::array::from_fn(|l| fd_status[l].or(minv_status[l]));
+        let values = (
+            #private::lanes_minus_product(&minv, &dtau.0, &DQ),
+            #private::lanes_minus_product(&minv, &dtau.1, &DV),
+            minv,
+        );
+        ::articulated::lanes::scatter_results(&values, &status, out);
+    };
+    Ok(function::batch_shell(
+        cx,
+        Output::ForwardDynamicsDerivatives,
+        (&lanes, &n_lit, true),
+        quote!(#(#inner)* #dq_const #dv_const),
+        TokenStream::new(),
+        group,
+    ))
 }
 
 /// `const NAME: [&[u16]; C] = […];`: the rows of each of the `C` columns that can be non-zero,

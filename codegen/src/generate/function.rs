@@ -169,21 +169,9 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
     let fit = traced.ops().total() >= FIT_OPS;
     let lanes = cx.with_lanes(n, fit);
     let (args, p_arg, body) = function(&lanes, traced)?;
-    let t = cx.types();
-    let each = spec.batch_each_name();
-    let out_ty = spec.batch_out_type(&t);
     let lane_value = spec.value_type(&lanes.types());
     let lane = &lanes.scalar;
-    // The lanes a group holds: the count asked for, or the fitting lane type's (`LANES`, a
-    // constant of the batch function).
-    let (n_lit, lanes_const) = if fit {
-        (
-            quote!(LANES),
-            quote!(const LANES: usize = <#lane as ::articulated::lanes::Simd>::LANES;),
-        )
-    } else {
-        (Literal::usize_unsuffixed(n).into_token_stream(), quote!())
-    };
+    let n_lit = group_size(n, fit);
     let staged = staged(&lanes, traced);
     let ret = if spec.fallible {
         quote!(-> (#lane_value, [::core::option::Option<::articulated::SingularMassMatrix>; #n_lit]))
@@ -192,23 +180,7 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
     } else {
         quote!(-> #lane_value)
     };
-    let names: Vec<proc_macro2::Ident> = spec
-        .args
-        .iter()
-        .map(|a| format_ident!("{}", a.name()))
-        .collect();
-    let strs: Vec<&str> = spec.args.iter().map(|a| a.name()).collect();
-    let types: Vec<TokenStream> = spec.args.iter().map(|&a| spec.arg_type(a, &t)).collect();
-    let np = cx.param_idents.len();
-    // The group's number, read only to gather its parameters.
-    let k = if np == 0 { quote!(_) } else { quote!(k) };
-    let (zipped, pattern) = names.iter().fold(
-        (
-            quote!(out.chunks_mut(#n_lit).enumerate()),
-            quote!((#k, out)),
-        ),
-        |(z, p), a| (quote!(#z.zip(#a.chunks(#n_lit))), quote!((#p, #a))),
-    );
+    let names = arg_names(traced.output);
     let (stage, stage_param, stage_arg) = stage_tokens(staged.as_ref(), lane);
     let call = quote!(lanes(#(&::articulated::lanes::gather(#names),)* &lanes_p, #stage_arg));
     let (call, scatter) = if spec.fallible {
@@ -227,6 +199,90 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
             quote!(::articulated::lanes::Split::scatter(&values, out);),
         )
     };
+    let np_lit = Literal::usize_unsuffixed(cx.param_idents.len());
+    let allow = match traced.output {
+        Output::KineticEnergy | Output::PotentialEnergy => {
+            quote!(#[allow(clippy::let_and_return)])
+        }
+        _ => TokenStream::new(),
+    };
+    let doc = lanes_doc(spec.name, n, fit);
+    let inner = quote! {
+        #[doc = #doc]
+        #allow
+        #[allow(clippy::type_complexity)]
+        #[inline(always)]
+        fn lanes(#(#args)* #p_arg: &[#lane; #np_lit], #stage_param) #ret {
+            #body
+        }
+    };
+    Ok(batch_shell(
+        cx,
+        traced.output,
+        (&lanes, &n_lit, fit),
+        inner,
+        stage,
+        quote!(#call #scatter),
+    ))
+}
+
+/// The lanes a group of a batch holds, as the batch function writes it: the count asked for,
+/// or where the lanes `fit`, the fitting lane type's (`LANES`, a constant of the batch
+/// function, [`batch_shell`]).
+pub(super) fn group_size(n: usize, fit: bool) -> TokenStream {
+    if fit {
+        quote!(LANES)
+    } else {
+        Literal::usize_unsuffixed(n).into_token_stream()
+    }
+}
+
+/// The names of an output's arguments (`q`, `v`, `tau`), as its functions bind them.
+pub(super) fn arg_names(output: Output) -> Vec<proc_macro2::Ident> {
+    output
+        .spec()
+        .args
+        .iter()
+        .map(|a| format_ident!("{}", a.name()))
+        .collect()
+}
+
+/// A batch twin (`_batch_with_each`) around its lane functions `inner`: the lengths checked, a
+/// batch of one state sent to the scalar function, `prepare` run once, then for each group of
+/// states (`out` and each argument's slice of the group, named as the arguments, and the
+/// group's parameters in lanes, `lanes_p`) the statements `group`. `lanes`: the chain in
+/// lanes, the group's size ([`group_size`]) and whether the lanes fit a register.
+pub(super) fn batch_shell(
+    cx: &Context,
+    output: Output,
+    (lanes, n_lit, fit): (&Context, &TokenStream, bool),
+    inner: TokenStream,
+    prepare: TokenStream,
+    group: TokenStream,
+) -> TokenStream {
+    let spec = output.spec();
+    let t = cx.types();
+    let each = spec.batch_each_name();
+    let out_ty = spec.batch_out_type(&t);
+    let lane = &lanes.scalar;
+    let lanes_const = if fit {
+        quote!(const LANES: usize = <#lane as ::articulated::lanes::Simd>::LANES;)
+    } else {
+        quote!()
+    };
+    let names = arg_names(output);
+    let strs: Vec<&str> = spec.args.iter().map(|a| a.name()).collect();
+    let types: Vec<TokenStream> = spec.args.iter().map(|&a| spec.arg_type(a, &t)).collect();
+    let np = cx.param_idents.len();
+    // The group's number, read only to gather its parameters.
+    let k = if np == 0 { quote!(_) } else { quote!(k) };
+    let (zipped, pattern) = names.iter().fold(
+        (
+            quote!(out.chunks_mut(#n_lit).enumerate()),
+            quote!((#k, out)),
+        ),
+        |(z, p), a| (quote!(#z.zip(#a.chunks(#n_lit))), quote!((#p, #a))),
+    );
     // A batch of one state goes to the scalar function, which computes what its lane would, bit
     // for bit, without computing three padding lanes (what a call from Python with one state
     // is). Outside the loop: a branch in it slowed the humanoid's forward dynamics in lanes.
@@ -238,19 +294,11 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
         }
     };
     let params_ty = &cx.params_ty;
-    let np_lit = Literal::usize_unsuffixed(np);
-    let (params, group_params) = lane_params(cx, lane, &n_lit);
-    let allow = match traced.output {
-        Output::KineticEnergy | Output::PotentialEnergy => {
-            quote!(#[allow(clippy::let_and_return)])
-        }
-        _ => TokenStream::new(),
-    };
-    let doc = lanes_doc(spec.name, n, fit);
+    let (params, group_params) = lane_params(cx, lane, n_lit);
     // Not inlined into the caller: one call runs a whole batch, and inlined into a large caller
     // the lane statements were left partly unvectorized (arm7's inverse dynamics in four lanes
     // ran no faster than the scalar loop).
-    Ok(quote! {
+    quote! {
         #[allow(clippy::type_complexity)]
         #[inline(never)]
         fn #each(
@@ -259,23 +307,51 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
             out: &mut [#out_ty],
         ) -> ::core::result::Result<(), ::articulated::lanes::BatchLengths> {
             #lanes_const
-            #[doc = #doc]
-            #allow
-            #[allow(clippy::type_complexity)]
-            #[inline(always)]
-            fn lanes(#(#args)* #p_arg: &[#lane; #np_lit], #stage_param) #ret {
-                #body
-            }
+            #inner
             ::articulated::lanes::check_batch(out.len(), &[#((#strs, #names.len())),*], p.len())?;
             #single
             #params
-            #stage
+            #prepare
             for #pattern in #zipped {
                 #group_params
-                #call
-                #scatter
+                #group
             }
             Ok(())
+        }
+    }
+}
+
+/// A part of a composed output as a function in lanes inside its batch twin (`name`, never
+/// inlined: each part is large): `traced`'s statements in `lanes`, returning its value in lanes
+/// and, where the output can fail, each lane's first failure (groups of `n_lit` states).
+pub(super) fn lane_part(
+    lanes: &Context,
+    traced: &Traced,
+    name: &proc_macro2::Ident,
+    n_lit: &TokenStream,
+) -> syn::Result<TokenStream> {
+    let spec = traced.output.spec();
+    // The parts (forward dynamics, its derivatives' parts) have no staged matrix: each result
+    // is returned.
+    debug_assert!(staged(lanes, traced).is_none());
+    let (args, p_arg, body) = function(lanes, traced)?;
+    let (lane, value) = (&lanes.scalar, spec.value_type(&lanes.types()));
+    let ret = if spec.fallible {
+        quote!(-> (#value, [::core::option::Option<::articulated::SingularMassMatrix>; #n_lit]))
+    } else {
+        quote!(-> #value)
+    };
+    let np_lit = Literal::usize_unsuffixed(lanes.param_idents.len());
+    let doc = format!(
+        " `{}` on a group of states: the same statements in lanes (`articulated::lanes::fit`).",
+        spec.name
+    );
+    Ok(quote! {
+        #[doc = #doc]
+        #[allow(clippy::type_complexity)]
+        #[inline(never)]
+        fn #name(#(#args)* #p_arg: &[#lane; #np_lit]) #ret {
+            #body
         }
     })
 }
