@@ -1036,7 +1036,11 @@ def throughput_report(w, thr):
         return None
 
     def m(x):
-        return "–" if x is None else f"{x / 1e6:.2f}"
+        # Two decimals, but three significant digits below 1 M/s (the humanoid's derivatives,
+        # tens of thousands of states per second).
+        if x is None:
+            return "–"
+        return f"{x / 1e6:.2f}" if x >= 1e6 else f"{x / 1e6:.3g}"
 
     def r(a, b):
         return "–" if a is None or b is None else f"{a / b:.1f}×"
