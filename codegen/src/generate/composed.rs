@@ -108,7 +108,9 @@ pub(super) fn item(cx: &Context, traced_ops: OpCounts) -> syn::Result<(TokenStre
         [Arg::Q, Arg::V, Arg::Tau].map(|arg| output.spec().arg_type(arg, &types));
     let private = quote!(::articulated::__private);
     let batch = match (cx.options.lanes, cx.options.scalar) {
-        (Some(n), ScalarKind::F64 | ScalarKind::F32) => batch(cx, n, &traces)?,
+        (Some(n), ScalarKind::F64 | ScalarKind::F32) => {
+            batch(cx, n, &traces, quote!(#dq_const #dv_const))?
+        }
         _ => TokenStream::new(),
     };
     let tokens = quote! {
@@ -142,8 +144,14 @@ pub(super) fn item(cx: &Context, traced_ops: OpCounts) -> syn::Result<(TokenStre
 /// `function::FIT_OPS`) and the two products in lanes
 /// (`articulated::__private::lanes_minus_product`), so that each state's result is the scalar
 /// function's bit for bit; a lane whose forward dynamics or `M⁻¹` fails has that error, its
-/// neighbours their values. `parts`: the traces of [`PARTS`], in order.
-fn batch(cx: &Context, n: usize, parts: &[crate::trace::Traced]) -> syn::Result<TokenStream> {
+/// neighbours their values. `parts`: the traces of [`PARTS`], in order; `rows`: the constants
+/// `DQ` and `DV` of the scalar function, which the products read here too.
+fn batch(
+    cx: &Context,
+    n: usize,
+    parts: &[crate::trace::Traced],
+    rows: TokenStream,
+) -> syn::Result<TokenStream> {
     let lanes = cx.with_lanes(n, true);
     let n_lit = function::group_size(n, true);
     let names = [
@@ -157,12 +165,6 @@ fn batch(cx: &Context, n: usize, parts: &[crate::trace::Traced]) -> syn::Result<
         .map(|(traced, name)| function::lane_part(&lanes, traced, name, &n_lit))
         .collect::<syn::Result<Vec<_>>>()?;
     let [fd, idd, minv] = &names;
-    let (dq_rows, dv_rows) = parts
-        .iter()
-        .find(|t| t.output == Output::InverseDynamicsDerivatives)
-        .map(|t| nonzero_rows(t, cx.nv))
-        .unwrap_or_default();
-    let (dq_const, dv_const) = (rows_const("DQ", &dq_rows), rows_const("DV", &dv_rows));
     let gather = quote!(::articulated::lanes::gather);
     let private = quote!(::articulated::__private);
     let group = quote! {
@@ -183,7 +185,7 @@ fn batch(cx: &Context, n: usize, parts: &[crate::trace::Traced]) -> syn::Result<
         cx,
         Output::ForwardDynamicsDerivatives,
         (&lanes, &n_lit, true),
-        quote!(#(#inner)* #dq_const #dv_const),
+        quote!(#(#inner)* #rows),
         TokenStream::new(),
         group,
     ))

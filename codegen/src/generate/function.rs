@@ -169,16 +169,13 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
     let fit = traced.ops().total() >= FIT_OPS;
     let lanes = cx.with_lanes(n, fit);
     let (args, p_arg, body) = function(&lanes, traced)?;
-    let lane_value = spec.value_type(&lanes.types());
     let lane = &lanes.scalar;
     let n_lit = group_size(n, fit);
     let staged = staged(&lanes, traced);
-    let ret = if spec.fallible {
-        quote!(-> (#lane_value, [::core::option::Option<::articulated::SingularMassMatrix>; #n_lit]))
-    } else if staged.is_some() {
+    let ret = if staged.is_some() && !spec.fallible {
         TokenStream::new()
     } else {
-        quote!(-> #lane_value)
+        lane_ret(traced.output, &lanes, &n_lit)
     };
     let names = arg_names(traced.output);
     let (stage, stage_param, stage_arg) = stage_tokens(staged.as_ref(), lane);
@@ -224,6 +221,17 @@ fn batch(cx: &Context, traced: &Traced, n: usize) -> syn::Result<TokenStream> {
         stage,
         quote!(#call #scatter),
     ))
+}
+
+/// `-> value` of an output's function in lanes (`lanes`), and where it can fail each lane's
+/// first failure beside it (groups of `n_lit` states).
+fn lane_ret(output: Output, lanes: &Context, n_lit: &TokenStream) -> TokenStream {
+    let value = output.spec().value_type(&lanes.types());
+    if output.spec().fallible {
+        quote!(-> (#value, [::core::option::Option<::articulated::SingularMassMatrix>; #n_lit]))
+    } else {
+        quote!(-> #value)
+    }
 }
 
 /// The lanes a group of a batch holds, as the batch function writes it: the count asked for,
@@ -335,12 +343,7 @@ pub(super) fn lane_part(
     // is returned.
     debug_assert!(staged(lanes, traced).is_none());
     let (args, p_arg, body) = function(lanes, traced)?;
-    let (lane, value) = (&lanes.scalar, spec.value_type(&lanes.types()));
-    let ret = if spec.fallible {
-        quote!(-> (#value, [::core::option::Option<::articulated::SingularMassMatrix>; #n_lit]))
-    } else {
-        quote!(-> #value)
-    };
+    let (lane, ret) = (&lanes.scalar, lane_ret(traced.output, lanes, n_lit));
     let np_lit = Literal::usize_unsuffixed(lanes.param_idents.len());
     let doc = format!(
         " `{}` on a group of states: the same statements in lanes (`articulated::lanes::fit`).",
